@@ -1,0 +1,166 @@
+"""gestc: compile, check, show and list gestures."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+from ..compiled import Compiled, to_json, to_timed
+from ..compiler import compile_program, load
+from ..errors import Diagnostic, GestError, did_you_mean
+from ..library import load_library
+from ..metrics import LinkReport, measure
+from ..plan import Plan
+from .common import EXIT_ERROR, EXIT_OK, report, run
+
+PROG = "gestc"
+
+
+def _target(target: str, gesture: str | None) -> tuple[str, str | None]:
+    """A .gest file, or the name of a library gesture (then that gesture is the default)."""
+    if os.path.exists(target) or target.endswith(".gest") or os.sep in target or "/" in target:
+        return target, gesture
+    library = load_library()
+    if target in library:
+        return str(library[target]), gesture or target
+    hint = did_you_mean(target, library) or "give a .gest file or a name from 'gestc list'"
+    raise GestError(Diagnostic("error", f"no file or library gesture '{target}'", hint=hint))
+
+
+def _compile(args: argparse.Namespace) -> tuple[Compiled, Plan]:
+    path, gesture = _target(args.target, args.gesture)
+    compiled, plan = compile_program(load(path), gesture, args.profile, args.start, args.strict)
+    report(compiled.warnings, PROG)
+    return compiled, plan
+
+
+def cmd_compile(args: argparse.Namespace) -> int:
+    compiled, _ = _compile(args)
+    if args.format == "timed":
+        text = to_timed(compiled.stream(args.board))
+        out = args.output or f"{compiled.gesture}.timed"
+    else:
+        text = to_json(compiled)
+        out = args.output or f"{compiled.gesture}.gestc"
+    if out == "-":
+        sys.stdout.write(text)
+        sys.stdout.flush()
+        return EXIT_OK
+    Path(out).write_text(text, encoding="utf-8")
+    sizes = ", ".join(f"board {s.board}: {len(s.data):,} bytes" for s in compiled.streams)
+    print(f"wrote {out}: {compiled.gesture}, {compiled.duration:.2f} s, {sizes}",
+          file=sys.stderr)
+    return EXIT_OK
+
+
+def cmd_check(args: argparse.Namespace) -> int:
+    status = EXIT_OK
+    for file in args.files:
+        try:
+            program = load(file)
+            for name in program.own:
+                compiled, _ = compile_program(program, name, args.profile, None, args.strict)
+                report(compiled.warnings, PROG)
+            print(f"{file}: ok ({len(program.own)} gestures)")
+        except GestError as exc:
+            report(exc.diagnostics, PROG)
+            status = EXIT_ERROR
+    return status
+
+
+def cmd_show(args: argparse.Namespace) -> int:
+    compiled, plan = _compile(args)
+    print(f"{compiled.gesture}: {compiled.duration:.3f} s on profile '{compiled.profile}'")
+    print()
+    print(f"  {'#':>3}  {'step':<28} {'kind':<5} {'start':>7} {'end':>7} {'asked':>7} "
+          f"{'planned':>7}")
+    for n, s in enumerate(plan.steps, 1):
+        where = f"{s.where}:{s.pos.line}" if s.pos else s.where
+        asked = f"{s.asked:7.3f}" if s.asked is not None else "      -"
+        flag = "  stretched" if s.stretched else ""
+        print(f"  {n:>3}  {where:<28} {s.kind:<5} {s.start:7.3f} {s.end:7.3f} {asked} "
+              f"{s.end - s.start:7.3f}{flag}")
+    for link in measure(plan, compiled.streams):
+        print()
+        print(_link_text(link))
+    return EXIT_OK
+
+
+def _link_text(r: LinkReport) -> str:
+    saved = 100 * (1 - r.bytes / r.naive_bytes) if r.naive_bytes else 0.0
+    lag = (f"{r.worst_lag:.2f} deg ({r.worst_lag_servo} at {r.worst_lag_time:.3f} s)"
+           if r.worst_lag_servo else "0.00 deg")
+    rows = [
+        f"board {r.board} at {r.baud} baud, {r.servos} servos",
+        f"  bytes        {r.bytes:,} (every servo every frame: {r.naive_bytes:,}; "
+        f"{saved:.0f}% fewer)",
+        f"  link use     {100 * r.utilisation:.0f}% over the gesture, "
+        f"{100 * r.peak_utilisation:.0f}% in the busiest frame",
+        f"  coverage     {100 * r.coverage:.1f}% ({r.covered:,} of {r.needed:,} servo-frames "
+        f"that needed a value)",
+        f"  worst lag    {lag}",
+        f"  max error    {r.max_error:.2f} deg (value sent vs plan at arrival)",
+    ]
+    if r.coverage < 1:
+        rows.append("  the link is the bottleneck: raise the baud or split the servos "
+                    "over more boards")
+    return "\n".join(rows)
+
+
+def cmd_list(args: argparse.Namespace) -> int:
+    for name, path in sorted(load_library().items()):
+        print(f"{name}\t{path}")
+    return EXIT_OK
+
+
+def parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(
+        prog=PROG, description="Compile .gest gestures into timed byte streams for the "
+        "InMoov servo boards.")
+    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    def common(p: argparse.ArgumentParser, target: bool = True) -> None:
+        if target:
+            p.add_argument("target", metavar="FILE",
+                           help="a .gest file, or the name of a library gesture")
+            p.add_argument("-g", "--gesture", help="the gesture to use from FILE")
+            p.add_argument("--from", dest="start", metavar="POSE",
+                           help="start pose: a pose name or targets such as 'fingers 90' "
+                           "(default: the profile's rest pose)")
+        p.add_argument("-p", "--profile", default="rhand",
+                       help="robot profile: a built-in name or a .toml path (default rhand)")
+        p.add_argument("--strict", action="store_true",
+                       help="treat warnings (stretched moves) as errors")
+
+    p = sub.add_parser("compile", help="write a compiled gesture")
+    common(p)
+    p.add_argument("-o", "--output", help="output file, '-' for stdout "
+                   "(default GESTURE.gestc, or GESTURE.timed)")
+    p.add_argument("-f", "--format", choices=("gestc", "timed"), default="gestc",
+                   help="gestc: JSON for the player; timed: '<seconds> <byte>' per line")
+    p.add_argument("--board", type=int, help="with --format timed: the board's stream")
+    p.set_defaults(func=cmd_compile)
+
+    p = sub.add_parser("check", help="report errors and warnings only")
+    p.add_argument("files", nargs="+", metavar="FILE")
+    common(p, target=False)
+    p.set_defaults(func=cmd_check)
+
+    p = sub.add_parser("show", help="steps, bytes, link use, coverage and lag")
+    common(p)
+    p.set_defaults(func=cmd_show)
+
+    p = sub.add_parser("list", help="the library's gestures: NAME<TAB>FILE")
+    p.set_defaults(func=cmd_list)
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parser().parse_args(argv)
+    return run(PROG, lambda: args.func(args))
+
+
+if __name__ == "__main__":
+    sys.exit(main())

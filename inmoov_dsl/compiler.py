@@ -1,0 +1,117 @@
+"""The compiler's entry points: source or file in, Compiled (timed streams) out."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from collections.abc import Sequence
+from pathlib import Path
+
+from .compiled import Compiled, StepSummary
+from .encode import encode
+from .errors import Diagnostic, GestError, did_you_mean
+from .library import library_dirs
+from .plan import Plan, Planner
+from .profile import Profile, load_profile
+from .resolve import Program, Reader, Resolver, load_program, resolve_start
+
+
+def read_text(path: str) -> str:
+    """The default reader for ``use``: a UTF-8 file."""
+    with open(path, encoding="utf-8") as f:
+        return f.read()
+
+
+def _sha256(text: str) -> str:
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def as_profile(profile: str | Profile) -> Profile:
+    return profile if isinstance(profile, Profile) else load_profile(profile)
+
+
+def load(path: str, text: str | None = None, read: Reader = read_text,
+         search: Sequence[str] | None = None) -> Program:
+    """Parse a .gest file (or ``text`` under that name) with its imports."""
+    dirs = [str(d) for d in library_dirs()] if search is None else list(search)
+    try:
+        return load_program(path, read, dirs, text)
+    except FileNotFoundError:
+        raise GestError(Diagnostic("error", f"cannot find '{path}'")) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise GestError(Diagnostic("error", f"cannot read '{path}': {exc}")) from None
+
+
+def pick_gesture(program: Program, name: str | None) -> str:
+    """The gesture to compile: the one asked for, or the file's only one, or the one
+    named like the file."""
+    if name is not None:
+        if name not in program.gestures:
+            hint = did_you_mean(name, program.gestures) or (
+                "it defines: " + ", ".join(program.own) if program.own else None)
+            raise GestError(Diagnostic("error", f"no gesture '{name}' in {program.root}",
+                                       hint=hint))
+        return name
+    own = program.own
+    if len(own) == 1:
+        return own[0]
+    stem = Path(program.root).stem
+    if stem in own:
+        return stem
+    if not own:
+        raise GestError(Diagnostic("error", f"{program.root} defines no gesture"))
+    raise GestError(Diagnostic(
+        "error", f"{program.root} defines {len(own)} gestures: {', '.join(own)}",
+        hint="choose one with --gesture NAME"))
+
+
+def plan_gesture(program: Program, gesture: str, profile: Profile, start: str | None = None,
+                 strict: bool = False) -> Plan:
+    resolver = Resolver(program, profile)
+    steps = resolver.gesture(gesture)
+    pose = resolve_start(program, profile, start)
+    return Planner(profile, program.sources).plan(steps, pose, strict)
+
+
+def compile_program(program: Program, gesture: str | None = None,
+                    profile: str | Profile = "rhand", start: str | None = None,
+                    strict: bool = False) -> tuple[Compiled, Plan]:
+    """Compile one gesture of a loaded program; also return its plan (for reports)."""
+    prof = as_profile(profile)
+    name = pick_gesture(program, gesture)
+    plan = plan_gesture(program, name, prof, start, strict)
+    streams = encode(plan)
+    profile_text = read_text(prof.path) if prof.path and os.path.isfile(prof.path) else ""
+    steps = tuple(
+        StepSummary(s.where, s.pos.file if s.pos else None, s.pos.line if s.pos else None,
+                    s.kind, s.start, s.end, s.asked, s.stretched)
+        for s in plan.steps
+    )
+    compiled = Compiled(
+        gesture=name,
+        profile=prof.name,
+        profile_sha256=_sha256(profile_text),
+        sources=tuple((p, _sha256(t)) for p, t in program.texts.items()),
+        servos=prof.names,
+        start=plan.start,
+        final=plan.final,
+        duration=plan.duration,
+        steps=steps,
+        streams=streams,
+        warnings=plan.warnings,
+    )
+    return compiled, plan
+
+
+def compile_source(text: str, gesture: str | None = None, profile: str | Profile = "rhand",
+                   start: str | None = None, strict: bool = False,
+                   file: str = "<string>") -> Compiled:
+    """Compile .gest source text. ``use`` imports resolve against the library."""
+    return compile_program(load(file, text), gesture, profile, start, strict)[0]
+
+
+def compile_file(path: str | os.PathLike, gesture: str | None = None,
+                 profile: str | Profile = "rhand", start: str | None = None,
+                 strict: bool = False) -> Compiled:
+    """Compile one gesture of a .gest file."""
+    return compile_program(load(str(path)), gesture, profile, start, strict)[0]

@@ -1,0 +1,121 @@
+"""How well a stream follows its plan: coverage, lag, tracking error, link use.
+
+Measured from the bytes (decoded as a board reads them) against the plan, not from
+the encoder's bookkeeping, so the figures hold whatever the scheduler did.
+
+- A servo *needs* frame f when, at the frame's start, its rounded plan differs from
+  the value the board holds; it is *covered* when a fresh value arrives within the
+  frame. (The board cannot be told a change before it happens: a change in the last
+  slot of a frame can only reach the board in the next one, so need is judged where
+  the board can first learn of it.)
+- Lag: degrees between the plan and the value the board holds, at each frame's end.
+- Tracking error: each value sent against the plan at the moment it arrived.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import protocol
+from .encode import Stream, frame_ends, round_values
+from .plan import Plan
+
+
+@dataclass(frozen=True)
+class LinkReport:
+    board: int
+    baud: int
+    servos: int
+    bytes: int
+    naive_bytes: int  #: every servo every frame for the whole gesture, plus CANCEL
+    end: float  #: s; the last byte has arrived
+    utilisation: float  #: share of the link's time in use, over the gesture
+    peak_utilisation: float  #: in the busiest servo frame
+    needed: int  #: servo-frames that needed a fresh value
+    covered: int
+    worst_lag: float  #: degrees behind the plan at a frame's end
+    worst_lag_servo: str
+    worst_lag_time: float
+    max_error: float  #: degrees between a value sent and the plan at its arrival
+
+    @property
+    def coverage(self) -> float:
+        return 1.0 if self.needed == 0 else self.covered / self.needed
+
+
+def decode(stream: Stream) -> list[tuple[float, int, int]]:
+    """(arrival time, servo ID, value) for every complete pair, as a board reads them."""
+    tau = stream.byte_time
+    out = []
+    pending: int | None = None
+    for t, b in zip(stream.times.tolist(), stream.data, strict=True):
+        if b == protocol.Signal.CANCEL:
+            pending = None
+        elif b == protocol.Signal.DUMP:
+            continue
+        elif pending is None:
+            pending = b
+        else:
+            out.append((t + tau, pending, min(b, protocol.MAX_VALUE)))
+            pending = None
+    return out
+
+
+def measure(plan: Plan, streams: tuple[Stream, ...]) -> tuple[LinkReport, ...]:
+    return tuple(_measure_board(plan, s) for s in streams)
+
+
+def _measure_board(plan: Plan, stream: Stream) -> LinkReport:
+    profile = plan.profile
+    board = next(b for b in profile.boards if b.id == stream.board)
+    tau = stream.byte_time
+    events = decode(stream)
+    end = float(stream.times[-1] + tau) if len(stream.times) else 0.0
+    frames = int(max(end, plan.duration) / protocol.SERVO_FRAME) + 2
+    ends = frame_ends(frames)
+    starts = ends - protocol.SERVO_FRAME
+
+    by_id: dict[int, list[tuple[float, int]]] = {}
+    for t, sid, v in events:
+        by_id.setdefault(sid, []).append((t, v))
+
+    needed = covered = 0
+    worst = (0.0, "", 0.0)
+    max_error = 0.0
+    for name in board.servos:
+        i = profile.index(name)
+        track = plan.tracks[i]
+        got = by_id.get(profile.servos[i].id, [])
+        at = np.asarray([t for t, _ in got], dtype=float)
+        values = np.asarray([plan.start[i]] + [v for _, v in got], dtype=float)
+        held_start = values[np.searchsorted(at, starts, side="right")]
+        held_end = values[np.searchsorted(at, ends, side="right")]
+        need = round_values(track.position(starts)) != held_start
+        fresh = np.searchsorted(at, ends, side="right") > np.searchsorted(at, starts,
+                                                                          side="right")
+        needed += int(need.sum())
+        covered += int((need & fresh).sum())
+        lag = np.abs(track.position(ends) - held_end)
+        k = int(np.argmax(lag))
+        if lag[k] > worst[0]:
+            worst = (float(lag[k]), name, float(ends[k]))
+        if len(at):
+            max_error = max(max_error, float(np.abs(values[1:] - track.position(at)).max()))
+
+    busy = np.bincount(np.minimum((stream.times / protocol.SERVO_FRAME).astype(int),
+                                  frames - 1), minlength=frames)
+    gesture_frames = max(1, math.ceil(plan.duration / protocol.SERVO_FRAME))
+    return LinkReport(
+        board=stream.board, baud=stream.baud, servos=len(board.servos),
+        bytes=len(stream.data),
+        naive_bytes=1 + protocol.PAIR_BYTES * len(board.servos) * gesture_frames,
+        end=end,
+        utilisation=len(stream.data) * tau / end if end > 0 else 0.0,
+        peak_utilisation=float(busy.max() * tau / protocol.SERVO_FRAME),
+        needed=needed, covered=covered,
+        worst_lag=worst[0], worst_lag_servo=worst[1], worst_lag_time=worst[2],
+        max_error=max_error,
+    )

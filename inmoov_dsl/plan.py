@@ -1,0 +1,171 @@
+"""Plan every step with ruckig (stage 3): jerk-limited, time-optimal or timed moves.
+
+Each step is one ruckig trajectory for all the servos it moves, starting at rest
+from the pose the previous step left and ending at rest on its keyframe (the
+community ruckig computes no intermediate waypoints offline). The result is, per
+servo, a piecewise cubic over the whole gesture, built from ruckig's own phase data
+and evaluated with numpy.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from ruckig import InputParameter, Result, Ruckig, Synchronization, Trajectory
+
+from .errors import Diagnostic, GestError, Pos, SourceMap
+from .profile import Profile
+from .resolve import Step
+
+MAX_GESTURE_DURATION = 3600.0  #: s; a compile's work is bounded by this
+_EPS = 1e-6  #: s; durations closer than this are equal
+
+
+@dataclass(frozen=True)
+class Track:
+    """One servo's planned position: piece k starts at ``breaks[k]`` with
+    position, velocity, acceleration and jerk ``coefs[k]``. The last piece holds."""
+
+    breaks: np.ndarray
+    coefs: np.ndarray
+
+    def _locate(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        t = np.asarray(t, dtype=float)
+        k = np.clip(np.searchsorted(self.breaks, t, side="right") - 1, 0, len(self.breaks) - 1)
+        return k, np.maximum(t - self.breaks[k], 0.0)
+
+    def position(self, t: np.ndarray | float) -> np.ndarray:
+        k, dt = self._locate(t)
+        p, v, a, j = self.coefs[k].T
+        return p + dt * (v + dt * (a / 2 + dt * j / 6))
+
+    def velocity(self, t: np.ndarray | float) -> np.ndarray:
+        k, dt = self._locate(t)
+        _, v, a, j = self.coefs[k].T
+        return v + dt * (a + dt * j / 2)
+
+
+@dataclass(frozen=True)
+class PlannedStep:
+    """What the planner made of one step, for reports."""
+
+    where: str
+    pos: Pos | None
+    kind: str  #: "move" or "hold"
+    start: float
+    end: float
+    asked: float | None  #: the step's ``over`` (or hold) duration
+    stretched: bool
+    servos: tuple[int, ...]  #: indices of the servos that move
+
+
+@dataclass(frozen=True)
+class Plan:
+    profile: Profile
+    tracks: tuple[Track, ...]  #: one per profile servo
+    steps: tuple[PlannedStep, ...]
+    start: tuple[int, ...]
+    final: tuple[int, ...]
+    duration: float
+    warnings: tuple[Diagnostic, ...]
+
+
+class _TrackBuilder:
+    def __init__(self, value: float):
+        self.breaks: list[float] = [0.0]
+        self.coefs: list[tuple[float, float, float, float]] = [(value, 0.0, 0.0, 0.0)]
+
+    def hold(self, t: float, value: float) -> None:
+        self.breaks.append(t)
+        self.coefs.append((value, 0.0, 0.0, 0.0))
+
+    def phases(self, t0: float, profile) -> None:
+        t = t0
+        for dt, j, a, v, p in zip(profile.t, profile.j, profile.a, profile.v, profile.p,
+                                  strict=False):
+            if dt > 0:
+                self.breaks.append(t)
+                self.coefs.append((p, v, a, j))
+                t += dt
+
+    def build(self) -> Track:
+        return Track(np.asarray(self.breaks, dtype=float), np.asarray(self.coefs, dtype=float))
+
+
+class Planner:
+    """Plans Steps for one profile; keeps one ruckig instance per number of servos."""
+
+    def __init__(self, profile: Profile, sources: SourceMap | None = None):
+        self.profile = profile
+        self.sources = sources or SourceMap()
+        self._ruckig: dict[int, tuple[Ruckig, InputParameter, Trajectory]] = {}
+
+    def _solver(self, dofs: int) -> tuple[Ruckig, InputParameter, Trajectory]:
+        if dofs not in self._ruckig:
+            self._ruckig[dofs] = (Ruckig(dofs), InputParameter(dofs), Trajectory(dofs))
+        return self._ruckig[dofs]
+
+    def plan(self, steps: Sequence[Step], start: Sequence[int], strict: bool = False) -> Plan:
+        servos = self.profile.servos
+        pose = list(start)
+        builders = [_TrackBuilder(v) for v in pose]
+        reports: list[PlannedStep] = []
+        warnings: list[Diagnostic] = []
+        errors: list[Diagnostic] = []
+        now = 0.0
+        for step in steps:
+            if step.hold > 0:
+                reports.append(PlannedStep(step.where, step.pos, "hold", now, now + step.hold,
+                                           step.hold, False, ()))
+                now += step.hold
+                continue
+            moving = [(k, i, v) for k, (i, v) in enumerate(step.targets) if v != pose[i]]
+            duration = step.over or 0.0
+            stretched = False
+            if moving:
+                ruckig, inp, traj = self._solver(len(moving))
+                idx = [i for _, i, _ in moving]
+                inp.current_position = [float(pose[i]) for i in idx]
+                inp.target_position = [float(v) for _, _, v in moving]
+                inp.current_velocity = inp.current_acceleration = [0.0] * len(idx)
+                inp.target_velocity = inp.target_acceleration = [0.0] * len(idx)
+                inp.max_velocity = [servos[i].max_velocity for i in idx]
+                inp.max_acceleration = [servos[i].max_acceleration for i in idx]
+                inp.max_jerk = [servos[i].max_jerk for i in idx]
+                inp.synchronization = Synchronization.Time
+                inp.minimum_duration = step.over
+                result = ruckig.calculate(inp, traj)
+                if result not in (Result.Working, Result.Finished):
+                    raise GestError(self.sources.error(f"ruckig cannot plan this step "
+                                                       f"({result.name})", step.pos))
+                move_time = traj.duration
+                for dof, (k, i, v) in enumerate(moving):
+                    offset = k * step.stagger
+                    builders[i].phases(now + offset, traj.profiles[0][dof])
+                    builders[i].hold(now + offset + move_time, float(v))
+                    pose[i] = v
+                last = max(k for k, _, _ in moving) * step.stagger
+                duration = last + move_time
+                if step.over is not None and move_time > step.over + _EPS:
+                    stretched = True
+                    message = (f"move stretched: needs {move_time:.2f} s, "
+                               f"asked {step.over:.2f} s")
+                    hint = ("the profile's limits allow no faster move; "
+                            "ask for more time or raise the limits")
+                    diag = (self.sources.error if strict else self.sources.warning)(
+                        message, step.over_pos or step.pos, hint)
+                    (errors if strict else warnings).append(diag)
+            reports.append(PlannedStep(step.where, step.pos, "move", now, now + duration,
+                                       step.over, stretched,
+                                       tuple(i for _, i, _ in moving)))
+            now += duration
+            if now > MAX_GESTURE_DURATION:
+                raise GestError(self.sources.error(
+                    f"the gesture lasts more than {MAX_GESTURE_DURATION:g} s", step.pos,
+                    "split it into shorter gestures"))
+        if errors:
+            raise GestError(errors)
+        return Plan(self.profile, tuple(b.build() for b in builders), tuple(reports),
+                    tuple(start), tuple(pose), now, tuple(warnings))

@@ -1,0 +1,259 @@
+"""Robot profiles: boards, servos, limits and groups, read from TOML."""
+
+from __future__ import annotations
+
+import re
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from . import protocol
+from .errors import Diagnostic, GestError, Pos, did_you_mean
+from .resources import profiles_dir
+
+NAME_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+KEYWORDS = frozenset({"use", "group", "pose", "wait", "hold", "repeat", "over", "stagger"})
+
+
+@dataclass(frozen=True)
+class Servo:
+    """One servo, in command degrees (0..180 as sent on the wire)."""
+
+    name: str
+    id: int
+    board: int
+    lo: int  #: smallest value a gesture may command
+    hi: int  #: largest value a gesture may command
+    rest: int
+    max_velocity: float  #: command degrees / s
+    max_acceleration: float  #: command degrees / s^2
+    max_jerk: float  #: command degrees / s^3
+    calibration: tuple[int, int]  #: board side: 0..180 is mapped onto these servo angles
+    reversed: bool  #: board side: 180..0 is mapped onto the calibration instead
+    pin: int | None
+
+
+@dataclass(frozen=True)
+class Board:
+    id: int
+    name: str
+    baud: int
+    servos: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Profile:
+    name: str
+    description: str
+    boards: tuple[Board, ...]
+    servos: tuple[Servo, ...]  #: board by board, in each board's order
+    groups: dict[str, tuple[str, ...]]
+    path: str = ""
+
+    def index(self, name: str) -> int:
+        for i, servo in enumerate(self.servos):
+            if servo.name == name:
+                return i
+        raise KeyError(name)
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(s.name for s in self.servos)
+
+    @property
+    def rest_pose(self) -> dict[str, int]:
+        return {s.name: s.rest for s in self.servos}
+
+
+def builtin_profiles() -> list[str]:
+    """Names of the profiles shipped with the package."""
+    return sorted(p.stem for p in profiles_dir().glob("*.toml"))
+
+
+def find_profile(name_or_path: str) -> Path:
+    """A profile file from a built-in name (``rhand``) or a path."""
+    path = Path(name_or_path)
+    if path.suffix == ".toml" or len(path.parts) > 1:
+        if not path.is_file():
+            raise GestError(Diagnostic("error", f"profile file '{name_or_path}' not found"))
+        return path
+    builtin = profiles_dir() / f"{name_or_path}.toml"
+    if builtin.is_file():
+        return builtin
+    names = builtin_profiles()
+    hint = did_you_mean(name_or_path, names) or f"built-in profiles: {', '.join(names)}"
+    raise GestError(Diagnostic("error", f"unknown profile '{name_or_path}'", hint=hint))
+
+
+def load_profile(name_or_path: str) -> Profile:
+    """Read and check a profile; any problem is a GestError naming the file."""
+    path = find_profile(name_or_path)
+    text = path.read_text(encoding="utf-8")
+    return parse_profile(text, str(path))
+
+
+def parse_profile(text: str, file: str = "<profile>") -> Profile:
+    """Build a Profile from TOML text. Pure: no file access."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        match = re.search(r"\(at line (\d+), column (\d+)\)", str(exc))
+        pos = Pos(file, int(match[1]), int(match[2])) if match else None
+        message = re.sub(r"\s*\(at line.*\)", "", str(exc))
+        lines = text.splitlines()
+        line = lines[pos.line - 1] if pos and pos.line <= len(lines) else None
+        raise GestError(Diagnostic("error", f"invalid TOML: {message}", pos, None, line)) from None
+    return _Builder(data, file).build()
+
+
+class _Builder:
+    def __init__(self, data: dict[str, Any], file: str):
+        self.data = data
+        self.file = file
+        self.errors: list[Diagnostic] = []
+
+    def fail(self, message: str, hint: str | None = None) -> None:
+        self.errors.append(Diagnostic("error", message, Pos(self.file, 1, 1), hint))
+
+    def number(self, where: str, table: dict, key: str, default=None, positive=True):
+        value = table.get(key, default)
+        if value is None:
+            self.fail(f"{where}: missing '{key}'")
+            return 1.0
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            self.fail(f"{where}: '{key}' must be a number, got {value!r}")
+            return 1.0
+        if positive and not value > 0:
+            self.fail(f"{where}: '{key}' must be greater than 0, got {value}")
+            return 1.0
+        return value
+
+    def pair(self, where: str, table: dict, key: str, default: tuple[int, int]) -> tuple[int, int]:
+        value = table.get(key, list(default))
+        ok = (
+            isinstance(value, list)
+            and len(value) == 2
+            and all(isinstance(v, int) and not isinstance(v, bool) for v in value)
+            and 0 <= value[0] <= value[1] <= protocol.MAX_VALUE
+        )
+        if not ok:
+            self.fail(f"{where}: '{key}' must be [low, high] with 0 <= low <= high <= 180, "
+                      f"got {value!r}")
+            return default
+        return (value[0], value[1])
+
+    def build(self) -> Profile:
+        data = self.data
+        name = data.get("name", Path(self.file).stem)
+        boards_data = data.get("board", [])
+        servos_data = data.get("servo", {})
+        if not isinstance(boards_data, list) or not boards_data:
+            self.fail("a profile needs at least one [[board]]")
+            raise GestError(self.errors)
+        if not isinstance(servos_data, dict):
+            self.fail("[servo.NAME] tables expected")
+            raise GestError(self.errors)
+
+        boards: list[Board] = []
+        servos: list[Servo] = []
+        owner: dict[str, int] = {}
+        for b in boards_data:
+            bid = b.get("id")
+            where = f"board {bid}"
+            low, high = protocol.FIRST_BOARD_ID, min(protocol.Signal) - 1
+            if not isinstance(bid, int) or not low <= bid <= high:
+                self.fail(f"board id must be a whole number in {low}..{high}, got {bid!r}")
+                continue
+            if any(x.id == bid for x in boards):
+                self.fail(f"board {bid} is declared twice")
+            baud = b.get("baud", 9600)
+            if not isinstance(baud, int) or baud <= 0:
+                self.fail(f"{where}: 'baud' must be a positive whole number, got {baud!r}")
+                baud = 9600
+            elif protocol.pairs_per_frame(baud) < 1:
+                self.fail(f"{where}: baud {baud} is too slow: not one servo command fits "
+                          f"in a 20 ms servo frame", hint="use 9600 or more")
+            names = b.get("servos", [])
+            if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
+                self.fail(f"{where}: 'servos' must be a list of servo names")
+                names = []
+            for n in names:
+                if n in owner:
+                    self.fail(f"servo '{n}' is on board {owner[n]} and board {bid}")
+                owner[n] = bid
+            boards.append(Board(bid, str(b.get("name", f"board {bid}")), baud, tuple(names)))
+
+        for servo_name in owner:
+            if servo_name not in servos_data:
+                hint = did_you_mean(servo_name, servos_data)
+                self.fail(f"board {owner[servo_name]} lists servo '{servo_name}' "
+                          f"but there is no [servo.{servo_name}]", hint)
+        for servo_name in servos_data:
+            if servo_name not in owner:
+                self.fail(f"servo '{servo_name}' is on no board",
+                          hint="add it to the 'servos' list of a [[board]]")
+
+        ids: dict[int, str] = {}
+        for board in boards:
+            for servo_name in board.servos:
+                s = servos_data.get(servo_name)
+                if not isinstance(s, dict):
+                    continue
+                servos.append(self.servo(servo_name, s, board.id, ids))
+
+        groups = self.groups(data.get("groups", {}), [s.name for s in servos])
+        if self.errors:
+            raise GestError(self.errors)
+        return Profile(str(name), str(data.get("description", "")), tuple(boards),
+                       tuple(servos), groups, self.file)
+
+    def servo(self, name: str, s: dict, board: int, ids: dict[int, str]) -> Servo:
+        where = f"servo '{name}'"
+        if not NAME_RE.match(name) or name in KEYWORDS:
+            self.fail(f"{where}: a servo name must be a word (letters, digits, _) "
+                      f"and not a keyword of the language")
+        sid = s.get("id")
+        if not isinstance(sid, int) or isinstance(sid, bool) or not 0 <= sid <= 180:
+            self.fail(f"{where}: 'id' must be a whole number in 0..180, got {sid!r}")
+            sid = 0
+        elif sid in ids:
+            self.fail(f"{where}: id {sid} is already used by servo '{ids[sid]}'")
+        ids[sid] = name
+        lo, hi = self.pair(where, s, "range", (0, protocol.MAX_VALUE))
+        rest = s.get("rest", lo)
+        if not isinstance(rest, int) or not lo <= rest <= hi:
+            self.fail(f"{where}: 'rest' must be a whole number in its range {lo}..{hi}, "
+                      f"got {rest!r}")
+            rest = lo
+        pin = s.get("pin")
+        if pin is not None and (not isinstance(pin, int) or pin < 0):
+            self.fail(f"{where}: 'pin' must be a whole number, got {pin!r}")
+        return Servo(
+            name=name, id=sid, board=board, lo=lo, hi=hi, rest=rest,
+            max_velocity=float(self.number(where, s, "max_velocity")),
+            max_acceleration=float(self.number(where, s, "max_acceleration")),
+            max_jerk=float(self.number(where, s, "max_jerk")),
+            calibration=self.pair(where, s, "calibration", (0, protocol.MAX_VALUE)),
+            reversed=bool(s.get("reversed", False)),
+            pin=pin,
+        )
+
+    def groups(self, data: Any, servo_names: list[str]) -> dict[str, tuple[str, ...]]:
+        groups: dict[str, tuple[str, ...]] = {}
+        if not isinstance(data, dict):
+            self.fail("[groups] must map a group name to a list of servo names")
+            return groups
+        for gname, members in data.items():
+            if not isinstance(members, list) or not all(isinstance(m, str) for m in members):
+                self.fail(f"group '{gname}' must be a list of servo names")
+                continue
+            if gname in servo_names:
+                self.fail(f"group '{gname}' has the name of a servo")
+            for m in members:
+                if m not in servo_names:
+                    self.fail(f"group '{gname}' names unknown servo '{m}'",
+                              did_you_mean(m, servo_names))
+            groups[gname] = tuple(members)
+        groups.setdefault("all", tuple(servo_names))
+        return groups

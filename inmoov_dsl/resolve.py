@@ -1,0 +1,290 @@
+"""Resolve names (stage 2): files and their imports, poses, groups, calls and repeats.
+
+A gesture becomes a flat tuple of Steps over the profile's servos. File access
+goes through an injected ``read`` function, so the stage stays testable.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+from . import syntax as ast
+from .errors import Diagnostic, GestError, Pos, SourceMap, did_you_mean
+from .parse import parse
+from .profile import Profile
+
+MAX_STEPS = 100_000  #: the most steps one gesture may expand to
+
+
+@dataclass(frozen=True)
+class Step:
+    """One step of a resolved gesture: a move (targets), or a hold (``hold`` > 0)."""
+
+    targets: tuple[tuple[int, int], ...]  #: (servo index, value), in stagger order
+    over: float | None = None  #: s; all servos arrive together at this time
+    stagger: float = 0.0  #: s between the starts of consecutive targets
+    hold: float = 0.0  #: s; a wait step
+    pos: Pos | None = None
+    over_pos: Pos | None = None
+    where: str = ""  #: the call chain, e.g. "demo > peace"
+
+
+@dataclass
+class Program:
+    """A .gest file with everything it imports, and the names they define."""
+
+    root: str
+    sources: SourceMap = field(default_factory=SourceMap)
+    texts: dict[str, str] = field(default_factory=dict)
+    gestures: dict[str, ast.GestureDef] = field(default_factory=dict)
+    poses: dict[str, ast.PoseDef] = field(default_factory=dict)
+    groups: dict[str, ast.GroupDef] = field(default_factory=dict)
+    own: list[str] = field(default_factory=list)  #: gestures defined in the root file
+
+    def names(self) -> dict[str, Pos]:
+        found: dict[str, Pos] = {}
+        for table in (self.groups, self.poses, self.gestures):
+            for name, node in table.items():
+                found[name] = node.name.pos
+        return found
+
+
+Reader = Callable[[str], str]
+
+
+def load_program(path: str, read: Reader, search: Sequence[str] = (),
+                 text: str | None = None) -> Program:
+    """Parse ``path`` (or ``text`` under that name) and every file it ``use``s.
+
+    Imports are looked up beside the importing file, then in ``search``; each file is
+    read once. Duplicate definitions are errors naming both places.
+    """
+    program = Program(path)
+    seen: set[str] = set()
+    errors: list[Diagnostic] = []
+
+    def visit(file: str, source: str, is_root: bool) -> None:
+        seen.add(os.path.normcase(os.path.abspath(file)))
+        program.sources.add(file, source)
+        program.texts[file] = source
+        module = parse(source, file)
+        for item in module.items:
+            if isinstance(item, ast.Use):
+                found = _find_import(item, file, search, read, program.sources)
+                key = os.path.normcase(os.path.abspath(found[0]))
+                if key not in seen:
+                    visit(found[0], found[1], False)
+                continue
+            name = item.name.text
+            if name in program.names():
+                first = program.names()[name]
+                errors.append(program.sources.error(
+                    f"'{name}' is defined twice", item.name.pos,
+                    f"first defined at {first.file}:{first.line}"))
+                continue
+            if isinstance(item, ast.GestureDef):
+                program.gestures[name] = item
+                if is_root:
+                    program.own.append(name)
+            elif isinstance(item, ast.PoseDef):
+                program.poses[name] = item
+            else:
+                program.groups[name] = item
+
+    visit(path, read(path) if text is None else text, True)
+    if errors:
+        raise GestError(errors)
+    return program
+
+
+def _find_import(use: ast.Use, importer: str, search: Sequence[str], read: Reader,
+                 sources: SourceMap) -> tuple[str, str]:
+    places = [os.path.join(os.path.dirname(importer), use.path)]
+    places += [os.path.join(d, use.path) for d in search]
+    for place in places:
+        try:
+            return place, read(place)
+        except FileNotFoundError:
+            continue
+        except (OSError, UnicodeDecodeError) as exc:
+            raise GestError(sources.error(f"cannot read '{place}': {exc}", use.pos)) from None
+    raise GestError(sources.error(
+        f"cannot find '{use.path}'", use.pos,
+        "looked in " + ", ".join(os.path.dirname(p) or "." for p in places)))
+
+
+class Resolver:
+    """Turns a gesture of a Program into Steps for one profile."""
+
+    def __init__(self, program: Program, profile: Profile):
+        self.program = program
+        self.profile = profile
+        self.src = program.sources
+        self._sizes: dict[str, int] = {}
+        self._check_names()
+
+    def _check_names(self) -> None:
+        errors = []
+        servo_names = set(self.profile.names)
+        for name, pos in self.program.names().items():
+            if name in servo_names:
+                errors.append(self.src.error(f"'{name}' is the name of a servo of profile "
+                                             f"'{self.profile.name}'", pos))
+            elif name in self.profile.groups and name not in self.program.groups:
+                errors.append(self.src.error(f"'{name}' is the name of a group of profile "
+                                             f"'{self.profile.name}'", pos))
+        for group in self.program.groups.values():
+            for member in group.members:
+                if member.text not in servo_names:
+                    errors.append(self.src.error(
+                        f"unknown servo '{member.text}' in group '{group.name.text}'",
+                        member.pos, did_you_mean(member.text, servo_names)))
+        if errors:
+            raise GestError(errors)
+
+    # -- names ------------------------------------------------------------------
+    def known(self) -> list[str]:
+        return [*self.profile.names, *self.profile.groups, *self.program.names()]
+
+    def group(self, name: str) -> tuple[str, ...] | None:
+        if name in self.program.groups:
+            return tuple(m.text for m in self.program.groups[name].members)
+        return self.profile.groups.get(name)
+
+    def unknown(self, name: ast.Name, what: str = "servo, group, pose or gesture") -> GestError:
+        return GestError(self.src.error(f"unknown {what} '{name.text}'", name.pos,
+                                        did_you_mean(name.text, self.known())))
+
+    # -- targets ----------------------------------------------------------------
+    def targets(self, targets: Sequence[ast.Target], chain: tuple[str, ...] = ()
+                ) -> dict[int, int]:
+        """Servo index -> value, in order of first mention; later mentions win."""
+        out: dict[int, int] = {}
+        direct: set[str] = set()
+        for t in targets:
+            name = t.name.text
+            if name in self.program.poses:
+                if t.value is not None:
+                    raise GestError(self.src.error(f"'{name}' is a pose; it takes no value",
+                                                   t.value_pos, f"write just '{name}'"))
+                if name in chain:
+                    cycle = " -> ".join([*chain[chain.index(name):], name])
+                    raise GestError(self.src.error(f"pose '{name}' refers to itself: {cycle}",
+                                                   t.name.pos))
+                out.update(self.targets(self.program.poses[name].targets, (*chain, name)))
+                continue
+            if name in self.program.gestures:
+                raise GestError(self.src.error(
+                    f"'{name}' is a gesture: call it on a line of its own", t.name.pos,
+                    "a step can mix servos, groups and poses, not gestures"))
+            members = (name,) if name in self.profile.names else self.group(name)
+            if members is None:
+                what = "servo or group" if t.value is not None else None
+                raise self.unknown(t.name, *([what] if what else []))
+            kind = "servo" if name in self.profile.names else "group"
+            if t.value is None:
+                raise GestError(self.src.error(f"{kind} '{name}' needs a value", t.name.pos,
+                                               f"for example '{name} 90'"))
+            if name in direct:
+                raise GestError(self.src.error(f"'{name}' is set twice in this step",
+                                               t.name.pos))
+            direct.add(name)
+            for member in members:
+                servo = self.profile.servos[self.profile.index(member)]
+                if not servo.lo <= t.value <= servo.hi:
+                    raise GestError(self.src.error(
+                        f"value {t.value} is outside the range of '{member}' "
+                        f"({servo.lo}..{servo.hi})", t.value_pos))
+                out[self.profile.index(member)] = t.value
+        return out
+
+    # -- steps ------------------------------------------------------------------
+    def gesture(self, name: str) -> tuple[Step, ...]:
+        """The steps of gesture ``name``, with calls and repeats expanded."""
+        node = self.program.gestures[name]
+        size = self.size(name, (name,), node.name.pos)
+        if size > MAX_STEPS:
+            raise GestError(self.src.error(
+                f"gesture '{name}' expands to more than {MAX_STEPS:,} steps",
+                node.name.pos, "lower a repeat count"))
+        out: list[Step] = []
+        self._emit(node.steps, name, out)
+        return tuple(out)
+
+    def _call(self, move: ast.Move) -> str | None:
+        if len(move.targets) == 1 and move.targets[0].name.text in self.program.gestures:
+            target = move.targets[0]
+            if target.value is not None:
+                raise GestError(self.src.error(f"'{target.name.text}' is a gesture; it takes "
+                                               f"no value", target.value_pos))
+            for timing in (move.over, move.stagger):
+                if timing is not None:
+                    raise GestError(self.src.error(
+                        f"a gesture call takes no timing: '{target.name.text}' sets its own",
+                        timing.pos, "give the durations inside the gesture"))
+            return target.name.text
+        return None
+
+    def size(self, name: str, chain: tuple[str, ...], pos: Pos) -> int:
+        """Steps that gesture ``name`` expands to; detects call cycles."""
+        if name in self._sizes:
+            return self._sizes[name]
+        total = self._size_of(self.program.gestures[name].steps, chain)
+        self._sizes[name] = total
+        return total
+
+    def _size_of(self, steps: Sequence[ast.Step], chain: tuple[str, ...]) -> int:
+        total = 0
+        for step in steps:
+            if isinstance(step, ast.Repeat):
+                total += step.count * self._size_of(step.body, chain)
+            elif isinstance(step, ast.Move) and (callee := self._call(step)) is not None:
+                if callee in chain:
+                    cycle = " -> ".join([*chain[chain.index(callee):], callee])
+                    raise GestError(self.src.error(f"gesture '{callee}' calls itself: {cycle}",
+                                                   step.targets[0].name.pos))
+                total += self.size(callee, (*chain, callee), step.pos)
+            else:
+                total += 1
+            total = min(total, MAX_STEPS + 1)  # enough to report; keeps the count bounded
+        return total
+
+    def _emit(self, steps: Sequence[ast.Step], where: str, out: list[Step]) -> None:
+        for step in steps:
+            if isinstance(step, ast.Repeat):
+                for _ in range(step.count):
+                    self._emit(step.body, where, out)
+            elif isinstance(step, ast.Wait):
+                out.append(Step((), hold=step.duration.seconds, pos=step.pos, where=where))
+            elif (callee := self._call(step)) is not None:
+                self._emit(self.program.gestures[callee].steps, f"{where} > {callee}", out)
+            else:
+                targets = self.targets(step.targets)
+                out.append(Step(
+                    tuple(targets.items()),
+                    over=step.over.seconds if step.over else None,
+                    stagger=step.stagger.seconds if step.stagger else 0.0,
+                    pos=step.pos,
+                    over_pos=step.over.pos if step.over else None,
+                    where=where,
+                ))
+
+
+def resolve_start(program: Program, profile: Profile, text: str | None) -> tuple[int, ...]:
+    """The start pose: the profile's rest pose, changed by ``--from`` (a pose or targets)."""
+    pose = [s.rest for s in profile.servos]
+    if not text:
+        return tuple(pose)
+    file = "--from"
+    source = f"pose start__: {text}"
+    program.sources.add(file, source)
+    try:
+        module = parse(source, file)
+    except GestError as exc:
+        raise GestError(exc.diagnostics) from None
+    (item,) = module.items
+    for index, value in Resolver(program, profile).targets(item.targets).items():
+        pose[index] = value
+    return tuple(pose)
