@@ -101,18 +101,19 @@ def _furthest_behind(plan: Plan, servos: list[int], ends: np.ndarray, pair_time:
         for f, row in enumerate(at_end):
             behind = sorted(((abs(x - held[j]), j) for j, x in enumerate(row)
                              if np.floor(x + 0.5) != held[j]), reverse=True)
-            m = 0
+            # the servo furthest behind goes first: the frame's earliest free slot
+            slot = slots - 1
             for _, j in behind:
-                if m == slots:
+                if slot < 0:
                     break
-                value = at_slot[m][f][j]
+                value = at_slot[slot][f][j]
                 if value == held[j]:
                     continue
-                out_a.append(float(block[f] - m * pair_time))
+                out_a.append(float(block[f] - slot * pair_time))
                 out_id.append(ids[j])
                 out_v.append(value)
                 held[j] = value
-                m += 1
+                slot -= 1
     return np.asarray(out_a, dtype=float), np.asarray(out_id), np.asarray(out_v)
 
 

@@ -78,14 +78,14 @@ class _TrackBuilder:
         self.coefs: list[tuple[float, float, float, float]] = [(value, 0.0, 0.0, 0.0)]
 
     def hold(self, t: float, value: float) -> None:
-        self.breaks.append(t)
+        self.breaks.append(max(t, self.breaks[-1]))
         self.coefs.append((value, 0.0, 0.0, 0.0))
 
     def phases(self, t0: float, profile) -> None:
         t = t0
         for dt, j, a, v, p in zip(profile.t, profile.j, profile.a, profile.v, profile.p,
                                   strict=False):
-            if dt > 0:
+            if dt > 1e-12:
                 self.breaks.append(t)
                 self.coefs.append((p, v, a, j))
                 t += dt
@@ -116,6 +116,10 @@ class Planner:
         errors: list[Diagnostic] = []
         now = 0.0
         for step in steps:
+            if now > MAX_GESTURE_DURATION:
+                raise GestError(self.sources.error(
+                    f"the gesture lasts more than {MAX_GESTURE_DURATION:g} s", step.pos,
+                    "split it into shorter gestures"))
             if step.hold > 0:
                 reports.append(PlannedStep(step.where, step.pos, "hold", now, now + step.hold,
                                            step.hold, False, ()))
@@ -141,13 +145,13 @@ class Planner:
                     raise GestError(self.sources.error(f"ruckig cannot plan this step "
                                                        f"({result.name})", step.pos))
                 move_time = traj.duration
+                duration = max(k for k, _, _ in moving) * step.stagger + move_time
                 for dof, (k, i, v) in enumerate(moving):
                     offset = k * step.stagger
                     builders[i].phases(now + offset, traj.profiles[0][dof])
-                    builders[i].hold(now + offset + move_time, float(v))
+                    # the exact keyframe from the step's end on (never later than it)
+                    builders[i].hold(min(now + offset + move_time, now + duration), float(v))
                     pose[i] = v
-                last = max(k for k, _, _ in moving) * step.stagger
-                duration = last + move_time
                 if step.over is not None and move_time > step.over + _EPS:
                     stretched = True
                     message = (f"move stretched: needs {move_time:.2f} s, "
@@ -161,10 +165,10 @@ class Planner:
                                        step.over, stretched,
                                        tuple(i for _, i, _ in moving)))
             now += duration
-            if now > MAX_GESTURE_DURATION:
-                raise GestError(self.sources.error(
-                    f"the gesture lasts more than {MAX_GESTURE_DURATION:g} s", step.pos,
-                    "split it into shorter gestures"))
+        if now > MAX_GESTURE_DURATION:
+            raise GestError(self.sources.error(
+                f"the gesture lasts more than {MAX_GESTURE_DURATION:g} s", steps[-1].pos,
+                "split it into shorter gestures"))
         if errors:
             raise GestError(errors)
         return Plan(self.profile, tuple(b.build() for b in builders), tuple(reports),

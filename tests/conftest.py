@@ -1,0 +1,46 @@
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+
+from inmoov_dsl import load_profile  # noqa: E402
+from inmoov_dsl.profile import parse_profile  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+@pytest.fixture(scope="session")
+def rhand():
+    return load_profile("rhand")
+
+
+def servo_toml(name, sid, v=400.0, a=8000.0, j=160000.0, lo=0, hi=180):
+    return (f"[servo.{name}]\nid = {sid}\nrange = [{lo}, {hi}]\nrest = {lo}\n"
+            f"max_velocity = {v}\nmax_acceleration = {a}\nmax_jerk = {j}\n")
+
+
+def board_toml(bid, names, baud=9600):
+    quoted = ", ".join(f'"{n}"' for n in names)
+    return f"[[board]]\nid = {bid}\nbaud = {baud}\nservos = [{quoted}]\n"
+
+
+def make_profile(boards, baud=9600, name="test", limits=None):
+    """A profile from {board id: [servo names]}; servo IDs are numbered in order."""
+    text = f'name = "{name}"\n'
+    sid = 0
+    servos = ""
+    for bid, names in boards.items():
+        text += board_toml(bid, names, baud)
+        for n in names:
+            servos += servo_toml(n, sid, **(limits or {}))
+            sid += 1
+    return parse_profile(text + servos, f"{name}.toml")
+
+
+@pytest.fixture(scope="session")
+def two_boards():
+    """A left and a right hand on two boards (the compiler's one-stream-per-board case)."""
+    return make_profile({181: ["r_thumb", "r_index", "r_middle"],
+                         183: ["l_thumb", "l_index", "l_middle"]}, name="two")

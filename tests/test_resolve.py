@@ -1,0 +1,134 @@
+"""Names, poses, groups, calls, repeats and imports, and what their errors say."""
+
+import pytest
+
+from inmoov_dsl import compile_source
+from inmoov_dsl.compiler import load, plan_gesture, read_text
+from inmoov_dsl.errors import GestError
+from inmoov_dsl.resolve import Resolver, load_program
+
+
+def steps_of(source, rhand, gesture="g", read=None):
+    files = {"main.gest": source}
+    if read:
+        files.update(read)
+    program = load_program("main.gest", lambda p: files[p] if p in files else _missing(p))
+    return Resolver(program, rhand).gesture(gesture)
+
+
+def _missing(path):
+    raise FileNotFoundError(path)
+
+
+def error_of(source, rhand, gesture="g", files=None):
+    with pytest.raises(GestError) as info:
+        steps_of(source, rhand, gesture, files)
+    return info.value.format().splitlines()
+
+
+def names(step, rhand):
+    return [(rhand.servos[i].name, v) for i, v in step.targets]
+
+
+def test_groups_poses_and_overrides(rhand):
+    (step,) = steps_of("pose fist: fingers 180\ng: fist, thumb 0", rhand)
+    assert names(step, rhand) == [("thumb", 0), ("index", 180), ("middle", 180),
+                                  ("ring", 180), ("pinky", 180)]
+
+
+def test_file_groups_keep_their_order_for_a_stagger(rhand):
+    (step,) = steps_of("group wave: pinky, ring, middle, index\n"
+                       "g: wave 90 stagger 80ms", rhand)
+    assert [n for n, _ in names(step, rhand)] == ["pinky", "ring", "middle", "index"]
+    assert step.stagger == pytest.approx(0.08)
+
+
+def test_repeat_and_calls_expand_in_order(rhand):
+    steps = steps_of("up: index 90\ndown: index 0\n"
+                     "g:\n    repeat 3:\n        up\n        down\n    wait 1s", rhand)
+    assert [s.targets for s in steps[:6]] == [((2, 90),), ((2, 0),)] * 3
+    assert steps[0].where == "g > up"
+    assert steps[-1].hold == pytest.approx(1.0)
+
+
+def test_servos_not_named_keep_their_value(rhand):
+    c = compile_source("g:\n    thumb 90\n    index 45\n    wait 100ms")
+    assert c.final == (0, 90, 45, 0, 0, 0)
+
+
+def test_use_imports_beside_the_file_then_the_library(rhand):
+    files = {"main.gest": 'use "lib.gest"\nuse "peace.gest"\ng:\n    fist\n    peace\n',
+             "lib.gest": "pose fist: fingers 180\n"}
+    def read(path):
+        return files[path] if path in files else read_text(path)
+
+    program = load("main.gest", read=read)
+    plan = plan_gesture(program, "g", rhand)
+    assert plan.final == (0, 180, 0, 0, 180, 180)  # fist, then the library's peace
+
+
+def test_start_pose_from_a_pose_or_targets(rhand):
+    program = load("s.gest", "pose half: fingers 90\ng: index 0\n")
+    assert plan_gesture(program, "g", rhand, start="half").start == (0, 90, 90, 90, 90, 90)
+    assert plan_gesture(program, "g", rhand, start="wrist 30, thumb 10").start == (
+        30, 10, 0, 0, 0, 0)
+
+
+RESOLVE_ERRORS = [
+    ("g: indx 90", None,
+     ["main.gest:1:4: error: unknown servo or group 'indx'", "    g: indx 90", "       ^~~~",
+      "  hint: did you mean 'index'?"]),
+    ("g:\n    pece\npeace: index 9", None,
+     ["main.gest:2:5: error: unknown servo, group, pose or gesture 'pece'", "        pece",
+      "        ^~~~", "  hint: did you mean 'peace'?"]),
+    ("g: fist 9\npose fist: all 0", None,
+     ["main.gest:1:9: error: 'fist' is a pose; it takes no value"]),
+    ("g:\n  q\nq:\n  g\n", None,
+     ["main.gest:4:3: error: gesture 'g' calls itself: g -> q -> g"]),
+    ("g: a\npose a: b\npose b: a", None,
+     ["main.gest:3:9: error: pose 'a' refers to itself: a -> b -> a"]),
+    ("g: index 90, index 80", None,
+     ["main.gest:1:14: error: 'index' is set twice in this step"]),
+    ("g: fingers", None, ["main.gest:1:4: error: group 'fingers' needs a value"]),
+    ("g: index", None, ["main.gest:1:4: error: servo 'index' needs a value"]),
+    ("g: index 9\ng: index 8", None,
+     ["main.gest:2:1: error: 'g' is defined twice"]),
+    ("g:\n  repeat 1000:\n    repeat 1000: index 9", None,
+     ["main.gest:1:1: error: gesture 'g' expands to more than 100,000 steps"]),
+    ("g: p, index 9\np: index 9", None,
+     ["main.gest:1:4: error: 'p' is a gesture: call it on a line of its own"]),
+    ("g: p over 1s\np: index 9", None,
+     ["main.gest:1:11: error: a gesture call takes no timing: 'p' sets its own"]),
+    ("g: pinky 90\npose index: all 0", None,
+     ["main.gest:2:6: error: 'index' is the name of a servo of profile 'rhand'"]),
+    ("group pair: index, midle\ng: pair 9", None,
+     ["main.gest:1:20: error: unknown servo 'midle' in group 'pair'"]),
+    ('use "nowhere.gest"\ng: index 9', None,
+     ["main.gest:1:5: error: cannot find 'nowhere.gest'"]),
+    ('use "b.gest"\ng: index 9\npose p: all 0', {"b.gest": "pose p: all 9\n"},
+     ["main.gest:3:6: error: 'p' is defined twice", "    pose p: all 0", "         ^",
+      "  hint: first defined at b.gest:1"]),
+    ('use "b.gest"\ng: index 9', {"b.gest": "pose p: all 900\n"},
+     ["b.gest:1:13: error: value 900 is outside 0..180"]),
+]
+
+
+@pytest.mark.parametrize(("source", "files", "expected"), RESOLVE_ERRORS)
+def test_resolve_errors_say_what_and_where(rhand, source, files, expected):
+    lines = error_of(source, rhand, files=files)
+    assert lines[:len(expected)] == expected
+
+
+def test_value_outside_a_servos_range():
+    from conftest import make_profile
+    profile = make_profile({181: ["a", "b"]}, limits={"lo": 10, "hi": 120})
+    with pytest.raises(GestError) as info:
+        compile_source("g: a 150", profile=profile, file="r.gest")
+    assert info.value.format().splitlines()[0] == (
+        "r.gest:1:6: error: value 150 is outside the range of 'a' (10..120)")
+
+
+def test_import_cycles_are_read_once(rhand):
+    files = {"main.gest": 'use "b.gest"\ng: x\n', "b.gest": 'use "main.gest"\npose x: all 9\n'}
+    program = load_program("main.gest", files.__getitem__)
+    assert Resolver(program, rhand).gesture("g")[0].targets[0] == (0, 9)
