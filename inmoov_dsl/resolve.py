@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from . import syntax as ast
 from .errors import Diagnostic, GestError, Pos, SourceMap, did_you_mean
@@ -277,14 +277,21 @@ def resolve_start(program: Program, profile: Profile, text: str | None) -> tuple
     pose = [s.rest for s in profile.servos]
     if not text:
         return tuple(pose)
-    file = "--from"
-    source = f"pose start__: {text}"
-    program.sources.add(file, source)
+    file, prefix = "--from", "pose start__: "
+    program.sources.add(file, prefix + text)
     try:
-        module = parse(source, file)
+        (item,) = parse(prefix + text, file).items
+        targets = Resolver(program, profile).targets(item.targets)
     except GestError as exc:
-        raise GestError(exc.diagnostics) from None
-    (item,) = module.items
-    for index, value in Resolver(program, profile).targets(item.targets).items():
+        raise GestError([_unwrap(d, file, prefix, text) for d in exc.diagnostics]) from None
+    for index, value in targets.items():
         pose[index] = value
     return tuple(pose)
+
+
+def _unwrap(d: Diagnostic, file: str, prefix: str, text: str) -> Diagnostic:
+    """Point a diagnostic about ``--from`` at what the user typed, not at our wrapper."""
+    if d.pos is None or d.pos.file != file:
+        return d
+    column = max(1, d.pos.column - len(prefix))
+    return replace(d, pos=replace(d.pos, column=column), source_line=text)

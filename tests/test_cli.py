@@ -1,0 +1,196 @@
+"""gestc and gestplay as a user meets them: outputs, messages, exit codes, no tracebacks."""
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from inmoov_dsl import compile_file, from_json
+from inmoov_dsl.cli import gestc, gestplay
+
+ROOT = Path(__file__).resolve().parent.parent
+COUNT = str(ROOT / "gestures" / "count.gest")
+
+
+def run(capsys, *argv):
+    code = gestc.main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def write(tmp_path, name, text):
+    path = tmp_path / name
+    path.write_text(text)
+    return str(path)
+
+
+def test_compile_writes_a_file_the_player_can_load(capsys, tmp_path):
+    out = tmp_path / "count.gestc"
+    code, _, err = run(capsys, "compile", COUNT, "-o", str(out))
+    assert code == 0
+    assert err.startswith(f"wrote {out}: count, 5.00 s, board 181: ")
+    compiled = from_json(out.read_text())
+    assert compiled.gesture == "count" and compiled.profile == "rhand"
+    assert compiled.final == (0, 0, 0, 0, 0, 0)
+    assert compiled.streams[0].data[0] == 255
+    assert compiled.sources[0][0] == COUNT and len(compiled.sources[0][1]) == 64
+
+
+def test_compile_default_output_is_named_after_the_gesture(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert run(capsys, "compile", "peace")[0] == 0
+    assert from_json((tmp_path / "peace.gestc").read_text()).gesture == "peace"
+
+
+def test_timed_format_on_stdout(capsys):
+    code, out, _ = run(capsys, "compile", COUNT, "--format", "timed", "-o", "-")
+    assert code == 0
+    lines = out.splitlines()
+    assert lines[0] == "0.000000 255"
+    stream = compile_file(COUNT).stream()
+    assert [int(line.split(" ")[1]) for line in lines] == list(stream.data)
+    assert [float(line.split(" ")[0]) for line in lines] == pytest.approx(
+        stream.times.tolist(), abs=5e-7)
+
+
+def test_the_card_warns_and_strict_fails(capsys, tmp_path):
+    card = write(tmp_path, "card.gest", "peace: index 180, middle 180 over 0.4s\n")
+    code, _, err = run(capsys, "compile", card, "-o", "-")
+    assert code == 0
+    assert f"{card}:1:35: warning: move stretched: needs 0.60 s, asked 0.40 s" in err
+    code, out, err = run(capsys, "compile", card, "--strict", "-o", "-")
+    assert code == 1 and out == ""
+    assert f"{card}:1:35: error: move stretched: needs 0.60 s, asked 0.40 s" in err
+
+
+def test_check_reports_every_file(capsys, tmp_path):
+    good = write(tmp_path, "good.gest", "a: index 90\nb: index 0\n")
+    bad = write(tmp_path, "bad.gest", "a: indx 90\n")
+    code, out, err = run(capsys, "check", good, bad)
+    assert code == 1
+    assert out == f"{good}: ok (2 gestures)\n"
+    assert err.splitlines() == [f"{bad}:1:4: error: unknown servo or group 'indx'",
+                                "    a: indx 90", "       ^~~~", "  hint: did you mean 'index'?"]
+
+
+def test_show_tables_steps_and_link(capsys):
+    code, out, _ = run(capsys, "show", COUNT)
+    assert code == 0
+    assert out.startswith("count: 5.000 s on profile 'rhand'")
+    assert "board 181 at 9600 baud, 6 servos" in out
+    assert "coverage     100.0%" in out
+    steps = [line for line in out.splitlines() if line.strip()[:1].isdigit()]
+    assert len(steps) == 9
+    assert "count:5" in steps[0] and "move" in steps[0]
+    assert "hold" in steps[1] and "0.500   0.500" in steps[1]
+
+
+def test_show_marks_a_stretched_step(capsys, tmp_path):
+    card = write(tmp_path, "card.gest", "peace: index 180, middle 180 over 0.4s\n")
+    code, out, _ = run(capsys, "show", card)
+    assert code == 0 and "  0.400   0.600  stretched" in out
+
+
+def test_show_says_when_the_link_is_the_bottleneck(capsys, tmp_path):
+    names = [f"s{i}" for i in range(14)]
+    profile = "".join(
+        [f'[[board]]\nid = 181\nbaud = 9600\nservos = {names!r}\n'.replace("'", '"')]
+        + [f"[servo.{n}]\nid = {i}\nmax_velocity = 400\nmax_acceleration = 8000\n"
+           f"max_jerk = 160000\n" for i, n in enumerate(names)])
+    prof = write(tmp_path, "crowd.toml", profile)
+    gest = write(tmp_path, "all.gest", "g: " + ", ".join(f"{n} 180" for n in names) + "\n")
+    code, out, _ = run(capsys, "show", gest, "--profile", prof)
+    assert code == 0
+    assert "the link is the bottleneck" in out
+
+
+def test_list_prints_name_tab_file(capsys):
+    code, out, _ = run(capsys, "list")
+    assert code == 0
+    rows = dict(line.split("\t") for line in out.splitlines())
+    assert Path(rows["count"]).name == "count.gest"
+    assert Path(rows["peace"]).name == "peace.gest"
+
+
+def test_from_a_pose(capsys, tmp_path):
+    out = tmp_path / "o.gestc"
+    code, _, _ = run(capsys, "compile", "peace", "--from", "fingers 90", "-o", str(out))
+    assert code == 0
+    assert from_json(out.read_text()).start == (0, 90, 90, 90, 90, 90)
+
+
+@pytest.mark.parametrize(("argv", "message"), [
+    (["compile", "nosuch.gest"], "gestc: error: cannot find 'nosuch.gest'"),
+    (["compile", "pece"], "gestc: error: no file or library gesture 'pece'\n"
+                          "  hint: did you mean 'peace'?"),
+    (["compile", COUNT, "--profile", "lefthand"], "gestc: error: unknown profile 'lefthand'"),
+    (["compile", COUNT, "--gesture", "cont"], f"gestc: error: no gesture 'cont' in {COUNT}\n"
+                                              "  hint: did you mean 'count'?"),
+    (["compile", COUNT, "--from", "indx 9"], "--from:1:1: error: unknown servo or group "
+                                             "'indx'\n    indx 9\n    ^~~~"),
+    (["compile", COUNT, "-o", "/nonexistent/dir/x.gestc"],
+     "gestc: error: cannot use '/nonexistent/dir/x.gestc': No such file or directory"),
+])
+def test_bad_input_is_one_clear_message(capsys, argv, message):
+    code, out, err = run(capsys, *argv)
+    assert code == 1
+    assert err.startswith(message)
+    assert "Traceback" not in err
+
+
+def test_a_file_with_several_gestures_needs_a_choice(capsys, tmp_path):
+    two = write(tmp_path, "two.gest", "a: index 9\nb: index 8\n")
+    code, _, err = run(capsys, "compile", two)
+    assert code == 1
+    assert err == (f"gestc: error: {two} defines 2 gestures: a, b\n"
+                   "  hint: choose one with --gesture NAME\n")
+
+
+def test_several_boards_need_a_board_for_timed_output(capsys, tmp_path):
+    profile = write(tmp_path, "two.toml", (ROOT / "tests" / "data" / "two.toml").read_text())
+    gest = write(tmp_path, "t.gest", "g: r_index 90, l_index 90\n")
+    code, _, err = run(capsys, "compile", gest, "--profile", profile, "-f", "timed", "-o", "-")
+    assert code == 1
+    assert err.startswith("gestc: error: profile 'two' has 2 boards (181, 183): choose one")
+    code, out, _ = run(capsys, "compile", gest, "--profile", profile, "-f", "timed",
+                       "--board", "183", "-o", "-")
+    assert code == 0 and out.startswith("0.000000 255\n")
+
+
+def test_a_broken_compiled_file_is_reported(tmp_path):
+    from inmoov_dsl.errors import GestError
+    with pytest.raises(GestError) as info:
+        from_json('{"format": "inmoov-dsl-compiled", "version": 9}', "old.gestc")
+    assert info.value.format() == (
+        "error: old.gestc: not a usable compiled gesture: format version 9, this gestc reads 1"
+        "\n  hint: compile it again with 'gestc compile'")
+
+
+def script(name):
+    here = Path(sys.executable).parent / name
+    return str(here) if here.exists() else shutil.which(name)
+
+
+@pytest.mark.parametrize("name", ["gestc", "gestplay"])
+def test_console_scripts_are_installed(name):
+    exe = script(name)
+    assert exe, f"{name} is not installed: pip install -e ."
+    done = subprocess.run([exe, "--help"], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0
+    assert done.stdout.startswith(f"usage: {name}")
+
+
+def test_gestplay_says_it_cannot_play_yet():
+    assert gestplay.main(["peace", "--port", "COM3"]) == 2
+
+
+def test_no_traceback_from_the_installed_script(tmp_path):
+    bad = write(tmp_path, "bad.gest", "peace: index 900\n")
+    done = subprocess.run([script("gestc"), "compile", bad], capture_output=True, text=True,
+                          timeout=60, env={**os.environ, "PYTHONWARNINGS": "ignore"})
+    assert done.returncode == 1
+    assert done.stderr.startswith(f"{bad}:1:14: error: value 900 is outside 0..180")
+    assert "Traceback" not in done.stderr
