@@ -1,0 +1,51 @@
+"""A non-editable install carries the grammar, the profiles and the gesture library."""
+
+import os
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+@pytest.fixture(scope="module")
+def wheel(tmp_path_factory):
+    out = tmp_path_factory.mktemp("wheel")
+    done = subprocess.run(
+        [sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q",
+         "-w", str(out), str(ROOT)], capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    (path,) = out.glob("inmoov_dsl-*.whl")
+    return path
+
+
+def test_the_wheel_carries_grammar_profiles_and_library(wheel):
+    names = set(zipfile.ZipFile(wheel).namelist())
+    assert "inmoov_dsl/_data/grammar/gest.lark" in names
+    assert "inmoov_dsl/_data/gestures/profiles/rhand.toml" in names
+    assert "inmoov_dsl/_data/gestures/count.gest" in names
+    assert "inmoov_dsl/_data/gestures/peace.gest" in names
+    entry_points = next(n for n in names if n.endswith("entry_points.txt"))
+    text = zipfile.ZipFile(wheel).read(entry_points).decode()
+    assert "gestc = inmoov_dsl.cli.gestc:main" in text
+    assert "gestplay = inmoov_dsl.cli.gestplay:main" in text
+
+
+def test_the_installed_layout_compiles_the_library(wheel, tmp_path):
+    site = tmp_path / "site"
+    zipfile.ZipFile(wheel).extractall(site)
+    code = ("import inmoov_dsl, inmoov_dsl.resources as r, sys; "
+            "print(inmoov_dsl.__file__); print(r.grammar_path()); "
+            "from inmoov_dsl.cli.gestc import main; sys.exit(main(['compile', 'count', "
+            "'-o', '-', '-f', 'timed']))")
+    done = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, capture_output=True,
+                          text=True, timeout=120,
+                          env={**os.environ, "PYTHONPATH": str(site)})
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    assert lines[0].startswith(str(site))
+    assert lines[1] == str(site / "inmoov_dsl" / "_data" / "grammar" / "gest.lark")
+    assert lines[2] == "0.000000 255"
