@@ -7,6 +7,7 @@ GestError diagnostics with the position, the line and a caret.
 from __future__ import annotations
 
 import functools
+import threading
 
 from lark import Lark, Token, Transformer, UnexpectedCharacters, UnexpectedInput, v_args
 from lark.exceptions import UnexpectedEOF, UnexpectedToken, VisitError
@@ -66,14 +67,16 @@ def _next_line_pos(token: Token, indent_str: str) -> tuple[int, int, int]:
 
 @functools.cache
 def parser() -> Lark:
-    """The .gest parser, built once."""
+    """The .gest parser, built once. It builds the syntax tree's dataclasses while it
+    parses (Lark's tree-less LALR mode); positions come from the tokens."""
     return Lark(
         grammar_path().read_text(encoding="utf-8"),
         parser="lalr",
         lexer="contextual",
         postlex=_Indenter(),
-        propagate_positions=True,
         maybe_placeholders=False,
+        transformer=_TO_AST,
+        cache=True,  # Lark keeps the analysed grammar in the temp dir between runs
     )
 
 
@@ -83,9 +86,9 @@ def _tok_pos(file: str, tok: Token) -> Pos:
 
 @v_args(inline=True)
 class _ToAst(Transformer):
-    def __init__(self, file: str):
-        super().__init__()
-        self.file = file
+    """Parse-tree rules -> syntax dataclasses. ``file`` is set for each parse."""
+
+    file = "<string>"
 
     def pos(self, tok: Token) -> Pos:
         return _tok_pos(self.file, tok)
@@ -181,6 +184,10 @@ class _ToAst(Transformer):
         return ast.Duration(seconds, Pos(pos.file, pos.line, pos.column, span[2]))
 
 
+_TO_AST = _ToAst()
+_LOCK = threading.Lock()  # the parser and its transformer are shared
+
+
 def _tok_tuple(tok: Token) -> tuple[int, int, int]:
     return (tok.line, tok.column, max(1, len(str(tok))))
 
@@ -201,8 +208,9 @@ def parse(text: str, file: str = "<string>") -> ast.Module:
                                     source))
 
     try:
-        tree = parser().parse(text)
-        return _ToAst(file).transform(tree)
+        with _LOCK:
+            _TO_AST.file = file
+            return parser().parse(text)
     except VisitError as exc:
         problem = exc.orig_exc
         if not isinstance(problem, _SyntaxProblem):

@@ -63,6 +63,7 @@ def load_program(path: str, read: Reader, search: Sequence[str] = (),
     """
     program = Program(path)
     seen: set[str] = set()
+    defined: dict[str, Pos] = {}
     errors: list[Diagnostic] = []
 
     def visit(file: str, source: str, is_root: bool) -> None:
@@ -78,12 +79,13 @@ def load_program(path: str, read: Reader, search: Sequence[str] = (),
                     visit(found[0], found[1], False)
                 continue
             name = item.name.text
-            if name in program.names():
-                first = program.names()[name]
+            if name in defined:
+                first = defined[name]
                 errors.append(program.sources.error(
                     f"'{name}' is defined twice", item.name.pos,
                     f"first defined at {first.file}:{first.line}"))
                 continue
+            defined[name] = item.name.pos
             if isinstance(item, ast.GestureDef):
                 program.gestures[name] = item
                 if is_root:
