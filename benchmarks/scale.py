@@ -8,9 +8,11 @@ Target: a 1,000-step gesture in under 1 s, and time growing linearly from 100 to
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from common import HERE, best_and_median, random_gesture
 
-from inmoov_dsl import load_profile
+from inmoov_dsl import load_profile, measure
 from inmoov_dsl.compiler import compile_program, load
 
 
@@ -36,6 +38,16 @@ def main() -> None:
               f"{median * 1000:,.0f} ms | {best / steps * 1e6:,.0f} us |")
     print(f"\nper-step time, 10,000 vs 100 steps: {per_step[10_000] / per_step[100]:.2f}x "
           f"(1.0 = linear)")
+
+    # the same robot with every servo on one 9600-baud board: the link is the bottleneck
+    one = replace(profile, boards=(replace(profile.boards[0], servos=profile.names),))
+    source = random_gesture(list(one.names), 1_000)
+    best, _ = best_and_median(lambda: compile_program(load("big.gest", source), "big", one), 3)
+    compiled, plan = compile_program(load("big.gest", source), "big", one)
+    (r,) = measure(plan, compiled.streams)
+    print(f"\n1,000 steps, all 28 servos on one 9600-baud board: {best * 1000:,.0f} ms; "
+          f"coverage {100 * r.coverage:.1f}%, worst lag {r.worst_lag:.1f} deg, "
+          f"link use {100 * r.utilisation:.0f}%")
 
 
 if __name__ == "__main__":

@@ -14,6 +14,7 @@ When they do not, every frame's slots go to the servos furthest behind their pla
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -99,8 +100,11 @@ def _furthest_behind(plan: Plan, servos: list[int], ends: np.ndarray, pair_time:
             for m in range(slots)
         ]
         for f, row in enumerate(at_end):
-            behind = sorted(((abs(x - held[j]), j) for j, x in enumerate(row)
-                             if np.floor(x + 0.5) != held[j]), reverse=True)
+            behind = [(abs(x - h), j) for j, (x, h) in enumerate(zip(row, held, strict=True))
+                      if math.floor(x + 0.5) != h]
+            if not behind:
+                continue
+            behind.sort(reverse=True)
             # the servo furthest behind goes first: the frame's earliest free slot
             slot = slots - 1
             for _, j in behind:
