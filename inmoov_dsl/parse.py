@@ -234,10 +234,7 @@ def parse(text: str, file: str = "<string>") -> ast.Module:
 def _explain(exc: UnexpectedInput, text: str) -> tuple[str, str | None, int]:
     """A sentence for a syntax error: what was found, what was expected, a hint."""
     if isinstance(exc, UnexpectedCharacters):
-        char = text[exc.pos_in_stream]
-        if char == "\t":
-            return "unexpected tab", None, 1
-        return f"unexpected character '{char}'", None, 1
+        return f"unexpected character '{text[exc.pos_in_stream]}'", None, 1
     if isinstance(exc, UnexpectedToken):
         tok = exc.token
         expected = sorted(exc.accepts or exc.expected)

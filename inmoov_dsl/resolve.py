@@ -16,6 +16,7 @@ from .parse import parse
 from .profile import Profile
 
 MAX_STEPS = 100_000  #: the most steps one gesture may expand to
+MAX_NESTING = 100  #: the deepest chain of calls and repeats, or of poses within poses
 
 
 @dataclass(frozen=True)
@@ -175,6 +176,9 @@ class Resolver:
                     cycle = " -> ".join([*chain[chain.index(name):], name])
                     raise GestError(self.src.error(f"pose '{name}' refers to itself: {cycle}",
                                                    t.name.pos))
+                if len(chain) >= MAX_NESTING:
+                    raise GestError(self.src.error(
+                        f"poses are nested more than {MAX_NESTING} deep", t.name.pos))
                 out.update(self.targets(self.program.poses[name].targets, (*chain, name)))
                 continue
             if name in self.program.gestures:
@@ -206,7 +210,7 @@ class Resolver:
     def gesture(self, name: str) -> tuple[Step, ...]:
         """The steps of gesture ``name``, with calls and repeats expanded."""
         node = self.program.gestures[name]
-        size = self.size(name, (name,), node.name.pos)
+        size, _ = self.measure(name, (name,))
         if size > MAX_STEPS:
             raise GestError(self.src.error(
                 f"gesture '{name}' expands to more than {MAX_STEPS:,} steps",
@@ -229,29 +233,43 @@ class Resolver:
             return target.name.text
         return None
 
-    def size(self, name: str, chain: tuple[str, ...], pos: Pos) -> int:
-        """Steps that gesture ``name`` expands to; detects call cycles."""
-        if name in self._sizes:
-            return self._sizes[name]
-        total = self._size_of(self.program.gestures[name].steps, chain)
-        self._sizes[name] = total
-        return total
+    def measure(self, name: str, chain: tuple[str, ...], depth: int = 0) -> tuple[int, int]:
+        """(steps, nesting height) of gesture ``name``; detects call cycles and nesting
+        too deep, so that expanding a gesture is bounded whatever the input."""
+        if name not in self._sizes:
+            self._sizes[name] = self._measure(self.program.gestures[name].steps, chain, depth)
+        return self._sizes[name]
 
-    def _size_of(self, steps: Sequence[ast.Step], chain: tuple[str, ...]) -> int:
-        total = 0
+    def _measure(self, steps: Sequence[ast.Step], chain: tuple[str, ...], depth: int
+                 ) -> tuple[int, int]:
+        total = height = 0
         for step in steps:
-            if isinstance(step, ast.Repeat):
-                total += step.count * self._size_of(step.body, chain)
-            elif isinstance(step, ast.Move) and (callee := self._call(step)) is not None:
-                if callee in chain:
-                    cycle = " -> ".join([*chain[chain.index(callee):], callee])
-                    raise GestError(self.src.error(f"gesture '{callee}' calls itself: {cycle}",
-                                                   step.targets[0].name.pos))
-                total += self.size(callee, (*chain, callee), step.pos)
+            inner = 0
+            callee = self._call(step) if isinstance(step, ast.Move) else None
+            if isinstance(step, ast.Repeat) or callee is not None:
+                if depth + 1 > MAX_NESTING:
+                    raise self._too_deep(step.pos)
+                if isinstance(step, ast.Repeat):
+                    size, below = self._measure(step.body, chain, depth + 1)
+                    size *= step.count
+                else:
+                    if callee in chain:
+                        cycle = " -> ".join([*chain[chain.index(callee):], callee])
+                        raise GestError(self.src.error(
+                            f"gesture '{callee}' calls itself: {cycle}", step.pos))
+                    size, below = self.measure(callee, (*chain, callee), depth + 1)
+                inner = below + 1
+                if depth + inner > MAX_NESTING:
+                    raise self._too_deep(step.pos)
             else:
-                total += 1
-            total = min(total, MAX_STEPS + 1)  # enough to report; keeps the count bounded
-        return total
+                size = 1
+            total = min(total + size, MAX_STEPS + 1)  # enough to report; stays bounded
+            height = max(height, inner)
+        return total, height
+
+    def _too_deep(self, pos: Pos | None) -> GestError:
+        return GestError(self.src.error(
+            f"calls and repeats are nested more than {MAX_NESTING} deep", pos))
 
     def _emit(self, steps: Sequence[ast.Step], where: str, out: list[Step]) -> None:
         for step in steps:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from inmoov_dsl import compile_file, from_json
+from inmoov_dsl import compile_file, from_json, to_json
 from inmoov_dsl.cli import gestc, gestplay
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -194,3 +194,53 @@ def test_no_traceback_from_the_installed_script(tmp_path):
     assert done.returncode == 1
     assert done.stderr.startswith(f"{bad}:1:14: error: value 900 is outside 0..180")
     assert "Traceback" not in done.stderr
+
+
+@pytest.mark.parametrize(("text", "why"), [
+    ("{nope", "invalid JSON (Expecting property name enclosed in double quotes at line 1)"),
+    ('{"format": "midi"}', "it is not a gestc file"),
+    ('{"format": "inmoov-dsl-compiled", "version": 1}', "missing or malformed field "
+                                                       "('streams')"),
+    ('{"format": "inmoov-dsl-compiled", "version": 1, "streams": [{"board": 181, '
+     '"baud": 9600, "times": [0, 1], "bytes": [255]}]}',
+     "board 181 has 2 times for 1 bytes"),
+    ('{"format": "inmoov-dsl-compiled", "version": 1, "streams": [{"board": 181, '
+     '"baud": 9600, "times": [0.5, 0.1], "bytes": [255, 1]}]}',
+     "board 181: send times go backwards"),
+])
+def test_compiled_files_that_cannot_be_used(text, why):
+    from inmoov_dsl.errors import GestError
+    with pytest.raises(GestError) as info:
+        from_json(text, "x.gestc")
+    assert info.value.first.message == f"x.gestc: not a usable compiled gesture: {why}"
+
+
+def test_a_compiled_file_round_trips():
+    compiled = compile_file(COUNT)
+    again = from_json(to_json(compiled))
+    assert again.streams[0].data == compiled.streams[0].data
+    assert again.streams[0].times.tolist() == pytest.approx(compiled.streams[0].times.tolist(),
+                                                            abs=1e-9)
+    assert (again.gesture, again.final, again.duration) == ("count", compiled.final, 5.0)
+    assert again.stream(181).board == 181
+    from inmoov_dsl.errors import GestError
+    with pytest.raises(GestError, match="no board 190 in profile 'rhand'"):
+        again.stream(190)
+
+
+def test_a_file_without_gestures(capsys, tmp_path):
+    poses = write(tmp_path, "poses.gest", "pose fist: fingers 180\n")
+    code, _, err = run(capsys, "compile", poses)
+    assert code == 1 and err == f"gestc: error: {poses} defines no gesture\n"
+
+
+def test_a_name_in_two_library_files_names_both(tmp_path):
+    from inmoov_dsl import load_library
+    from inmoov_dsl.errors import GestError
+    (tmp_path / "a.gest").write_text("wave: index 90\n")
+    (tmp_path / "b.gest").write_text("wave: index 0\n")
+    with pytest.raises(GestError) as info:
+        load_library([tmp_path])
+    assert info.value.first.message == (
+        f"gesture 'wave' is defined in two library files: {tmp_path / 'a.gest'} and "
+        f"{tmp_path / 'b.gest'}")

@@ -68,6 +68,13 @@ PROFILE_ERRORS = [
     (board_toml(181, ["a"]) + servo_toml("a", 1) + '[groups]\nhand = ["a", "z"]\n',
      "group 'hand' names unknown servo 'z'"),
     ("name = \n", "invalid TOML: Invalid value"),
+    (board_toml(181, ["a"]) + board_toml(181, ["b"]) + servo_toml("a", 1) + servo_toml("b", 2),
+     "board 181 is declared twice"),
+    (board_toml(181, ["a"]) + board_toml(183, ["a"]) + servo_toml("a", 1),
+     "servo 'a' is on board 181 and board 183"),
+    ('name = "x"\n', "a profile needs at least one [[board]]"),
+    (board_toml(181, ["a"]) + servo_toml("a", 1).replace("rest = 0", "rest = 200"),
+     "servo 'a': 'rest' must be a whole number in its range 0..180, got 200"),
 ]
 
 

@@ -132,3 +132,34 @@ def test_import_cycles_are_read_once(rhand):
     files = {"main.gest": 'use "b.gest"\ng: x\n', "b.gest": 'use "main.gest"\npose x: all 9\n'}
     program = load_program("main.gest", files.__getitem__)
     assert Resolver(program, rhand).gesture("g")[0].targets[0] == (0, 9)
+
+
+def test_deep_pose_nesting_is_an_error_not_a_crash(rhand):
+    lines = ["pose p0: index 1"] + [f"pose p{i}: p{i - 1}" for i in range(1, 500)]
+    lines = [*lines, "g: p499"]
+    message = error_of("\n".join(lines), rhand)[0]
+    assert message.endswith("error: poses are nested more than 100 deep")
+
+
+def test_deep_calls_are_an_error_even_through_a_gesture_measured_before(rhand):
+    # x79 is first measured from root at depth 1, then reached again 80 calls deep
+    lines = ["x0: index 1"] + [f"x{i}:\n    x{i - 1}" for i in range(1, 80)]
+    lines += ["y0:\n    x79"] + [f"y{i}:\n    y{i - 1}" for i in range(1, 80)]
+    lines += ["g:\n    x79\n    y79"]
+    assert error_of("\n".join(lines), rhand)[:3] == [
+        "main.gest:161:5: error: calls and repeats are nested more than 100 deep",
+        "        x79", "        ^~~"]
+
+
+MORE_ERRORS = [
+    ("g: p 9\np: index 9", ["main.gest:1:6: error: 'p' is a gesture; it takes no value"]),
+    ("g: index 9 stagger 1s stagger 2s",
+     ["main.gest:1:31: error: 'stagger' is given twice in this step"]),
+    ("g: index 9\npose fingers: all 9",
+     ["main.gest:2:6: error: 'fingers' is the name of a group of profile 'rhand'"]),
+]
+
+
+@pytest.mark.parametrize(("source", "expected"), MORE_ERRORS)
+def test_more_errors(rhand, source, expected):
+    assert error_of(source, rhand)[:len(expected)] == expected
