@@ -81,7 +81,6 @@ def compile_program(program: Program, gesture: str | None = None,
     name = pick_gesture(program, gesture)
     plan = plan_gesture(program, name, prof, start, strict)
     streams = encode(plan)
-    profile_text = read_text(prof.path) if prof.path and os.path.isfile(prof.path) else ""
     steps = tuple(
         StepSummary(s.where, s.pos.file if s.pos else None, s.pos.line if s.pos else None,
                     s.kind, s.start, s.end, s.asked, s.stretched)
@@ -90,7 +89,7 @@ def compile_program(program: Program, gesture: str | None = None,
     compiled = Compiled(
         gesture=name,
         profile=prof.name,
-        profile_sha256=_sha256(profile_text),
+        profile_sha256=prof.sha256,
         sources=tuple((p, _sha256(t)) for p, t in program.texts.items()),
         servos=prof.names,
         start=plan.start,

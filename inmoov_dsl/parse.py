@@ -10,7 +10,7 @@ import functools
 import threading
 
 from lark import Lark, Token, Transformer, UnexpectedCharacters, UnexpectedInput, v_args
-from lark.exceptions import UnexpectedEOF, UnexpectedToken, VisitError
+from lark.exceptions import UnexpectedEOF, UnexpectedToken
 from lark.indenter import Indenter
 
 from . import syntax as ast
@@ -211,12 +211,7 @@ def parse(text: str, file: str = "<string>") -> ast.Module:
         with _LOCK:
             _TO_AST.file = file
             return parser().parse(text)
-    except VisitError as exc:
-        problem = exc.orig_exc
-        if not isinstance(problem, _SyntaxProblem):
-            raise
-        raise fail(problem.message, *problem.pos, hint=problem.hint) from None
-    except _SyntaxProblem as problem:
+    except _SyntaxProblem as problem:  # tree-less mode: callbacks' exceptions come as they are
         raise fail(problem.message, *problem.pos, hint=problem.hint) from None
     except UnexpectedInput as exc:
         message, hint, width = _explain(exc, text)
@@ -249,8 +244,10 @@ def _explain(exc: UnexpectedInput, text: str) -> tuple[str, str | None, int]:
 
 
 def _describe(tok: Token) -> str:
-    if tok.type in ("_NL", "$END"):
+    if tok.type == "_NL":
         return "end of line"
+    if tok.type == "$END":
+        return "end of the file"
     if tok.type in ("_INDENT",):
         return "indentation"
     if tok.type == "_DEDENT":
@@ -265,9 +262,7 @@ def _describe(tok: Token) -> str:
 def _hint(tok: Token, expected: set[str]) -> str | None:
     if "COMMA" in expected and tok.type == "NAME":
         return "separate the servos of a step with ',': index 90, middle 90"
-    if "COLON" in expected and tok.type == "NAME":
-        return "a gesture starts with its name and ':', as in  peace: index 180"
-    if "COLON" in expected and tok.type == "NUMBER":
+    if "COLON" in expected and tok.type in ("NAME", "NUMBER"):
         return "a gesture starts with its name and ':', as in  peace: index 180"
     if expected == {"NUMBER"}:
         return "durations are written 0.4s or 400ms"

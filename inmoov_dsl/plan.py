@@ -108,68 +108,71 @@ class Planner:
         return self._ruckig[dofs]
 
     def plan(self, steps: Sequence[Step], start: Sequence[int], strict: bool = False) -> Plan:
-        servos = self.profile.servos
+        """Plan ``steps`` from the pose ``start``; a stretched move warns (or, with
+        ``strict``, is an error)."""
         pose = list(start)
         builders = [_TrackBuilder(v) for v in pose]
         reports: list[PlannedStep] = []
-        warnings: list[Diagnostic] = []
-        errors: list[Diagnostic] = []
+        stretched: list[Diagnostic] = []
         now = 0.0
         for step in steps:
+            if step.hold > 0:
+                report = PlannedStep(step.where, step.pos, "hold", now, now + step.hold,
+                                     step.hold, False, ())
+            else:
+                report, needed = self._move(step, now, pose, builders)
+                if report.stretched:
+                    make = self.sources.error if strict else self.sources.warning
+                    stretched.append(make(
+                        f"move stretched: needs {needed:.2f} s, asked {step.over:.2f} s",
+                        step.over_pos or step.pos,
+                        "the profile's limits allow no faster move; ask for more time or "
+                        "raise the limits"))
+            reports.append(report)
+            now = report.end
             if now > MAX_GESTURE_DURATION:
                 raise GestError(self.sources.error(
                     f"the gesture lasts more than {MAX_GESTURE_DURATION:g} s", step.pos,
                     "split it into shorter gestures"))
-            if step.hold > 0:
-                reports.append(PlannedStep(step.where, step.pos, "hold", now, now + step.hold,
-                                           step.hold, False, ()))
-                now += step.hold
-                continue
-            moving = [(k, i, v) for k, (i, v) in enumerate(step.targets) if v != pose[i]]
-            duration = step.over or 0.0
-            stretched = False
-            if moving:
-                ruckig, inp, traj = self._solver(len(moving))
-                idx = [i for _, i, _ in moving]
-                inp.current_position = [float(pose[i]) for i in idx]
-                inp.target_position = [float(v) for _, _, v in moving]
-                inp.current_velocity = inp.current_acceleration = [0.0] * len(idx)
-                inp.target_velocity = inp.target_acceleration = [0.0] * len(idx)
-                inp.max_velocity = [servos[i].max_velocity for i in idx]
-                inp.max_acceleration = [servos[i].max_acceleration for i in idx]
-                inp.max_jerk = [servos[i].max_jerk for i in idx]
-                inp.synchronization = Synchronization.Time
-                inp.minimum_duration = step.over
-                result = ruckig.calculate(inp, traj)
-                if result not in (Result.Working, Result.Finished):
-                    raise GestError(self.sources.error(f"ruckig cannot plan this step "
-                                                       f"({result.name})", step.pos))
-                move_time = traj.duration
-                duration = max(k for k, _, _ in moving) * step.stagger + move_time
-                for dof, (k, i, v) in enumerate(moving):
-                    offset = k * step.stagger
-                    builders[i].phases(now + offset, traj.profiles[0][dof])
-                    # the exact keyframe from the step's end on (never later than it)
-                    builders[i].hold(min(now + offset + move_time, now + duration), float(v))
-                    pose[i] = v
-                if step.over is not None and move_time > step.over + _EPS:
-                    stretched = True
-                    message = (f"move stretched: needs {move_time:.2f} s, "
-                               f"asked {step.over:.2f} s")
-                    hint = ("the profile's limits allow no faster move; "
-                            "ask for more time or raise the limits")
-                    diag = (self.sources.error if strict else self.sources.warning)(
-                        message, step.over_pos or step.pos, hint)
-                    (errors if strict else warnings).append(diag)
-            reports.append(PlannedStep(step.where, step.pos, "move", now, now + duration,
-                                       step.over, stretched,
-                                       tuple(i for _, i, _ in moving)))
-            now += duration
-        if now > MAX_GESTURE_DURATION:
-            raise GestError(self.sources.error(
-                f"the gesture lasts more than {MAX_GESTURE_DURATION:g} s", steps[-1].pos,
-                "split it into shorter gestures"))
-        if errors:
-            raise GestError(errors)
+        if strict and stretched:
+            raise GestError(stretched)
         return Plan(self.profile, tuple(b.build() for b in builders), tuple(reports),
-                    tuple(start), tuple(pose), now, tuple(warnings))
+                    tuple(start), tuple(pose), now, () if strict else tuple(stretched))
+
+    def _move(self, step: Step, now: float, pose: list[int], builders: list[_TrackBuilder]
+              ) -> tuple[PlannedStep, float]:
+        """One ruckig trajectory for every servo the step moves, from rest to rest;
+        appends it to the servos' tracks and updates ``pose``. Also returns how long
+        each servo's move takes (the step is longer by its stagger)."""
+        servos = self.profile.servos
+        moving = [(k, i, v) for k, (i, v) in enumerate(step.targets) if v != pose[i]]
+        if not moving:
+            hold = step.over or 0.0
+            return PlannedStep(step.where, step.pos, "move", now, now + hold, step.over,
+                               False, ()), hold
+        ruckig, inp, traj = self._solver(len(moving))
+        idx = [i for _, i, _ in moving]
+        inp.current_position = [float(pose[i]) for i in idx]
+        inp.target_position = [float(v) for _, _, v in moving]
+        inp.current_velocity = inp.current_acceleration = [0.0] * len(idx)
+        inp.target_velocity = inp.target_acceleration = [0.0] * len(idx)
+        inp.max_velocity = [servos[i].max_velocity for i in idx]
+        inp.max_acceleration = [servos[i].max_acceleration for i in idx]
+        inp.max_jerk = [servos[i].max_jerk for i in idx]
+        inp.synchronization = Synchronization.Time
+        inp.minimum_duration = step.over
+        result = ruckig.calculate(inp, traj)
+        if result not in (Result.Working, Result.Finished):
+            raise GestError(self.sources.error(f"ruckig cannot plan this step ({result.name})",
+                                               step.pos))
+        move_time = traj.duration
+        duration = max(k for k, _, _ in moving) * step.stagger + move_time
+        for dof, (k, i, v) in enumerate(moving):
+            offset = k * step.stagger
+            builders[i].phases(now + offset, traj.profiles[0][dof])
+            # the exact keyframe from the step's end on (never later than it)
+            builders[i].hold(min(now + offset + move_time, now + duration), float(v))
+            pose[i] = v
+        stretched = step.over is not None and move_time > step.over + _EPS
+        return PlannedStep(step.where, step.pos, "move", now, now + duration, step.over,
+                           stretched, tuple(idx)), move_time

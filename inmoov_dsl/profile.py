@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+import hashlib
 import re
 import tomllib
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -50,6 +51,7 @@ class Profile:
     servos: tuple[Servo, ...]  #: board by board, in each board's order
     groups: dict[str, tuple[str, ...]]
     path: str = ""
+    sha256: str = ""  #: of the TOML text it was read from
 
     def index(self, name: str) -> int:
         for i, servo in enumerate(self.servos):
@@ -104,7 +106,8 @@ def parse_profile(text: str, file: str = "<profile>") -> Profile:
         lines = text.splitlines()
         line = lines[pos.line - 1] if pos and pos.line <= len(lines) else None
         raise GestError(Diagnostic("error", f"invalid TOML: {message}", pos, None, line)) from None
-    return _Builder(data, file).build()
+    profile = _Builder(data, file).build()
+    return replace(profile, sha256=hashlib.sha256(text.encode("utf-8")).hexdigest())
 
 
 class _Builder:

@@ -130,3 +130,11 @@ def test_a_gesture_longer_than_an_hour_is_refused(rhand):
     with pytest.raises(GestError) as info:
         plan_gesture(program, "g", rhand)
     assert "the gesture lasts more than 3600 s" in info.value.format()
+
+
+def test_a_stretched_stagger_reports_each_servos_move_time(rhand):
+    program = load("w.gest", "g: index 180, middle 180 over 0.3s stagger 100ms")
+    plan = plan_gesture(program, "g", rhand)
+    needed = max(solo_time(rhand.servos[2], 180), solo_time(rhand.servos[3], 180))
+    assert plan.duration == pytest.approx(needed + 0.1)
+    assert plan.warnings[0].message == f"move stretched: needs {needed:.2f} s, asked 0.30 s"

@@ -105,3 +105,11 @@ def test_groups_of_a_profile_are_usable():
         board_toml(181, ["a", "b", "c"]) + servo_toml("a", 0) + servo_toml("b", 1)
         + servo_toml("c", 2) + '[groups]\npair = ["a", "c"]\n', "g.toml")
     assert compile_source("g: pair 90", profile=profile).final == (90, 0, 90)
+
+
+def test_a_compile_records_the_profile_it_used(rhand):
+    import hashlib
+    compiled = compile_source("g: index 90", profile=rhand)
+    with open(rhand.path, encoding="utf-8") as f:
+        text = f.read()
+    assert compiled.profile_sha256 == hashlib.sha256(text.encode()).hexdigest()
