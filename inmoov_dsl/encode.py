@@ -93,7 +93,7 @@ def _furthest_behind(plan: Plan, servos: list[int], ends: np.ndarray, pair_time:
     for first in range(0, len(ends), chunk):
         block = ends[first:first + chunk]
         at_end = np.stack([t.position(block) for t in tracks], axis=1).tolist()
-        # plan at every slot of every frame of the block: [slot][servo] -> (frames,)
+        # the rounded plan at every slot of every frame of the block: [slot][frame][servo]
         at_slot = [
             round_values(np.stack([t.position(block - m * pair_time) for t in tracks],
                                   axis=1)).tolist()
@@ -105,8 +105,8 @@ def _furthest_behind(plan: Plan, servos: list[int], ends: np.ndarray, pair_time:
             if not behind:
                 continue
             behind.sort(reverse=True)
-            # the servo furthest behind goes first: the frame's earliest free slot
-            slot = slots - 1
+            # packed at the frame's end, the servo furthest behind first
+            slot = min(len(behind), slots) - 1
             for _, j in behind:
                 if slot < 0:
                     break

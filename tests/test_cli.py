@@ -72,6 +72,8 @@ def test_check_reports_every_file(capsys, tmp_path):
     code, out, err = run(capsys, "check", good, bad)
     assert code == 1
     assert out == f"{good}: ok (2 gestures)\n"
+    code, out, _ = run(capsys, "check", COUNT)
+    assert code == 0 and out == f"{COUNT}: ok (1 gesture)\n"
     assert err.splitlines() == [f"{bad}:1:4: error: unknown servo or group 'indx'",
                                 "    a: indx 90", "       ^~~~", "  hint: did you mean 'index'?"]
 
@@ -84,7 +86,7 @@ def test_show_tables_steps_and_link(capsys):
     assert "coverage     100.0%" in out
     steps = [line for line in out.splitlines() if line.strip()[:1].isdigit()]
     assert len(steps) == 9
-    assert "count:5" in steps[0] and "move" in steps[0]
+    assert steps[0].split()[1:4] == ["count", "count.gest:5", "move"]
     assert "hold" in steps[1] and "0.500   0.500" in steps[1]
 
 

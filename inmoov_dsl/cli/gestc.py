@@ -63,7 +63,8 @@ def cmd_check(args: argparse.Namespace) -> int:
             for name in program.own:
                 compiled, _ = compile_program(program, name, args.profile, None, args.strict)
                 report(compiled.warnings, PROG)
-            print(f"{file}: ok ({len(program.own)} gestures)")
+            count = len(program.own)
+            print(f"{file}: ok ({count} gesture{'' if count == 1 else 's'})")
         except GestError as exc:
             report(exc.diagnostics, PROG)
             status = EXIT_ERROR
@@ -74,14 +75,14 @@ def cmd_show(args: argparse.Namespace) -> int:
     compiled, plan = _compile(args)
     print(f"{compiled.gesture}: {compiled.duration:.3f} s on profile '{compiled.profile}'")
     print()
-    print(f"  {'#':>3}  {'step':<28} {'kind':<5} {'start':>7} {'end':>7} {'asked':>7} "
-          f"{'planned':>7}")
+    print(f"  {'#':>3}  {'step':<24} {'source':<18} {'kind':<5} {'start':>7} {'end':>7} "
+          f"{'asked':>7} {'planned':>7}")
     for n, s in enumerate(plan.steps, 1):
-        where = f"{s.where}:{s.pos.line}" if s.pos else s.where
+        source = f"{Path(s.pos.file).name}:{s.pos.line}" if s.pos else ""
         asked = f"{s.asked:7.3f}" if s.asked is not None else "      -"
         flag = "  stretched" if s.stretched else ""
-        print(f"  {n:>3}  {where:<28} {s.kind:<5} {s.start:7.3f} {s.end:7.3f} {asked} "
-              f"{s.end - s.start:7.3f}{flag}")
+        print(f"  {n:>3}  {s.where:<24} {source:<18} {s.kind:<5} {s.start:7.3f} "
+              f"{s.end:7.3f} {asked} {s.end - s.start:7.3f}{flag}")
     for link in measure(plan, compiled.streams):
         print()
         print(_link_text(link))
