@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import protocol
+from .board import BoardCore
 from .encode import Stream, frame_ends, round_values
 from .plan import Plan
 
@@ -46,21 +47,15 @@ class LinkReport:
         return 1.0 if self.needed == 0 else self.covered / self.needed
 
 
-def decode(stream: Stream) -> list[tuple[float, int, int]]:
-    """(arrival time, servo ID, value) for every complete pair, as a board reads them."""
+def decode(stream: Stream, board: BoardCore) -> list[tuple[float, int, int]]:
+    """(arrival time, servo ID, value) of every servo write ``board`` makes from the
+    stream's bytes; a byte has arrived one byte-time after it was sent."""
     tau = stream.byte_time
     out = []
-    pending: int | None = None
     for t, b in zip(stream.times.tolist(), stream.data, strict=True):
-        if b == protocol.Signal.CANCEL:
-            pending = None
-        elif b == protocol.Signal.DUMP:
-            continue
-        elif pending is None:
-            pending = b
-        else:
-            out.append((t + tau, pending, min(b, protocol.MAX_VALUE)))
-            pending = None
+        write, _ = board.feed(b)
+        if write is not None:
+            out.append((t + tau, write.id, write.value))
     return out
 
 
@@ -72,7 +67,7 @@ def _measure_board(plan: Plan, stream: Stream) -> LinkReport:
     profile = plan.profile
     board = next(b for b in profile.boards if b.id == stream.board)
     tau = stream.byte_time
-    events = decode(stream)
+    events = decode(stream, BoardCore.from_profile(profile, board))
     end = float(stream.times[-1] + tau) if len(stream.times) else 0.0
     frames = int(max(end, plan.duration) / protocol.SERVO_FRAME) + 2
     ends = frame_ends(frames)

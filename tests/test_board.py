@@ -1,0 +1,61 @@
+"""The board's rules: the conformance vectors (shared with the firmware), the
+calibration mapping, and finding a DUMP reply among other bytes."""
+
+import json
+from pathlib import Path
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from inmoov_dsl.board import BoardCore, BoardServo, parse_dump
+
+VECTORS = json.loads((Path(__file__).parent / "vectors" / "board.json").read_text())
+
+
+def vector_board():
+    return BoardCore(VECTORS["board"], [
+        BoardServo(s["id"], tuple(s["calibration"]), s["reversed"], s["default"])
+        for s in VECTORS["servos"]])
+
+
+@pytest.mark.parametrize("case", VECTORS["cases"], ids=lambda c: c["name"])
+def test_conformance_vectors(case):
+    board = vector_board()
+    writes, out = [], b""
+    for byte in case["in"]:
+        write, reply = board.feed(byte)
+        if write:
+            writes.append([write.id, write.value, write.angle])
+        out += reply
+    assert writes == case["writes"]
+    assert list(out) == case["out"]
+
+
+def test_the_right_hand_profile_is_the_vectors_board(rhand):
+    core = BoardCore.from_profile(rhand, rhand.boards[0])
+    assert core.servos == vector_board().servos
+
+
+@given(st.lists(st.integers(0, 255), max_size=300))
+def test_random_bytes_never_write_above_180_or_a_servo_it_lacks(data):
+    board = vector_board()
+    for byte in data:
+        write, _ = board.feed(byte)
+        if write:
+            assert 0 <= write.value <= 180 and 0 <= write.id <= 5
+            assert 35 <= write.angle <= 160
+    # after a CANCEL the board is in step again, whatever came before
+    board.feed(255)
+    write, _ = board.feed(2)
+    assert write is None
+    write, _ = board.feed(77)
+    assert (write.id, write.value) == (2, 77)
+
+
+def test_a_dump_is_found_among_wait_bytes_and_noise():
+    reply = bytes([252, 181, 2, 0, 10, 1, 20, 251])
+    assert parse_dump(bytes([254, 254, 7]) + reply + bytes([254])) == (181, {0: 10, 1: 20})
+    assert parse_dump(bytes([252, 254]) + reply) == (181, {0: 10, 1: 20})
+    assert parse_dump(reply[:-1]) is None
+    assert parse_dump(bytes([254, 254])) is None
