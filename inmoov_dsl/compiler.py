@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import hashlib
 import os
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from .compiled import Compiled, StepSummary
@@ -65,7 +65,10 @@ def pick_gesture(program: Program, name: str | None) -> str:
         hint="choose one with --gesture NAME"))
 
 
-def plan_gesture(program: Program, gesture: str, profile: Profile, start: str | None = None,
+Start = str | Mapping[str, int] | None  #: ``--from`` text, or servo name -> value
+
+
+def plan_gesture(program: Program, gesture: str, profile: Profile, start: Start = None,
                  strict: bool = False) -> Plan:
     resolver = Resolver(program, profile)
     steps = resolver.gesture(gesture)
@@ -74,7 +77,7 @@ def plan_gesture(program: Program, gesture: str, profile: Profile, start: str | 
 
 
 def compile_program(program: Program, gesture: str | None = None,
-                    profile: str | Profile = "rhand", start: str | None = None,
+                    profile: str | Profile = "rhand", start: Start = None,
                     strict: bool = False) -> tuple[Compiled, Plan]:
     """Compile one gesture of a loaded program; also return its plan (for reports)."""
     prof = as_profile(profile)
@@ -103,14 +106,14 @@ def compile_program(program: Program, gesture: str | None = None,
 
 
 def compile_source(text: str, gesture: str | None = None, profile: str | Profile = "rhand",
-                   start: str | None = None, strict: bool = False,
+                   start: Start = None, strict: bool = False,
                    file: str = "<string>") -> Compiled:
     """Compile .gest source text. ``use`` imports resolve against the library."""
     return compile_program(load(file, text), gesture, profile, start, strict)[0]
 
 
 def compile_file(path: str | os.PathLike, gesture: str | None = None,
-                 profile: str | Profile = "rhand", start: str | None = None,
+                 profile: str | Profile = "rhand", start: Start = None,
                  strict: bool = False) -> Compiled:
     """Compile one gesture of a .gest file."""
     return compile_program(load(str(path)), gesture, profile, start, strict)[0]

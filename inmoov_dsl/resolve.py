@@ -7,7 +7,7 @@ goes through an injected ``read`` function, so the stage stays testable.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 
 from . import syntax as ast
@@ -292,10 +292,16 @@ class Resolver:
                 ))
 
 
-def resolve_start(program: Program, profile: Profile, text: str | None) -> tuple[int, ...]:
-    """The start pose: the profile's rest pose, changed by ``--from`` (a pose or targets)."""
+def resolve_start(program: Program, profile: Profile,
+                  text: str | Mapping[str, int] | None) -> tuple[int, ...]:
+    """The start pose: the profile's rest pose, changed by ``--from`` (a pose or targets
+    as text) or by servo name -> value (the pose a board reports)."""
     pose = [s.rest for s in profile.servos]
     if not text:
+        return tuple(pose)
+    if isinstance(text, Mapping):
+        for name, value in text.items():
+            pose[profile.index(name)] = value
         return tuple(pose)
     file, prefix = "--from", "pose start__: "
     program.sources.add(file, prefix + text)

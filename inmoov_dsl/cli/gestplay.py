@@ -1,30 +1,297 @@
-"""gestplay: play gestures on the hand (the player arrives with issue 3)."""
+"""gestplay: play gestures on the hand, and the bench tools (dump, ports, send)."""
 
 from __future__ import annotations
 
 import argparse
 import sys
+import time
+from pathlib import Path
 
-from .common import EXIT_USAGE
+import serial
+
+from ..compiled import Compiled, from_json, to_timed
+from ..compiler import compile_program, load
+from ..errors import Diagnostic, GestError
+from ..library import load_library
+from ..player import Link, ask_dump, cancel_all, drain, play, wait_ready
+from ..ports import available, open_port
+from ..profile import Profile, load_profile
+from ..protocol import Signal
+from .common import EXIT_INTERRUPTED, EXIT_OK, report, run
 
 PROG = "gestplay"
+TOOLS = ("dump", "ports", "send")
 
 
-def parser() -> argparse.ArgumentParser:
+# -- playing -------------------------------------------------------------------------
+class Target:
+    """What to play: a compiled file, or a gesture to compile from the pose the hand is in."""
+
+    def __init__(self, args: argparse.Namespace):
+        self.args = args
+        self.compiled: Compiled | None = None
+        self.program = None
+        name = args.target
+        if name.endswith(".gestc"):
+            self.compiled = from_json(Path(name).read_text(encoding="utf-8"), name)
+            self.profile = load_profile(args.profile or self.compiled.profile)
+            return
+        path, gesture = name, args.gesture
+        if not Path(name).exists() and not name.endswith(".gest"):
+            library = load_library()
+            if name not in library:
+                raise GestError(Diagnostic("error", f"no file or library gesture '{name}'",
+                                           hint="'gestc list' shows the library"))
+            path, gesture = str(library[name]), gesture or name
+        self.program, self.gesture = load(path), gesture
+        self.profile = load_profile(args.profile or "rhand")
+
+    def build(self, start: dict[str, int] | None) -> Compiled:
+        """The streams, planned from ``start`` (servo name -> value) when given."""
+        if self.program is None:
+            return self.compiled
+        compiled, _ = compile_program(self.program, self.gesture, self.profile, start,
+                                      self.args.strict)
+        report(compiled.warnings, PROG)
+        return compiled
+
+
+def parse_ports(specs: list[str], profile: Profile) -> dict[int, str]:
+    """``--port COM3`` (a one-board profile) or ``--port 181=COM3 --port 183=COM4``."""
+    boards = [b.id for b in profile.boards]
+    ports: dict[int, str] = {}
+    for spec in specs:
+        board, sep, name = spec.partition("=")
+        if sep and board.isdigit():
+            if int(board) not in boards:
+                raise GestError(Diagnostic("error", f"--port {spec}: profile '{profile.name}' "
+                                           f"has no board {board} (boards: {_ids(boards)})"))
+            ports[int(board)] = name
+        elif len(boards) == 1:
+            ports[boards[0]] = spec
+        else:
+            raise GestError(Diagnostic(
+                "error", f"profile '{profile.name}' has {len(boards)} boards: give a port for "
+                f"each", hint=" ".join(f"--port {b}=PORT" for b in boards)))
+    missing = [b for b in boards if b not in ports]
+    if missing:
+        raise GestError(Diagnostic("error", f"no port for board {_ids(missing)}",
+                                   hint=f"add --port {missing[0]}=PORT"))
+    return ports
+
+
+def _ids(ids: list[int]) -> str:
+    return ", ".join(map(str, ids))
+
+
+def connect(ports: dict[int, str], profile: Profile) -> list[Link]:
+    links = []
+    try:
+        for board in profile.boards:
+            links.append(Link(board.id, open_port(ports[board.id], board.baud), ports[board.id]))
+    except GestError:
+        close(links)
+        raise
+    return links
+
+
+def close(links: list[Link]) -> None:
+    for link in links:
+        link.port.close()
+
+
+def board_pose(links: list[Link], profile: Profile) -> dict[str, int]:
+    """Wait for each board to boot, sync it with CANCEL and read its pose with DUMP."""
+    names = {s.id: s.name for s in profile.servos}
+    pose: dict[str, int] = {}
+    for link in links:
+        if not wait_ready(link.port):
+            _warn(f"board {link.board} on {link.name} sent no WAIT: going ahead anyway")
+        values = ask_dump(link.port, link.board)
+        if values is None:
+            _warn(f"board {link.board} on {link.name} did not answer DUMP: starting from "
+                  f"the profile's rest pose")
+            continue
+        pose.update({names[sid]: v for sid, v in values.items() if sid in names})
+    return pose
+
+
+def _warn(message: str) -> None:
+    print(f"{PROG}: warning: {message}", file=sys.stderr)
+
+
+def cmd_play(args: argparse.Namespace) -> int:
+    if not 0 < args.speed <= 1:
+        raise GestError(Diagnostic("error", f"--speed {args.speed:g}: use a speed above 0 "
+                                   "and at most 1", hint="faster than 1 would break the "
+                                   "servos' limits; change the gesture's timing instead"))
+    target = Target(args)
+    profile = target.profile
+    if args.dry_run:
+        compiled = target.build(None)
+        for stream in compiled.streams:
+            if len(compiled.streams) > 1:
+                print(f"# board {stream.board}")
+            times = stream.times / args.speed
+            sys.stdout.write(to_timed(type(stream)(stream.board, stream.baud, times,
+                                                   stream.data)))
+        return EXIT_OK
+    if not args.port:
+        raise GestError(Diagnostic("error", "no port given", hint="--port COM3, "
+                                   "--port /dev/ttyUSB0, or --port sim:// for the virtual "
+                                   "board (--dry-run prints the schedule)"))
+    links = connect(parse_ports(args.port, profile), profile)
+    try:
+        pose = board_pose(links, profile)
+        for _ in range(args.loop):
+            compiled = target.build(pose)
+            if target.program is None and pose and pose != dict(zip(compiled.servos,
+                                                                    compiled.start,
+                                                                    strict=True)):
+                _warn("the hand is not in the pose this compiled gesture starts from: it "
+                      "will jump to it")
+            show = _progress(compiled, args.speed) if sys.stderr.isatty() else None
+            worst = play(compiled, links, args.speed, progress=show)
+            if show:
+                print(file=sys.stderr)
+            pose = dict(zip(compiled.servos, compiled.final, strict=True))
+        sent = sum(len(s.data) for s in compiled.streams)
+        print(f"played {compiled.gesture}: {compiled.duration / args.speed:.2f} s, "
+              f"{sent:,} bytes, worst lateness {worst * 1000:.2f} ms", file=sys.stderr)
+        return EXIT_OK
+    except KeyboardInterrupt:
+        cancel_all(links)
+        print(f"\n{PROG}: interrupted: CANCEL sent, the hand holds its pose", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except serial.SerialException as exc:
+        cancel_all(links)
+        where = ", ".join(f"board {link.board} on {link.name}" for link in links)
+        raise GestError(Diagnostic("error", f"lost the link ({where}): {exc}")) from None
+    finally:
+        close(links)
+
+
+def _progress(compiled: Compiled, speed: float):
+    steps = compiled.steps
+
+    def show(t: float) -> None:
+        n = sum(1 for s in steps if s.start <= t) or 1
+        sys.stderr.write(f"\r{compiled.gesture}  step {n}/{len(steps)}  "
+                         f"{t / speed:6.2f} / {compiled.duration / speed:.2f} s ")
+        sys.stderr.flush()
+
+    return show
+
+
+# -- bench tools -----------------------------------------------------------------------
+def cmd_ports(args: argparse.Namespace) -> int:
+    found = available()
+    for device, description in found:
+        print(f"{device}\t{description}")
+    if not found:
+        print("no serial ports found (sim:// is the virtual board)", file=sys.stderr)
+    return EXIT_OK
+
+
+def cmd_dump(args: argparse.Namespace) -> int:
+    profile = load_profile(args.profile or "rhand")
+    port = open_port(args.port, profile.boards[0].baud)
+    try:
+        wait_ready(port)
+        found = ((b, ask_dump(port, b.id)) for b in profile.boards)
+        b, values = next(((b, v) for b, v in found if v is not None), (None, None))
+        if values is None:
+            raise GestError(Diagnostic("error", f"no DUMP reply from {args.port}",
+                                       hint="is the board powered, and at this baud?"))
+        names = {s.id: s.name for s in profile.servos}
+        print(f"board {b.id} ({b.name}): {len(values)} servos")
+        for sid, value in values.items():
+            print(f"  {names.get(sid, f'servo {sid}'):<10} id {sid:>3}  value {value:>3}")
+    finally:
+        port.close()
+    return EXIT_OK
+
+
+SIGNAL_NAMES = {int(s): s.name for s in Signal}
+SIGNAL_BYTES = {s.name.lower(): int(s) for s in Signal}
+
+
+def cmd_send(args: argparse.Namespace) -> int:
+    data = []
+    for word in args.bytes:
+        word_lower = word.lower()
+        if word_lower in SIGNAL_BYTES:
+            number = SIGNAL_BYTES[word_lower]
+        else:
+            number = int(word) if word.isdigit() else -1
+        if not 0 <= number <= 255:
+            raise GestError(Diagnostic("error", f"'{word}' is not a byte",
+                                       hint="give numbers 0..255 or signal names "
+                                       "(cancel, dump, ...)"))
+        data.append(number)
+    profile = load_profile(args.profile or "rhand")
+    port = open_port(args.port, profile.boards[0].baud)
+    try:
+        wait_ready(port)  # an Uno or Nano resets when its port opens
+        port.write(bytes(data))
+        time.sleep(args.listen)
+        reply = drain(port)
+    finally:
+        port.close()
+    print(" ".join(SIGNAL_NAMES.get(b, str(b)) if b > 180 else str(b) for b in reply))
+    return EXIT_OK
+
+
+# -- arguments ---------------------------------------------------------------------------
+def play_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(
-        prog=PROG, description="Play a gesture on the InMoov hand over a serial port. "
-        "Not implemented yet in this version: compile with 'gestc compile' meanwhile.")
+        prog=PROG, description="Play a gesture on the InMoov hand. Bench tools: "
+        "gestplay dump|ports|send --help.")
     ap.add_argument("target", metavar="GESTURE",
                     help="a library gesture, a .gest file or a compiled .gestc file")
-    ap.add_argument("--port", help="COM3, /dev/ttyUSB0, a pyserial URL, or sim://")
+    ap.add_argument("--port", action="append", default=[], metavar="PORT",
+                    help="COM3, /dev/ttyUSB0, a pyserial URL (loop://, socket://...) or "
+                    "sim:// (the virtual board); BOARD=PORT for each board of a profile "
+                    "with several")
+    ap.add_argument("-g", "--gesture", help="the gesture to play from a .gest file")
+    ap.add_argument("-p", "--profile", help="robot profile (default rhand, or the "
+                    "compiled file's)")
+    ap.add_argument("--speed", type=float, default=1.0,
+                    help="play slower: 0.5 is half speed (at most 1)")
+    ap.add_argument("--loop", type=int, default=1, metavar="N", help="play N times")
+    ap.add_argument("--dry-run", action="store_true",
+                    help="print the schedule ('<seconds> <byte>') without a port")
+    ap.add_argument("--strict", action="store_true", help="stretched moves are errors")
+    ap.set_defaults(func=cmd_play)
+    return ap
+
+
+def tools_parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(prog=PROG, description="Bench tools for the boards.")
+    sub = ap.add_subparsers(dest="command", required=True, metavar="TOOL")
+    p = sub.add_parser("ports", help="the serial ports on this machine")
+    p.set_defaults(func=cmd_ports)
+    p = sub.add_parser("dump", help="a board's ID and every servo's value")
+    p.add_argument("--port", required=True)
+    p.add_argument("-p", "--profile", help="to name the servos (default rhand)")
+    p.set_defaults(func=cmd_dump)
+    p = sub.add_parser("send", help="send raw bytes and show the reply")
+    p.add_argument("--port", required=True)
+    p.add_argument("-p", "--profile", help="for the baud (default rhand)")
+    p.add_argument("--listen", type=float, default=0.3, help="seconds to wait for a reply")
+    p.add_argument("bytes", nargs="+", metavar="BYTE",
+                   help="0..255, or a signal name: cancel, dump")
+    p.set_defaults(func=cmd_send)
     return ap
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser().parse_args(argv)
-    print(f"{PROG}: error: playing is not implemented in this version yet; "
-          f"'gestc compile' writes the stream", file=sys.stderr)
-    return EXIT_USAGE
+    argv = sys.argv[1:] if argv is None else argv
+    ap = tools_parser() if argv[:1] and argv[0] in TOOLS else play_parser()
+    args = ap.parse_args(argv)
+    if getattr(args, "loop", 1) < 1:
+        ap.error("--loop must be 1 or more")
+    return run(PROG, lambda: args.func(args))
 
 
 if __name__ == "__main__":

@@ -1,0 +1,114 @@
+"""gestsim: the virtual board on a pseudo-terminal, for any program that talks serial.
+
+It prints the device path, then serves until stopped. Like an Uno or a Nano, the board
+resets when a program opens the port: its servos go back to their defaults and it
+ignores bytes for the boot time, then sends WAIT. With a terminal, it shows every
+servo's value live. POSIX only (Linux, macOS).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import select
+import sys
+import time
+
+from ..board import BoardCore
+from ..errors import Diagnostic, GestError
+from ..profile import load_profile
+from ..sim import VirtualBoard
+from .common import EXIT_OK, run
+
+PROG = "gestsim"
+FRAME = 0.05  #: s between redraws of the live view
+
+
+def serve(args: argparse.Namespace) -> int:
+    if not hasattr(os, "openpty"):
+        raise GestError(Diagnostic("error", "gestsim needs a POSIX system (Linux, macOS)",
+                                   hint="on Windows, play to --port sim:// instead"))
+    import tty
+
+    profile = load_profile(args.profile)
+    board_cfg = next((b for b in profile.boards if args.board in (None, b.id)), None)
+    if board_cfg is None:
+        raise GestError(Diagnostic("error", f"profile '{profile.name}' has no board "
+                                   f"{args.board}"))
+    master, slave = os.openpty()
+    path = os.ttyname(slave)
+    tty.setraw(slave)
+    os.close(slave)
+    print(f"{path}", flush=True)
+    print(f"{PROG}: board {board_cfg.id} ({board_cfg.name}) of profile '{profile.name}' on "
+          f"{path} at {board_cfg.baud} baud; Ctrl-C stops", file=sys.stderr, flush=True)
+    log = open(args.log, "w", encoding="utf-8") if args.log else None  # noqa: SIM115
+    view = _View(profile, board_cfg) if sys.stderr.isatty() and not args.quiet else None
+    poller = select.poll()
+    poller.register(master, select.POLLIN)
+    board: VirtualBoard | None = None
+    try:
+        while True:
+            events = dict(poller.poll(5))
+            now = time.monotonic()
+            if events.get(master, 0) & select.POLLHUP:
+                board = None  # no program has the port open
+                time.sleep(0.01)
+                continue
+            if board is None:  # a program opened the port: the board resets
+                board = VirtualBoard(BoardCore.from_profile(profile, board_cfg),
+                                     board_cfg.baud, ready_at=now + args.boot)
+            if events.get(master, 0) & select.POLLIN:
+                data = os.read(master, 4096)
+                board.write(data, now)
+                if log is not None:
+                    log.write("".join(f"{now:.6f} {b}\n" for b in data))
+                    log.flush()
+            out = board.read(now)
+            if out:
+                os.write(master, out)
+            if view is not None:
+                view.draw(board, now)
+    except KeyboardInterrupt:
+        return EXIT_OK
+    finally:
+        os.close(master)
+        if log is not None:
+            log.close()
+
+
+class _View:
+    def __init__(self, profile, board_cfg):
+        self.names = board_cfg.servos
+        self.next = 0.0
+        self.drawn = False
+
+    def draw(self, board: VirtualBoard, now: float) -> None:
+        if now < self.next:
+            return
+        self.next = now + FRAME
+        out = sys.stderr
+        if self.drawn:
+            out.write(f"\x1b[{len(self.names)}F")
+        for name, value in zip(self.names, board.core.values, strict=True):
+            bar = "#" * (value * 30 // 180)
+            out.write(f"\x1b[2K  {name:<10} {value:>3}  {bar}\n")
+        out.flush()
+        self.drawn = True
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(prog=PROG, description=__doc__.splitlines()[0])
+    ap.add_argument("-p", "--profile", default="rhand", help="robot profile (default rhand)")
+    ap.add_argument("--board", type=int, help="which board of the profile (default the first)")
+    ap.add_argument("--boot", type=float, default=0.5,
+                    help="seconds the board ignores bytes after the port opens (default 0.5)")
+    ap.add_argument("--log", help="write every byte received to this file, as it "
+                    "arrives: '<seconds> <byte>' per line (monotonic clock)")
+    ap.add_argument("--quiet", action="store_true", help="no live view")
+    args = ap.parse_args(argv)
+    return run(PROG, lambda: serve(args))
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,130 @@
+"""Playing compiled streams to boards (the only stage with a clock and ports).
+
+Time is data until the last moment: every byte has a planned time, and the player
+sends it at ``start + time / speed`` on one absolute clock, so lateness never
+accumulates. The clock, the sleep and the ports are passed in, so tests can drive the
+player as a timeline.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import heapq
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Protocol
+
+from .board import parse_dump
+from .compiled import Compiled
+from .protocol import Signal
+
+READY_TIMEOUT = 2.0  #: s; the longest we wait for a board to boot (its first WAIT)
+DUMP_TIMEOUT = 0.5  #: s; the longest we wait for a DUMP reply
+SPIN = 0.0005  #: s; sleep until this close to a deadline, then spin on the clock
+POLL = 0.2  #: s; in a long pause, look at the links this often (a pulled cable)
+
+
+class Port(Protocol):
+    def write(self, data: bytes) -> int | None: ...
+    def read(self, size: int = 1) -> bytes: ...
+
+
+@dataclass
+class Link:
+    """One board's connection."""
+
+    board: int
+    port: Port
+    name: str = ""
+
+
+Clock = Callable[[], float]
+Sleep = Callable[[float], None]
+
+
+def drain(port: Port) -> bytes:
+    """Whatever the board has sent (WAIT bytes, mostly); raises if the link is gone."""
+    return port.read(4096)
+
+
+def wait_ready(port: Port, now: Clock = time.monotonic, sleep: Sleep = time.sleep,
+               timeout: float = READY_TIMEOUT) -> bool:
+    """Wait for the board's first WAIT (it has booted); False after ``timeout``."""
+    deadline = now() + timeout
+    while now() < deadline:
+        if Signal.WAIT in drain(port):
+            return True
+        sleep(0.01)
+    return False
+
+
+def ask_dump(port: Port, board: int, now: Clock = time.monotonic, sleep: Sleep = time.sleep,
+             timeout: float = DUMP_TIMEOUT) -> dict[int, int] | None:
+    """CANCEL, then DUMP: the board's servo values (ID -> value), or None if no reply."""
+    drain(port)
+    port.write(bytes([Signal.CANCEL, Signal.DUMP]))
+    received = b""
+    deadline = now() + timeout
+    while now() < deadline:
+        received += drain(port)
+        found = parse_dump(received)
+        if found is not None and found[0] == board:
+            return found[1]
+        sleep(0.005)
+    return None
+
+
+def schedule(compiled: Compiled, links: Sequence[Link]) -> list[tuple[float, int, int]]:
+    """Every byte of every board, in time order: (seconds, link index, byte)."""
+    by_board = {link.board: k for k, link in enumerate(links)}
+    streams = [[(t, by_board[s.board], b) for t, b in zip(s.times.tolist(), s.data,
+                                                            strict=True)]
+               for s in compiled.streams if s.board in by_board]
+    return list(heapq.merge(*streams))
+
+
+def wait_until(deadline: float, links: Sequence[Link], now: Clock, sleep: Sleep) -> None:
+    """Sleep until ``deadline`` (spinning for the last half millisecond); in long pauses
+    drain the links now and then, so a pulled cable is noticed within a second."""
+    while True:
+        left = deadline - now()
+        if left > POLL + SPIN:
+            sleep(POLL)
+            for link in links:
+                drain(link.port)
+        elif left > SPIN:
+            sleep(left - SPIN)
+        elif left > 0:
+            continue
+        else:
+            return
+
+
+def play(compiled: Compiled, links: Sequence[Link], speed: float = 1.0,
+         now: Clock = time.perf_counter, sleep: Sleep = time.sleep,
+         progress: Callable[[float], None] | None = None) -> float:
+    """Send every byte at its planned time; returns the worst lateness in seconds."""
+    events = schedule(compiled, links)
+    start = now()
+    worst = 0.0
+    shown = -1.0
+    for t, k, byte in events:
+        due = start + t / speed
+        wait_until(due, links, now, sleep)
+        links[k].port.write(bytes([byte]))
+        worst = max(worst, now() - due)
+        if progress is not None and t - shown >= 0.1:
+            progress(t)
+            shown = t
+    wait_until(start + compiled.duration / speed, links, now, sleep)
+    if progress is not None:
+        progress(compiled.duration)
+    return worst
+
+
+def cancel_all(links: Sequence[Link]) -> None:
+    """Send CANCEL everywhere we still can: no half command is left pending."""
+    for link in links:
+        with contextlib.suppress(OSError):  # a dead link cannot be cancelled; go on
+            link.port.write(bytes([Signal.CANCEL]))

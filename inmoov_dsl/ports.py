@@ -1,0 +1,63 @@
+"""Serial ports: opening one by name or URL, with errors people can act on.
+
+Ports are pyserial URLs: a device (``COM3``, ``/dev/ttyUSB0``), ``loop://``,
+``socket://host:port``, ``rfc2217://``, ``spy://`` (hex-dumps the traffic), or
+``sim://``, the built-in virtual board.
+"""
+
+from __future__ import annotations
+
+import errno
+import sys
+
+import serial
+from serial.tools import list_ports
+
+from .errors import Diagnostic, GestError
+
+HANDLERS = "inmoov_dsl.urlhandler"
+if HANDLERS not in serial.protocol_handler_packages:
+    serial.protocol_handler_packages.append(HANDLERS)
+
+
+def available() -> list[tuple[str, str]]:
+    """(device, description) of the serial ports on this machine."""
+    return sorted((p.device, p.description) for p in list_ports.comports())
+
+
+def _names() -> str:
+    ports = [device for device, _ in available()]
+    return ", ".join(ports) if ports else "none"
+
+
+def open_port(name: str, baud: int, timeout: float = 0) -> serial.SerialBase:
+    """Open ``name`` at ``baud``; any failure is a GestError saying what to do.
+
+    Reads do not block by default (``timeout=0``): the player polls, and a read on a
+    link that has gone away raises at once."""
+    try:
+        return serial.serial_for_url(name, baudrate=baud, timeout=timeout, write_timeout=2)
+    except serial.SerialException as exc:
+        raise GestError(_explain(name, exc)) from None
+    except (ValueError, OSError) as exc:
+        raise GestError(Diagnostic("error", f"cannot open {name}: {exc}")) from None
+
+
+def _explain(name: str, exc: serial.SerialException) -> Diagnostic:
+    code = exc.errno
+    text = str(exc)
+    if code == errno.ENOENT or "FileNotFoundError" in text or "could not open port" in text \
+            and ("No such file" in text or "cannot find" in text.lower()):
+        return Diagnostic("error", f"port {name} not found; ports on this machine: {_names()}",
+                          hint="'gestplay ports' lists them; sim:// is the virtual board")
+    if code in (errno.EACCES, errno.EPERM) or "PermissionError" in text \
+            or "Access is denied" in text:
+        if sys.platform.startswith("linux"):
+            hint = ("add yourself to the dialout group: sudo usermod -a -G dialout $USER, "
+                    "then log out and in again")
+        elif sys.platform == "win32":
+            hint = "another program (the Arduino IDE's serial monitor?) has the port open"
+        else:
+            hint = "check the port's permissions, or whether another program has it open"
+        return Diagnostic("error", f"permission denied on port {name}", hint=hint)
+    return Diagnostic("error", f"cannot open port {name}: {text}")

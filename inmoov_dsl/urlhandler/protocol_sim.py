@@ -1,0 +1,103 @@
+"""``sim://[PROFILE][?board=ID&boot=SECONDS]``: the virtual board as a pyserial port.
+
+PROFILE defaults to ``rhand``, the board to the profile's first, ``boot`` (the time
+the bootloader swallows bytes after the port opens, as an Uno or Nano does) to 0.2 s.
+The board runs in real time on this process's clock: what the host writes arrives at
+the board's baud, and replies come back the same way.
+"""
+
+from __future__ import annotations
+
+import time
+import urllib.parse
+
+from serial.serialutil import PortNotOpenError, SerialBase, SerialException
+
+from ..board import BoardCore
+from ..errors import GestError
+from ..profile import load_profile
+from ..sim import VirtualBoard
+
+DEFAULT_BOOT = 0.2  #: s
+
+
+class Serial(SerialBase):
+    """A pyserial port with the virtual board on the other end."""
+
+    board: VirtualBoard | None = None
+
+    def open(self) -> None:
+        if self.is_open:
+            raise SerialException("Port is already open.")
+        if self._port is None:
+            raise SerialException("Port must be configured before it can be used.")
+        self.board = self._board_from_url(self.portstr)
+        self.is_open = True
+
+    def _board_from_url(self, url: str) -> VirtualBoard:
+        parts = urllib.parse.urlsplit(url)
+        if parts.scheme != "sim":
+            raise SerialException(f"expected sim://[PROFILE][?board=ID&boot=S], got {url!r}")
+        options = urllib.parse.parse_qs(parts.query)
+        try:
+            profile = load_profile(parts.netloc + parts.path or "rhand")
+        except GestError as exc:
+            raise SerialException(f"sim://: {exc.first.message}") from None
+        try:
+            board_id = int(options.get("board", [profile.boards[0].id])[0])
+            boot = float(options.get("boot", [DEFAULT_BOOT])[0])
+        except ValueError as exc:
+            raise SerialException(f"sim://: bad option ({exc})") from None
+        board = next((b for b in profile.boards if b.id == board_id), None)
+        if board is None:
+            raise SerialException(f"sim://: profile '{profile.name}' has no board {board_id}")
+        return VirtualBoard(BoardCore.from_profile(profile, board), board.baud,
+                            ready_at=time.monotonic() + boot)
+
+    def close(self) -> None:
+        self.is_open = False
+
+    def _reconfigure_port(self) -> None:
+        pass
+
+    @property
+    def in_waiting(self) -> int:
+        self._check()
+        self._pending += self.board.read(time.monotonic())
+        return len(self._pending)
+
+    def read(self, size: int = 1) -> bytes:
+        self._check()
+        deadline = None if self._timeout is None else time.monotonic() + self._timeout
+        data = bytearray(self._pending)
+        self._pending.clear()
+        while len(data) < size:
+            data += self.board.read(time.monotonic())
+            if len(data) >= size or (deadline is not None and time.monotonic() >= deadline):
+                break
+            time.sleep(0.0005)
+        self._pending += data[size:]
+        return bytes(data[:size])
+
+    def write(self, data: bytes) -> int:
+        self._check()
+        data = bytes(data)
+        self.board.write(data, time.monotonic())
+        return len(data)
+
+    def reset_input_buffer(self) -> None:
+        self._check()
+        self._pending.clear()
+        self.board.read(time.monotonic())
+
+    def reset_output_buffer(self) -> None:
+        self._check()
+
+    def flush(self) -> None:
+        self._check()
+
+    def _check(self) -> None:
+        if not self.is_open:
+            raise PortNotOpenError()
+        if not hasattr(self, "_pending"):
+            self._pending = bytearray()
