@@ -96,7 +96,7 @@ def wait_until(deadline: float, links: Sequence[Link], now: Clock, sleep: Sleep)
         elif left > SPIN:
             sleep(left - SPIN)
         elif left > 0:
-            continue
+            sleep(0)  # spin: give the thread away, look at the clock again
         else:
             return
 

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from inmoov_dsl import compile_file, from_json, to_json
-from inmoov_dsl.cli import gestc, gestplay
+from inmoov_dsl.cli import gestc
 
 ROOT = Path(__file__).resolve().parent.parent
 COUNT = str(ROOT / "gestures" / "count.gest")
@@ -183,10 +183,6 @@ def test_console_scripts_are_installed(name):
     done = subprocess.run([exe, "--help"], capture_output=True, text=True, timeout=60)
     assert done.returncode == 0
     assert done.stdout.startswith(f"usage: {name}")
-
-
-def test_gestplay_says_it_cannot_play_yet():
-    assert gestplay.main(["peace", "--port", "COM3"]) == 2
 
 
 def test_no_traceback_from_the_installed_script(tmp_path):

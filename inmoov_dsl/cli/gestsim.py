@@ -49,24 +49,32 @@ def serve(args: argparse.Namespace) -> int:
     board: VirtualBoard | None = None
     try:
         while True:
-            events = dict(poller.poll(5))
+            flags = dict(poller.poll(5)).get(master, 0)
             now = time.monotonic()
-            if events.get(master, 0) & select.POLLHUP:
+            data = b""
+            if flags & select.POLLIN:  # read first: the last bytes may come with the hang-up
+                try:
+                    data = os.read(master, 4096)
+                except OSError:  # EIO: the other side has closed
+                    data = b""
+            if data and log is not None:
+                log.write("".join(f"{now:.6f} {b}\n" for b in data))
+                log.flush()
+            if flags & select.POLLHUP and not data:
                 board = None  # no program has the port open
                 time.sleep(0.01)
                 continue
             if board is None:  # a program opened the port: the board resets
                 board = VirtualBoard(BoardCore.from_profile(profile, board_cfg),
                                      board_cfg.baud, ready_at=now + args.boot)
-            if events.get(master, 0) & select.POLLIN:
-                data = os.read(master, 4096)
+            if data:
                 board.write(data, now)
-                if log is not None:
-                    log.write("".join(f"{now:.6f} {b}\n" for b in data))
-                    log.flush()
             out = board.read(now)
             if out:
-                os.write(master, out)
+                try:
+                    os.write(master, out)
+                except OSError:  # the other side closed meanwhile
+                    board = None
             if view is not None:
                 view.draw(board, now)
     except KeyboardInterrupt:

@@ -1,0 +1,257 @@
+"""The player: on time against one clock, from the pose the board reports, to sim://,
+to a real pseudo-terminal, and safe when things go wrong."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from boardmodel import final_values, read_stream
+
+from inmoov_dsl import compile_file, load_library
+from inmoov_dsl.cli import gestplay
+from inmoov_dsl.compiler import compile_program, load
+from inmoov_dsl.player import Link, play, schedule
+from inmoov_dsl.ports import open_port
+
+ROOT = Path(__file__).resolve().parent.parent
+TWO = ROOT / "tests" / "data" / "two.toml"
+POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
+
+
+class FakeClock:
+    def __init__(self):
+        self.t = 100.0
+
+    def now(self):
+        return self.t
+
+    def sleep(self, seconds):
+        self.t += max(seconds, 1e-6)
+
+
+class FakePort:
+    def __init__(self, clock):
+        self.clock, self.sent = clock, []
+
+    def write(self, data):
+        self.sent += [(self.clock.t, b) for b in data]
+        return len(data)
+
+    def read(self, size=1):
+        return b""
+
+
+@pytest.mark.parametrize("speed", [1.0, 0.5])
+def test_every_byte_leaves_at_its_planned_time(speed):
+    compiled = compile_file(load_library()["count"])
+    clock = FakeClock()
+    port = FakePort(clock)
+    play(compiled, [Link(181, port)], speed, now=clock.now, sleep=clock.sleep)
+    stream = compiled.stream()
+    assert bytes(b for _, b in port.sent) == stream.data
+    start = port.sent[0][0]
+    offsets = [t - start for t, _ in port.sent]
+    # one absolute clock: no byte is late by more than the spin granularity, and the
+    # error does not grow along the gesture
+    assert offsets == pytest.approx((stream.times / speed).tolist(), abs=2e-6)
+    # the player returns after the gesture's full length, final hold included
+    assert clock.t - start == pytest.approx(compiled.duration / speed, abs=1e-3)
+
+
+def test_two_boards_are_merged_on_one_clock():
+    compiled, _ = compile_program(load("t.gest", "g: r_index 90, l_index 45 over 0.5s"), "g",
+                                  str(TWO))
+    links = [Link(181, None), Link(183, None)]
+    events = schedule(compiled, links)
+    assert [t for t, _, _ in events] == sorted(t for t, _, _ in events)
+    assert {k for _, k, _ in events} == {0, 1}
+    assert sum(1 for *_, b in events) == sum(len(s.data) for s in compiled.streams)
+
+
+def sim_links(url="sim://?boot=0.05", board=181):
+    port = open_port(url, 9600)
+    return Link(board, port, url)
+
+
+def test_play_to_the_virtual_board_in_process():
+    link = sim_links()
+    board = link.port.board
+    gestplay.board_pose([link], gestplay.load_profile("rhand"))
+    compiled = compile_file(load_library()["peace"])
+    start = time.monotonic()
+    play(compiled, [link])
+    link.port.close()
+    board.advance(time.monotonic())
+    assert board.positions() == dict(enumerate(compiled.final))
+    # each write happened when the plan said its pair arrives (a byte-time after its
+    # last byte left), give or take the host's scheduling
+    arrivals = [t - start for t, _ in board.log]
+    planned = [t + 1 / 960 for t in compiled.stream().times.tolist()[2::2]]
+    late = [a - p for a, p in zip(arrivals, planned, strict=True)]
+    assert max(late) < 0.02 and min(late) > -0.002
+
+
+def test_the_gesture_is_planned_from_the_pose_the_board_reports():
+    link = sim_links()
+    gestplay.wait_ready(link.port)
+    link.port.write(bytes([255, 2, 90, 5, 30]))  # someone left the index and pinky bent
+    time.sleep(0.02)
+    pose = gestplay.board_pose([link], gestplay.load_profile("rhand"))
+    assert pose == {"wrist": 0, "thumb": 0, "index": 90, "middle": 0, "ring": 0, "pinky": 30}
+    program = load(str(load_library()["peace"]))
+    compiled, _ = compile_program(program, "peace", "rhand", pose)
+    assert compiled.start == (0, 0, 90, 0, 0, 30)
+    play(compiled, [link])
+    link.port.board.advance(time.monotonic())
+    assert link.port.board.positions() == dict(enumerate(compiled.final))
+    link.port.close()
+
+
+def test_two_boards_in_lockstep():
+    compiled, _ = compile_program(load("t.gest", "g: r_index 90, l_index 45 over 0.5s"), "g",
+                                  str(TWO))
+    links = [sim_links(f"sim://{TWO}?board=181&boot=0", 181),
+             sim_links(f"sim://{TWO}?board=183&boot=0", 183)]
+    play(compiled, links)
+    right, left = (link.port.board for link in links)
+    for board in (right, left):
+        board.advance(time.monotonic())
+    assert right.positions() == {1: 0, 2: 90}
+    assert left.positions() == {11: 0, 12: 45}
+    # both boards finished their last move within a few milliseconds of each other
+    assert abs(right.log[-1][0] - left.log[-1][0]) < 0.01
+
+
+def run(capsys, *argv):
+    code = gestplay.main(list(argv))
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_the_cli_plays_to_sim(capsys):
+    code, _, err = run(capsys, "peace", "--port", "sim://")
+    assert code == 0
+    assert err.startswith("played peace: 0.70 s, 201 bytes, worst lateness ")
+
+
+def test_dry_run_prints_the_schedule(capsys):
+    code, out, _ = run(capsys, "count", "--dry-run", "--speed", "0.5")
+    assert code == 0
+    times = [float(line.split()[0]) for line in out.splitlines()]
+    assert times[-1] == pytest.approx(2 * compile_file(load_library()["count"]).stream()
+                                      .times[-1], abs=1e-5)
+
+
+def test_a_silent_board_warns_and_starts_from_rest(capsys):
+    code, _, err = run(capsys, "peace", "--port", "loop://")
+    assert code == 0
+    assert "gestplay: warning: board 181 on loop:// sent no WAIT: going ahead anyway" in err
+    assert ("gestplay: warning: board 181 on loop:// did not answer DUMP: starting from the "
+            "profile's rest pose") in err
+
+
+@pytest.mark.parametrize(("argv", "message"), [
+    (["peace", "--port", "/dev/ttyNOPE0"], "gestplay: error: port /dev/ttyNOPE0 not found; "
+                                           "ports on this machine: "),
+    (["peace"], "gestplay: error: no port given"),
+    (["peace", "--port", "sim://", "--speed", "2"], "gestplay: error: --speed 2: use a speed "
+                                                    "above 0 and at most 1"),
+    (["pece", "--port", "sim://"], "gestplay: error: no file or library gesture 'pece'"),
+    (["t.gest", "--profile", str(TWO), "--port", "sim://"],
+     "gestplay: error: profile 'two' has 2 boards: give a port for each"),
+    (["t.gest", "--profile", str(TWO), "--port", "181=sim://"],
+     "gestplay: error: no port for board 183"),
+    (["peace", "--port", "sim://nosuchprofile"], "gestplay: error: cannot open port "
+                                                 "sim://nosuchprofile: sim://: unknown profile"),
+    (["dump", "--port", "loop://"], "gestplay: error: no DUMP reply from loop://"),
+])
+def test_bad_ports_and_options_are_one_clear_message(capsys, tmp_path, monkeypatch, argv,
+                                                     message):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "t.gest").write_text("g: r_index 90\n")
+    code, _, err = run(capsys, *argv)
+    assert code == 1
+    assert err.startswith(message)
+    assert "Traceback" not in err
+
+
+def test_bench_tools(capsys):
+    code, out, _ = run(capsys, "dump", "--port", "sim://")
+    assert code == 0
+    assert out.splitlines()[0] == "board 181 (right hand): 6 servos"
+    assert out.splitlines()[3] == "  index      id   2  value   0"
+    code, out, _ = run(capsys, "send", "--port", "sim://", "cancel", "2", "90", "dump")
+    assert code == 0
+    assert "START 181 6 0 0 1 0 2 90 3 0 4 0 5 0 END" in out
+    code, _, err = run(capsys, "send", "--port", "sim://", "300")
+    assert code == 1 and err.startswith("gestplay: error: '300' is not a byte")
+    assert run(capsys, "ports")[0] == 0
+
+
+# -- real processes over a real pseudo-terminal ------------------------------------------
+@pytest.fixture
+def gestsim(tmp_path):
+    log = tmp_path / "received.log"
+    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim", "--quiet",
+                             "--boot", "0.2", "--log", str(log)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    path = proc.stdout.readline().strip()
+    assert path.startswith("/dev/"), proc.stderr.read()
+    yield proc, path, log
+    proc.kill()
+    proc.wait()
+
+
+def received(log):
+    rows = [line.split() for line in log.read_text().splitlines()]
+    return [float(t) for t, _ in rows], [int(b) for _, b in rows]
+
+
+def gestplay_proc(*argv):
+    return subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestplay", *argv],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+@POSIX
+def test_play_through_a_pty_with_pyserial(gestsim):
+    proc, path, log = gestsim
+    player = gestplay_proc("count", "--port", path)
+    _, err = player.communicate(timeout=30)
+    assert player.returncode == 0, err
+    times, data = received(log)
+    events = read_stream(times, data, 9600)
+    assert final_values(events, {}) == {1: 0, 3: 0, 4: 0, 5: 0}  # count ends open
+    assert data[:2] == [255, 253]  # CANCEL, DUMP before the stream
+
+
+@POSIX
+def test_a_pulled_cable_is_one_line_and_a_quick_exit(gestsim):
+    proc, path, _ = gestsim
+    player = gestplay_proc("count", "--port", path)
+    time.sleep(2.0)  # the gesture is under way (5 s long)
+    proc.kill()
+    pulled = time.monotonic()
+    _, err = player.communicate(timeout=10)
+    assert time.monotonic() - pulled < 1.0
+    assert player.returncode == 1
+    assert err.startswith(f"gestplay: error: lost the link (board 181 on {path}): ")
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+@POSIX
+def test_ctrl_c_sends_cancel_and_exits_130(gestsim):
+    _, path, log = gestsim
+    player = gestplay_proc("count", "--port", path)
+    time.sleep(2.0)
+    player.send_signal(signal.SIGINT)
+    _, err = player.communicate(timeout=10)
+    assert player.returncode == 130
+    assert "gestplay: interrupted: CANCEL sent, the hand holds its pose" in err
+    assert "Traceback" not in err
+    time.sleep(0.1)
+    _, data = received(log)
+    assert data[-1] == 255
