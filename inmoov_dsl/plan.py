@@ -9,6 +9,7 @@ and evaluated with numpy.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -46,6 +47,11 @@ class Track:
         _, v, a, j = self.coefs[k].T
         return v + dt * (a + dt * j / 2)
 
+    def acceleration(self, t: np.ndarray | float) -> np.ndarray:
+        k, dt = self._locate(t)
+        _, _, a, j = self.coefs[k].T
+        return a + dt * j
+
 
 @dataclass(frozen=True)
 class PlannedStep:
@@ -82,13 +88,15 @@ class _TrackBuilder:
         self.coefs.append((value, 0.0, 0.0, 0.0))
 
     def phases(self, t0: float, profile) -> None:
+        """Append ruckig's phases (after its brake phases, when it had to brake)."""
         t = t0
-        for dt, j, a, v, p in zip(profile.t, profile.j, profile.a, profile.v, profile.p,
-                                  strict=False):
-            if dt > 1e-12:
-                self.breaks.append(t)
-                self.coefs.append((p, v, a, j))
-                t += dt
+        parts = [profile.brake, profile] if profile.brake.duration > 0 else [profile]
+        for part in parts:
+            for dt, j, a, v, p in zip(part.t, part.j, part.a, part.v, part.p, strict=False):
+                if dt > 1e-12:
+                    self.breaks.append(t)
+                    self.coefs.append((p, v, a, j))
+                    t += dt
 
     def build(self) -> Track:
         return Track(np.asarray(self.breaks, dtype=float), np.asarray(self.coefs, dtype=float))
@@ -176,3 +184,65 @@ class Planner:
         stretched = step.over is not None and move_time > step.over + _EPS
         return PlannedStep(step.where, step.pos, "move", now, now + duration, step.over,
                            stretched, tuple(idx)), move_time
+
+    def take_over(self, state: MotionState, targets: Sequence[int], over: float | None = None,
+                  step: Step | None = None) -> Plan:
+        """Plan from a moving state to ``targets`` (one per servo), all arriving together,
+        at rest, no sooner than ``over``: a new step takes over a running move with the
+        hand's current position, velocity and acceleration (no jump, no stop first)."""
+        servos = self.profile.servos
+        moving = [i for i, x in enumerate(state.position)
+                  if abs(x - targets[i]) > _EPS or abs(state.velocity[i]) > _EPS
+                  or abs(state.acceleration[i]) > _EPS]
+        builders = [_TrackBuilder(float(x)) for x in state.position]
+        duration = over or 0.0
+        move_time = 0.0
+        if moving:
+            ruckig, inp, traj = self._solver(len(moving))
+            inp.current_position = [float(state.position[i]) for i in moving]
+            inp.current_velocity = [float(state.velocity[i]) for i in moving]
+            inp.current_acceleration = [float(state.acceleration[i]) for i in moving]
+            inp.target_position = [float(targets[i]) for i in moving]
+            inp.target_velocity = inp.target_acceleration = [0.0] * len(moving)
+            inp.max_velocity = [servos[i].max_velocity for i in moving]
+            inp.max_acceleration = [servos[i].max_acceleration for i in moving]
+            inp.max_jerk = [servos[i].max_jerk for i in moving]
+            inp.synchronization = Synchronization.Time
+            inp.minimum_duration = over
+            result = ruckig.calculate(inp, traj)
+            if result not in (Result.Working, Result.Finished):
+                raise GestError(self.sources.error(
+                    f"ruckig cannot plan this step ({result.name})", step and step.pos))
+            move_time = traj.duration
+            duration = max(duration, move_time)
+            for dof, i in enumerate(moving):
+                builders[i].phases(0.0, traj.profiles[0][dof])
+        for i, b in enumerate(builders):
+            b.hold(move_time, float(targets[i]))
+        stretched = over is not None and move_time > over + _EPS
+        warnings = ()
+        if stretched:
+            warnings = (self.sources.warning(
+                f"move stretched: needs {move_time:.2f} s, asked {over:.2f} s",
+                step and (step.over_pos or step.pos)),)
+        report = PlannedStep(step.where if step else "", step and step.pos, "move", 0.0,
+                             duration, over, stretched, tuple(moving))
+        start = tuple(int(math.floor(x + 0.5)) for x in state.position)
+        return Plan(self.profile, tuple(b.build() for b in builders), (report,), start,
+                    tuple(int(v) for v in targets), duration, warnings)
+
+
+@dataclass(frozen=True)
+class MotionState:
+    """Every servo's position, velocity and acceleration at one moment."""
+
+    position: tuple[float, ...]
+    velocity: tuple[float, ...]
+    acceleration: tuple[float, ...]
+
+    @classmethod
+    def at(cls, plan: Plan, t: float) -> MotionState:
+        """Where ``plan`` has the hand at ``t`` (s from its start)."""
+        return cls(tuple(float(tr.position(t)) for tr in plan.tracks),
+                   tuple(float(tr.velocity(t)) for tr in plan.tracks),
+                   tuple(float(tr.acceleration(t)) for tr in plan.tracks))

@@ -17,10 +17,11 @@ from ..player import Link, ask_dump, cancel_all, drain, play, wait_ready
 from ..ports import available, open_port
 from ..profile import Profile, load_profile
 from ..protocol import Signal
+from . import repl
 from .common import EXIT_INTERRUPTED, EXIT_OK, report, run
 
 PROG = "gestplay"
-TOOLS = ("dump", "ports", "send")
+TOOLS = ("dump", "ports", "send", "repl")
 
 
 # -- playing -------------------------------------------------------------------------
@@ -282,6 +283,7 @@ def tools_parser() -> argparse.ArgumentParser:
     p.add_argument("bytes", nargs="+", metavar="BYTE",
                    help="0..255, or a signal name: cancel, dump")
     p.set_defaults(func=cmd_send)
+    repl.add_parser(sub)
     return ap
 
 

@@ -1,0 +1,195 @@
+"""gestplay repl: type .gest steps and the hand does them at once.
+
+A thread reads lines; the main thread sends bytes on time and, when a line arrives,
+lets it take over the running move (live.Session). The waits between bytes are waits
+on the line queue, so a typed step starts within a millisecond.
+"""
+
+from __future__ import annotations
+
+import argparse
+import queue
+import sys
+import threading
+import time
+
+import serial
+
+from ..board import BoardCore
+from ..compiler import load
+from ..errors import Diagnostic, GestError
+from ..library import library_dirs
+from ..live import Segment, Session, line_steps
+from ..player import POLL, SPIN, Link, cancel_all, drain
+from ..profile import Profile, load_profile
+from .common import EXIT_INTERRUPTED, EXIT_OK, report
+
+PROG = "gestplay repl"
+HELP = """\
+Type a step and the hand does it now, from where it is:
+  index 90, middle 45 over 0.5s     servos or groups with values, optional 'over'
+  fingers 180 stagger 50ms          a wave across a group
+  peace                             a library gesture or pose by name
+  wait 1s                           a pause after the running move
+A step typed while the hand moves takes over from there, without stopping.
+  where    the values the board holds      help    this text
+  quit     (or Ctrl-D) leave once the hand is still; Ctrl-C stops at once"""
+
+
+def library_program():
+    """Every library gesture, pose and group, for names typed at the prompt."""
+    files = sorted(p.name for d in library_dirs() for p in d.glob("*.gest"))
+    return load("<library>", "".join(f'use "{f}"\n' for f in files))
+
+
+class Mirror:
+    """What each board holds, from the bytes sent to it (the board's own rules)."""
+
+    def __init__(self, profile: Profile, links: list[Link]):
+        boards = {b.id: b for b in profile.boards}
+        self.cores = [BoardCore.from_profile(profile, boards[link.board]) for link in links]
+        where = {}
+        for k, core in enumerate(self.cores):
+            for j, servo in enumerate(core.servos):
+                where[servo.id] = (k, j)
+        self._where = [where[s.id] for s in profile.servos]
+
+    def set(self, pose: list[int]) -> None:
+        for (k, j), v in zip(self._where, pose, strict=True):
+            self.cores[k].values[j] = v
+
+    def feed(self, k: int, byte: int) -> None:
+        self.cores[k].feed(byte)
+
+    def held(self) -> list[int]:
+        return [self.cores[k].values[j] for k, j in self._where]
+
+
+def read_lines(lines: queue.Queue, prompt: str) -> None:
+    while True:
+        try:
+            lines.put(input(prompt))
+        except (EOFError, KeyboardInterrupt, OSError, ValueError):
+            lines.put(None)
+            return
+
+
+def repl(links: list[Link], profile: Profile, pose: dict[str, int],
+         lines: queue.Queue, now=time.perf_counter) -> int:
+    """Run until the input ends and the hand is still."""
+    program = library_program()
+    start = [pose.get(s.name, s.rest) for s in profile.servos]
+    mirror = Mirror(profile, links)
+    mirror.set(start)
+    session = Session(profile, start, now(), program.sources)
+    events: list[tuple[float, int, int]] = []  # (clock time, link, byte), pending
+    ended = False
+    while True:
+        t = now()
+        if ended and not events and not session.busy(t):
+            return EXIT_OK
+        wait = _wait(events, session, t, ended)
+        if ended:
+            time.sleep(max(wait, 0))
+            line = False
+        else:
+            line = _get(lines, wait)
+        if not events and line is False:
+            for link in links:
+                drain(link.port)  # a pulled cable shows here
+        t = now()
+        segment = None
+        if line is None or (line and line.strip() in ("quit", "exit")):
+            ended = True
+        elif line:
+            segment = _typed(line, session, t, mirror, profile, program)
+        if segment is None:
+            segment = session.next(t, mirror.held())
+        if segment is not None:
+            report(segment.warnings, "gestplay")
+            events = _events(segment, links)
+        while events and events[0][0] <= now():
+            _, k, byte = events.pop(0)
+            links[k].port.write(bytes([byte]))
+            mirror.feed(k, byte)
+
+
+def _wait(events: list, session: Session, t: float, ended: bool) -> float:
+    """How long to wait for a line: until the next byte is nearly due (then spin),
+    until the running step ends if another is queued, and never more than POLL."""
+    if events:
+        return events[0][0] - t - SPIN
+    if session.queue or ended:
+        return min(POLL, session.end - t)
+    return POLL
+
+
+def _get(lines: queue.Queue, timeout: float):
+    """A typed line, None at the end of input, False if nothing came in time."""
+    try:
+        return lines.get(timeout=timeout) if timeout > 0 else lines.get_nowait()
+    except queue.Empty:
+        return False
+
+
+def _typed(line: str, session: Session, t: float, mirror: Mirror, profile: Profile,
+           program) -> Segment | None:
+    words = line.strip()
+    if not words or words.startswith("#"):
+        return None
+    if words == "help":
+        print(HELP, flush=True)
+        return None
+    if words == "where":
+        print("  ".join(f"{s.name} {v}" for s, v in zip(profile.servos, mirror.held(),
+                                                         strict=True)), flush=True)
+        return None
+    try:
+        steps, sources = line_steps(line, program, profile)
+    except GestError as exc:
+        report(exc.diagnostics, "gestplay")
+        return None
+    session.set_sources(sources)
+    return session.submit(steps, t, mirror.held())
+
+
+def _events(segment: Segment, links: list[Link]) -> list[tuple[float, int, int]]:
+    by_board = {link.board: k for k, link in enumerate(links)}
+    events = [(segment.origin + t, by_board[s.board], b)
+              for s in segment.streams for t, b in zip(s.times.tolist(), s.data, strict=True)]
+    return sorted(events)
+
+
+def cmd_repl(args: argparse.Namespace) -> int:
+    from .gestplay import board_pose, close, connect, parse_ports
+
+    profile = load_profile(args.profile or "rhand")
+    links = connect(parse_ports(args.port, profile), profile)
+    try:
+        pose = board_pose(links, profile)
+        lines: queue.Queue = queue.Queue()
+        interactive = sys.stdin.isatty()
+        if interactive:
+            print("gestplay repl: 'help' for help, Ctrl-D to leave", file=sys.stderr)
+        threading.Thread(target=read_lines, args=(lines, "gest> " if interactive else ""),
+                         daemon=True).start()
+        return repl(links, profile, pose, lines)
+    except KeyboardInterrupt:
+        cancel_all(links)
+        print(f"\n{PROG}: interrupted: CANCEL sent, the hand holds its pose", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except serial.SerialException as exc:
+        cancel_all(links)
+        where = ", ".join(f"board {link.board} on {link.name}" for link in links)
+        raise GestError(Diagnostic("error", f"lost the link ({where}): {exc}")) from None
+    finally:
+        close(links)
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("repl", help="type .gest steps, the hand does them at once",
+                       description=HELP, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--port", action="append", default=[], required=True,
+                   help="as for playing; BOARD=PORT for each board of a profile with several")
+    p.add_argument("-p", "--profile", help="robot profile (default rhand)")
+    p.set_defaults(func=cmd_repl)

@@ -1,0 +1,122 @@
+"""Live motion (pure): steps arrive while the hand moves, and each takes over at once.
+
+A Session holds the plan the hand is following and the steps queued after it. A
+move submitted while the hand is still moving is planned by ruckig from the hand's
+planned position, velocity and acceleration at that moment, so the motion carries
+on without a jump and without stopping first; servos the new step does not name
+carry on to where they were going. Each new plan is encoded like a compiled
+gesture (CANCEL first, so a half-sent pair is dropped), against the values the
+board already holds. Times are the caller's clock, in seconds; this module has none.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+from .encode import Stream, encode
+from .errors import Diagnostic, GestError, Pos, SourceMap
+from .parse import parse
+from .plan import MotionState, Plan, Planner
+from .profile import Profile
+from .resolve import Program, Resolver, Step
+from .syntax import GestureDef
+
+LINE = "<repl>"  #: the file name diagnostics give for a typed line
+_NAME = "_"  #: the typed line becomes this gesture
+_PREFIX = f"{_NAME}: "
+
+
+@dataclass(frozen=True)
+class Segment:
+    """A stretch of motion to send from ``origin`` on: its plan and its streams."""
+
+    origin: float
+    plan: Plan
+    streams: tuple[Stream, ...]
+    step: Step
+    warnings: tuple[Diagnostic, ...] = ()
+
+
+class Session:
+    """The motion of one hand, one step after another, new steps taking over."""
+
+    def __init__(self, profile: Profile, pose: Sequence[int], now: float,
+                 sources: SourceMap | None = None):
+        self.profile = profile
+        self.planner = Planner(profile, sources)
+        hold = Step((), hold=0.0)
+        self.current = Segment(now, self.planner.plan([hold], pose), (), hold)
+        self.queue: deque[Step] = deque()
+
+    def set_sources(self, sources: SourceMap) -> None:
+        """Where diagnostics about the steps to come point to."""
+        self.planner.sources = sources
+
+    def state(self, now: float) -> MotionState:
+        return MotionState.at(self.current.plan, now - self.current.origin)
+
+    def busy(self, now: float) -> bool:
+        """Still moving or holding, or steps queued."""
+        return now < self.end or bool(self.queue)
+
+    @property
+    def end(self) -> float:
+        return self.current.origin + self.current.plan.duration
+
+    def submit(self, steps: Sequence[Step], now: float, held: Sequence[int]
+               ) -> Segment | None:
+        """New steps replace the queue; a move starts now (taking over), a wait starts
+        when the running move ends. Returns the segment to send now, if any."""
+        self.queue = deque(steps)
+        if self.queue and self.queue[0].hold == 0:
+            return self._start(now, held)
+        return self.next(now, held)
+
+    def next(self, now: float, held: Sequence[int]) -> Segment | None:
+        """The next queued step, once the current one has ended."""
+        if not self.queue or now < self.end:
+            return None
+        return self._start(max(now, self.end), held)
+
+    def _start(self, now: float, held: Sequence[int]) -> Segment:
+        step = self.queue.popleft()
+        final = list(self.current.plan.final)
+        if step.hold > 0:
+            plan = self.planner.plan([step], final)
+        elif now >= self.end:
+            plan = self.planner.plan([step], final)  # from rest: exactly as compiled
+        else:
+            for i, v in step.targets:
+                final[i] = v
+            plan = self.planner.take_over(self.state(now), final, step.over, step)
+        plan = replace(plan, start=tuple(held))  # what the board holds is what changed
+        self.current = Segment(now, plan, encode(plan), step, plan.warnings)
+        return self.current
+
+
+def line_steps(line: str, program: Program, profile: Profile) -> tuple[list[Step], SourceMap]:
+    """The steps of one typed line, e.g. ``index 90, middle 45 over 0.5s``, ``wait 1s``
+    or the name of a gesture or pose of ``program``. Errors point into the line."""
+    text = f"{_PREFIX}{line}\n"
+    sources = SourceMap()
+    for file, source in program.texts.items():
+        sources.add(file, source)
+    sources.add(LINE, line)
+    try:
+        gesture = next(item for item in parse(text, LINE).items
+                       if isinstance(item, GestureDef))
+        typed = Program(LINE, sources, program.texts, {**program.gestures, _NAME: gesture},
+                        program.poses, program.groups, [_NAME])
+        return list(Resolver(typed, profile).gesture(_NAME)), sources
+    except GestError as exc:
+        raise GestError([_in_line(d, line) for d in exc.diagnostics]) from None
+
+
+def _in_line(d: Diagnostic, line: str) -> Diagnostic:
+    """A diagnostic about the wrapped text, moved back onto the typed line."""
+    if d.pos is None or d.pos.file != LINE:
+        return d
+    column = max(1, min(d.pos.column - len(_PREFIX), len(line) + 1))
+    return replace(d, pos=Pos(LINE, 1, column, d.pos.width), source_line=line)
