@@ -17,11 +17,11 @@ from ..player import Link, ask_dump, cancel_all, drain, play, wait_ready
 from ..ports import available, open_port
 from ..profile import Profile, load_profile
 from ..protocol import Signal
-from . import repl
+from . import calibrate, repl
 from .common import EXIT_INTERRUPTED, EXIT_OK, report, run
 
 PROG = "gestplay"
-TOOLS = ("dump", "ports", "send", "repl")
+TOOLS = ("dump", "ports", "send", "calibrate", "repl")
 
 
 # -- playing -------------------------------------------------------------------------
@@ -247,7 +247,7 @@ def cmd_send(args: argparse.Namespace) -> int:
 def play_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(
         prog=PROG, description="Play a gesture on the InMoov hand. Bench tools: "
-        "gestplay dump|ports|send --help.")
+        "gestplay dump|ports|send|calibrate|repl --help.")
     ap.add_argument("target", metavar="GESTURE",
                     help="a library gesture, a .gest file or a compiled .gestc file")
     ap.add_argument("--port", action="append", default=[], metavar="PORT",
@@ -283,6 +283,7 @@ def tools_parser() -> argparse.ArgumentParser:
     p.add_argument("bytes", nargs="+", metavar="BYTE",
                    help="0..255, or a signal name: cancel, dump")
     p.set_defaults(func=cmd_send)
+    calibrate.add_parser(sub)
     repl.add_parser(sub)
     return ap
 

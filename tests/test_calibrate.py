@@ -1,0 +1,118 @@
+"""gestplay calibrate: arrow keys at a real terminal, the result written into the profile."""
+
+import os
+import subprocess
+import sys
+import time
+
+import pytest
+
+from inmoov_dsl.calibrate import edit_profile, found
+from inmoov_dsl.errors import GestError
+from inmoov_dsl.profile import find_profile, load_profile, parse_profile
+
+RHAND_TEXT = find_profile("rhand").read_text(encoding="utf-8")
+RHAND = load_profile("rhand")
+POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
+
+
+def servo(name):
+    return RHAND.servos[RHAND.index(name)]
+
+
+def test_the_ends_become_the_calibration_and_the_real_speed_is_kept():
+    new = found(servo("index"), straight=147, curled=103)
+    assert new.calibration == (103, 147) and new.reversed
+    # the same real degrees per second over a range of 44 real degrees instead of 100
+    assert new.max_velocity == pytest.approx(432 * 100 / 44)
+    assert not found(servo("index"), straight=20, curled=160).reversed
+    with pytest.raises(GestError, match="straight and curled are the same angle"):
+        found(servo("index"), 90, 90)
+
+
+def test_only_that_servo_changes_and_comments_stay():
+    edited = edit_profile(RHAND_TEXT, "middle", found(servo("middle"), 40, 150))
+    profile = parse_profile(edited)
+    middle = profile.servos[profile.index("middle")]
+    assert middle.calibration == (40, 150) and not middle.reversed
+    assert middle.max_velocity == round(360 * 120 / 110)
+    for other in ("wrist", "thumb", "index", "ring", "pinky"):
+        assert profile.servos[profile.index(other)] == servo(other)
+    changed = [(a, b) for a, b in zip(RHAND_TEXT.splitlines(), edited.splitlines(),
+                                      strict=True) if a != b]
+    assert [a.split("=")[0].strip() for a, _ in changed] == [
+        "calibration", "reversed", "max_velocity", "max_acceleration", "max_jerk"]
+    assert "# 35..155: 120 real degrees" in edited
+
+
+def test_missing_keys_are_added_and_a_missing_table_is_a_clear_error():
+    text = ('name = "one"\n[[board]]\nid = 181\nservos = ["a"]\n\n[servo.a]\nid = 0\n'
+            'max_velocity = 400\nmax_acceleration = 8000\nmax_jerk = 160000\n# end\n')
+    edited = edit_profile(text, "a", found(parse_profile(text).servos[0], 10, 170))
+    assert parse_profile(edited).servos[0].calibration == (10, 170)
+    with pytest.raises(GestError, match=r"no \[servo.b\] table in the profile"):
+        edit_profile(text, "b", found(parse_profile(text).servos[0], 10, 170))
+
+
+def calibrate(tmp_path, keys, *argv):
+    """Run gestplay calibrate on sim:// at a real pseudo-terminal, pressing ``keys``."""
+    master, slave = os.openpty()
+    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "calibrate",
+                             "--port", "sim://?boot=0", *argv], stdin=slave, stdout=slave,
+                            stderr=slave, cwd=tmp_path)
+    os.close(slave)
+    out = b""
+
+    def read_until(text, timeout=20):
+        nonlocal out
+        deadline = time.monotonic() + timeout
+        while text not in out and time.monotonic() < deadline:
+            try:
+                out += os.read(master, 4096)
+            except OSError:
+                break
+
+    read_until(b"value   0")
+    for key in keys:
+        os.write(master, key.encode())
+        time.sleep(0.02)
+    read_until(b"\xff never")  # everything until the process ends
+    os.close(master)
+    return proc.wait(timeout=20), out.decode(errors="replace")
+
+
+RIGHT, UP = "\x1b[C", "\x1b[A"
+
+
+@POSIX
+def test_arrow_keys_find_the_ends_and_enter_writes_them(tmp_path):
+    mine = tmp_path / "mine.toml"
+    mine.write_text(RHAND_TEXT, encoding="utf-8")
+    code, out = calibrate(tmp_path, [RIGHT] * 5 + [UP, "s"] + [UP] * 8 + ["c", "\r"],
+                          "--servo", "index", "--profile", str(mine))
+    assert code == 0, out
+    # index maps 0..180 onto 155..55 (reversed): value 15 is angle 147, 95 is 103
+    assert "index: value  15  angle 147" in out
+    assert "index: value  95  angle 103  |  straight 147  curled 103" in out
+    index = load_profile(str(mine)).servos[2]
+    assert index.calibration == (103, 147) and index.reversed
+
+
+@POSIX
+def test_a_built_in_profile_is_copied_and_q_writes_nothing(tmp_path):
+    code, out = calibrate(tmp_path, [RIGHT, "q"], "--servo", "ring")
+    assert code == 0 and "nothing written" in out
+    assert not (tmp_path / "rhand.toml").exists()
+    code, out = calibrate(tmp_path, ["s", UP, "c", "\r"], "--servo", "ring")
+    assert code == 0, out
+    assert load_profile(str(tmp_path / "rhand.toml")).servos[4].calibration == (140, 145)
+    assert find_profile("rhand").read_text(encoding="utf-8") == RHAND_TEXT
+
+
+def test_an_unknown_servo_is_named_with_a_suggestion(capsys):
+    from inmoov_dsl.cli import gestplay
+
+    assert gestplay.main(["calibrate", "--port", "sim://", "--servo", "indx"]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("gestplay: error: profile 'rhand' has no servo 'indx'")
+    assert "did you mean 'index'?" in err
