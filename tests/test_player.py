@@ -2,6 +2,7 @@
 to a real pseudo-terminal, and safe when things go wrong."""
 
 import os
+import select
 import signal
 import subprocess
 import sys
@@ -255,3 +256,28 @@ def test_ctrl_c_sends_cancel_and_exits_130(gestsim):
     time.sleep(0.1)
     _, data = received(log)
     assert data[-1] == 255
+
+
+@POSIX
+def test_gestsim_shows_the_servos_live_on_a_terminal():
+    master, slave = os.openpty()
+    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim", "--boot", "0.1"],
+                            stdout=subprocess.PIPE, stderr=slave, text=True)
+    os.close(slave)
+    try:
+        path = proc.stdout.readline().strip()
+        player = gestplay_proc("peace", "--port", path)
+        assert player.wait(timeout=30) == 0
+        time.sleep(0.2)  # a redraw or two
+        screen, deadline = b"", time.monotonic() + 5
+        while select.select([master], [], [], 0.1)[0] and time.monotonic() < deadline:
+            screen += os.read(master, 65536)
+    finally:
+        proc.kill()
+        proc.wait()
+        os.close(master)
+    last = screen.decode().rsplit("\x1b[6F", 1)[-1]  # the last redraw of the 6 lines
+    rows = [line.replace("\x1b[2K", "").split() for line in last.splitlines()[:6]]
+    assert [r[:2] for r in rows] == [["wrist", "0"], ["thumb", "180"], ["index", "0"],
+                                     ["middle", "0"], ["ring", "180"], ["pinky", "180"]]
+    assert rows[1][2] == "#" * 30  # a bar as long as the value

@@ -47,6 +47,7 @@ def serve(args: argparse.Namespace) -> int:
     poller = select.poll()
     poller.register(master, select.POLLIN)
     board: VirtualBoard | None = None
+    hung_up = True  # no program has the port open
     try:
         while True:
             flags = dict(poller.poll(5)).get(master, 0)
@@ -61,10 +62,15 @@ def serve(args: argparse.Namespace) -> int:
                 log.write("".join(f"{now:.6f} {b}\n" for b in data))
                 log.flush()
             if flags & select.POLLHUP and not data:
-                board = None  # no program has the port open
+                hung_up = True  # the bytes already on the wire still arrive
+                if board is not None:
+                    board.read(now)
+                    if view is not None:
+                        view.draw(board, now)
                 time.sleep(0.01)
                 continue
-            if board is None:  # a program opened the port: the board resets
+            if hung_up:  # a program opened the port: the board resets
+                hung_up = False
                 board = VirtualBoard(BoardCore.from_profile(profile, board_cfg),
                                      board_cfg.baud, ready_at=now + args.boot)
             if data:
@@ -74,7 +80,7 @@ def serve(args: argparse.Namespace) -> int:
                 try:
                     os.write(master, out)
                 except OSError:  # the other side closed meanwhile
-                    board = None
+                    hung_up = True
             if view is not None:
                 view.draw(board, now)
     except KeyboardInterrupt:
@@ -90,11 +96,13 @@ class _View:
         self.names = board_cfg.servos
         self.next = 0.0
         self.drawn = False
+        self.shown: list[int] | None = None
 
     def draw(self, board: VirtualBoard, now: float) -> None:
-        if now < self.next:
+        if now < self.next or board.core.values == self.shown:
             return
         self.next = now + FRAME
+        self.shown = list(board.core.values)
         out = sys.stderr
         if self.drawn:
             out.write(f"\x1b[{len(self.names)}F")
