@@ -6,7 +6,9 @@ the way the original script did, sleeping after each byte, and compare in one ru
     python benchmarks/timing.py [--gesture count] [--seconds 60]
 
 Errors are arrival time minus planned time, both counted from the stream's first byte
-(so the pty's constant latency is not counted against either sender). The relative
+(so the pty's constant latency is not counted against either sender); "as written"
+is the same measured in the sender, when each write returned, which tells a late
+sender from a late receiver. The relative
 sender sleeps exactly the planned gap after each byte: the most generous version of
 "a fixed sleep after each byte". POSIX only (pseudo-terminals).
 """
@@ -61,18 +63,35 @@ def relative_sleeps(port, times: np.ndarray, data: bytes) -> None:
         time.sleep(gap)
 
 
+class Stamped:
+    """A port that also notes when each write returned (the sender's own view)."""
+
+    def __init__(self, port):
+        self.port, self.sent = port, []
+
+    def write(self, data: bytes) -> int:
+        n = self.port.write(data)
+        self.sent += [(time.monotonic(), b) for b in data]
+        return n
+
+    def read(self, size: int = 1) -> bytes:
+        return self.port.read(size)
+
+
 def errors(stamps: list, times: np.ndarray, data: bytes) -> np.ndarray:
     arrived = np.array([t for t, _ in stamps])
     assert bytes(b for _, b in stamps) == data, "bytes lost or changed on the way"
     return (arrived - arrived[0]) - (times - times[0])
 
 
-def summary(name: str, e: np.ndarray, times: np.ndarray) -> str:
+def summary(name: str, e: np.ndarray, sent: np.ndarray, times: np.ndarray) -> str:
     ms = np.abs(e) * 1000
     slope = np.polyfit(times, e, 1)[0] * 60 * 1000  # ms per minute
     tail = e[times > times[-1] - 5].mean() * 1000
+    own = np.abs(sent) * 1000
     return (f"| {name} | {np.percentile(ms, 50):.3f} | {np.percentile(ms, 99):.3f} | "
-            f"{ms.max():.3f} | {tail:+.2f} | {slope:+.2f} |")
+            f"{ms.max():.3f} | {np.percentile(own, 99):.3f} / {own.max():.3f} | "
+            f"{tail:+.2f} | {slope:+.2f} |")
 
 
 def main() -> None:
@@ -95,19 +114,21 @@ def main() -> None:
     port = open_port(device, stream.baud)
     print(f"{args.gesture} x{times_over}: {compiled.duration:.1f} s, {len(stream.data):,} "
           f"bytes, through {device} ({sys.platform}, Python {sys.version.split()[0]})\n")
-    print("| sender | p50 ms | p99 ms | max ms | error over the last 5 s, ms "
-          "| drift, ms per minute |")
-    print("|---|---:|---:|---:|---:|---:|")
+    print("| sender | p50 ms | p99 ms | max ms | as written: p99 / max ms "
+          "| error over the last 5 s, ms | drift, ms per minute |")
+    print("|---|---:|---:|---:|---:|---:|---:|")
     for name, send in [
-        ("gestplay (one absolute clock)", lambda: play(compiled, [Link(181, port, device)])),
-        ("sleep after each byte", lambda: relative_sleeps(port, stream.times, stream.data)),
+        ("gestplay (one absolute clock)", lambda p: play(compiled, [Link(181, p, device)])),
+        ("sleep after each byte", lambda p: relative_sleeps(p, stream.times, stream.data)),
     ]:
-        send()
+        stamped = Stamped(port)
+        send(stamped)
         time.sleep(0.2)
         receiver.stdin.write("\n")
         receiver.stdin.flush()
         stamps = json.loads(receiver.stdout.readline())
-        print(summary(name, errors(stamps, stream.times, stream.data), stream.times),
+        print(summary(name, errors(stamps, stream.times, stream.data),
+                      errors(stamped.sent, stream.times, stream.data), stream.times),
               flush=True)
     port.close()
     receiver.stdin.close()

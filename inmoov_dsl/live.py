@@ -48,11 +48,7 @@ class Session:
         self.planner = Planner(profile, sources)
         hold = Step((), hold=0.0)
         self.current = Segment(now, self.planner.plan([hold], pose), (), hold)
-        self.queue: deque[Step] = deque()
-
-    def set_sources(self, sources: SourceMap) -> None:
-        """Where diagnostics about the steps to come point to."""
-        self.planner.sources = sources
+        self.queue: deque[tuple[Step, SourceMap | None]] = deque()
 
     def state(self, now: float) -> MotionState:
         return MotionState.at(self.current.plan, now - self.current.origin)
@@ -65,13 +61,20 @@ class Session:
     def end(self) -> float:
         return self.current.origin + self.current.plan.duration
 
-    def submit(self, steps: Sequence[Step], now: float, held: Sequence[int]
-               ) -> Segment | None:
+    def submit(self, steps: Sequence[Step], now: float, held: Sequence[int],
+               sources: SourceMap | None = None) -> Segment | None:
         """New steps replace the queue; a move starts now (taking over), a wait starts
-        when the running move ends. Returns the segment to send now, if any."""
-        self.queue = deque(steps)
-        if self.queue and self.queue[0].hold == 0:
+        when the running move ends. Returns the segment to send now, if any.
+        ``sources`` has the text the steps' diagnostics point into."""
+        self.queue = deque((step, sources) for step in steps)
+        if self.queue and self.queue[0][0].hold == 0:
             return self._start(now, held)
+        return self.next(now, held)
+
+    def append(self, steps: Sequence[Step], now: float, held: Sequence[int],
+               sources: SourceMap | None = None) -> Segment | None:
+        """New steps after the queued ones (a script, not a takeover)."""
+        self.queue.extend((step, sources) for step in steps)
         return self.next(now, held)
 
     def next(self, now: float, held: Sequence[int]) -> Segment | None:
@@ -81,7 +84,9 @@ class Session:
         return self._start(max(now, self.end), held)
 
     def _start(self, now: float, held: Sequence[int]) -> Segment:
-        step = self.queue.popleft()
+        step, sources = self.queue.popleft()
+        if sources is not None:
+            self.planner.sources = sources
         final = list(self.current.plan.final)
         if step.hold > 0:
             plan = self.planner.plan([step], final)

@@ -114,7 +114,7 @@ def test_a_segment_sends_only_what_the_board_does_not_hold(program):
 
 
 # -- the REPL against the virtual board ----------------------------------------------
-def run_repl(script):
+def run_repl(script, take_over=True):
     """Play timed lines [(seconds, line)] into the REPL on sim://; the board's log."""
     link = Link(181, open_port("sim://?boot=0", 9600), "sim://")
     lines: queue.Queue = queue.Queue()
@@ -128,7 +128,7 @@ def run_repl(script):
 
     threading.Thread(target=typist, daemon=True).start()
     start = time.monotonic()
-    assert repl([link], RHAND, {}, lines) == 0
+    assert repl([link], RHAND, {}, lines, take_over) == 0
     board = link.port.board
     board.advance(time.monotonic())
     return board, [(t - start, w) for t, w in board.log]
@@ -164,3 +164,19 @@ def test_gestplay_repl_reads_steps_from_a_pipe():
                           capture_output=True, text=True, timeout=60)
     assert done.returncode == 0, done.stderr
     assert done.stdout.startswith("wrist 0  thumb 0  index 0  middle 0  ring 0  pinky 0")
+
+
+@pytest.mark.parametrize(("take_over", "peak"), [(False, 90), (True, 0)])
+def test_typed_lines_take_over_and_scripts_wait(take_over, peak):
+    board, log = run_repl([(0.0, "index 90 over 0.3s"), (0.0, "index 0")], take_over)
+    index = [w.value for _, w in log if w.id == 2]
+    assert max(index, default=0) == peak and board.positions()[2] == 0
+
+
+def test_a_script_waits_for_each_step(program):
+    session = Session(RHAND, REST, now=0.0)
+    first = session.append(steps("index 90 over 0.3s", program), 0.0, REST)
+    assert session.append(steps("index 0", program), 0.1, REST) is None
+    second = session.next(0.31, [0, 0, 90, 0, 0, 0])
+    assert first.plan.final[INDEX] == 90 and second.origin == pytest.approx(0.31)
+    assert MotionState.at(second.plan, 0).velocity[INDEX] == 0

@@ -14,7 +14,7 @@ def readme_commands():
 
 def test_readme_opens_with_the_two_commands():
     main_job, tests = readme_commands()
-    assert main_job.startswith("python -m pip install . && gestc ")
+    assert main_job == "python -m pip install . && gestplay peace --port sim://"
     assert tests == "python -m pip install -e '.[test]' && python -m pytest"
 
 

@@ -75,8 +75,9 @@ def read_lines(lines: queue.Queue, prompt: str) -> None:
 
 
 def repl(links: list[Link], profile: Profile, pose: dict[str, int],
-         lines: queue.Queue, now=time.perf_counter) -> int:
-    """Run until the input ends and the hand is still."""
+         lines: queue.Queue, take_over: bool = True, now=time.perf_counter) -> int:
+    """Run until the input ends and the hand is still. Each line takes over the running
+    move (``take_over``, a person typing), or waits for the steps before it (a script)."""
     program = library_program()
     start = [pose.get(s.name, s.rest) for s in profile.servos]
     mirror = Mirror(profile, links)
@@ -102,7 +103,7 @@ def repl(links: list[Link], profile: Profile, pose: dict[str, int],
         if line is None or (line and line.strip() in ("quit", "exit")):
             ended = True
         elif line:
-            segment = _typed(line, session, t, mirror, profile, program)
+            segment = _typed(line, session, t, mirror, profile, program, take_over)
         if segment is None:
             segment = session.next(t, mirror.held())
         if segment is not None:
@@ -133,7 +134,7 @@ def _get(lines: queue.Queue, timeout: float):
 
 
 def _typed(line: str, session: Session, t: float, mirror: Mirror, profile: Profile,
-           program) -> Segment | None:
+           program, take_over: bool) -> Segment | None:
     words = line.strip()
     if not words or words.startswith("#"):
         return None
@@ -149,8 +150,8 @@ def _typed(line: str, session: Session, t: float, mirror: Mirror, profile: Profi
     except GestError as exc:
         report(exc.diagnostics, "gestplay")
         return None
-    session.set_sources(sources)
-    return session.submit(steps, t, mirror.held())
+    run = session.submit if take_over else session.append
+    return run(steps, t, mirror.held(), sources)
 
 
 def _events(segment: Segment, links: list[Link]) -> list[tuple[float, int, int]]:
@@ -173,7 +174,7 @@ def cmd_repl(args: argparse.Namespace) -> int:
             print("gestplay repl: 'help' for help, Ctrl-D to leave", file=sys.stderr)
         threading.Thread(target=read_lines, args=(lines, "gest> " if interactive else ""),
                          daemon=True).start()
-        return repl(links, profile, pose, lines)
+        return repl(links, profile, pose, lines, take_over=interactive)
     except KeyboardInterrupt:
         cancel_all(links)
         print(f"\n{PROG}: interrupted: CANCEL sent, the hand holds its pose", file=sys.stderr)
