@@ -86,9 +86,11 @@ class BoardCore:
         return bytes([Signal.START, self.board_id, len(self.servos), *body, Signal.END])
 
 
-def parse_dump(data: bytes) -> tuple[int, dict[int, int]] | None:
+def parse_dump(data: bytes, board_id: int | None = None
+               ) -> tuple[int, dict[int, int]] | None:
     """Find a DUMP reply in bytes from a board (WAIT bytes and noise around it are
-    skipped): (board ID, servo ID -> value), or None if no complete reply is there."""
+    skipped), from board ``board_id`` if given: (board ID, servo ID -> value), or None
+    if no complete reply is there."""
     start = 0
     while True:
         start = data.find(bytes([Signal.START]), start)
@@ -99,6 +101,7 @@ def parse_dump(data: bytes) -> tuple[int, dict[int, int]] | None:
         if end < len(data) and data[end] == Signal.END:
             body = data[start + 3:end]
             pairs = dict(zip(body[0::2], body[1::2], strict=True))
-            if all(v <= MAX_VALUE for v in pairs.values()) and len(pairs) == count:
+            if all(v <= MAX_VALUE for v in pairs.values()) and len(pairs) == count \
+                    and board_id in (None, board):
                 return board, pairs
         start += 1

@@ -68,8 +68,8 @@ def ask_dump(port: Port, board: int, now: Clock = time.monotonic, sleep: Sleep =
     deadline = now() + timeout
     while now() < deadline:
         received += drain(port)
-        found = parse_dump(received)
-        if found is not None and found[0] == board:
+        found = parse_dump(received, board)
+        if found is not None:
             return found[1]
         sleep(0.005)
     return None

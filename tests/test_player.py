@@ -73,6 +73,38 @@ def test_two_boards_are_merged_on_one_clock():
     assert sum(1 for *_, b in events) == sum(len(s.data) for s in compiled.streams)
 
 
+class NoisyBoard:
+    """A board that talks too much: WAITs, stray bytes, a half START and another board's
+    reply before its own DUMP reply, the reply cut over several reads, and rubbish all
+    through the gesture."""
+
+    def __init__(self):
+        self.sent, self.chunks = bytearray(), [bytes([254, 7, 252, 200, 254, 252, 9, 0, 251])]
+
+    def write(self, data):
+        self.sent += data
+        if 253 in data:
+            reply = bytes([252, 181, 6, 0, 0, 1, 0, 2, 90, 3, 0, 4, 0, 5, 30, 251])
+            self.chunks += [bytes([254, 252]), reply[:5], reply[5:11], reply[11:], b"\xfe"]
+        return len(data)
+
+    def read(self, size=1):
+        return self.chunks.pop(0) if self.chunks else bytes([254, 13, 252, 0, 251])
+
+
+def test_a_noisy_board_is_understood_and_never_crashes_the_player():
+    port = NoisyBoard()
+    link = Link(181, port, "noisy")
+    pose = gestplay.board_pose([link], gestplay.load_profile("rhand"))
+    assert pose == {"wrist": 0, "thumb": 0, "index": 90, "middle": 0, "ring": 0, "pinky": 30}
+    program = load(str(load_library()["peace"]))
+    compiled, _ = compile_program(program, "peace", "rhand", pose)
+    port.sent.clear()
+    clock = FakeClock()
+    play(compiled, [link], now=clock.now, sleep=clock.sleep)
+    assert bytes(port.sent) == compiled.stream().data
+
+
 def sim_links(url="sim://?boot=0.05", board=181):
     port = open_port(url, 9600)
     return Link(board, port, url)
