@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import sys
 from collections.abc import Callable, Iterable
 
@@ -35,3 +36,9 @@ def run(prog: str, body: Callable[[], int]) -> int:
         where = f" '{exc.filename}'" if exc.filename else ""
         print(f"{prog}: error: cannot use{where}: {exc.strerror or exc}", file=sys.stderr)
         return EXIT_ERROR
+
+
+def add_lib(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--lib", action="append", default=[], metavar="DIR",
+                   help="also look for gestures in DIR (before GEST_PATH, ./gestures and "
+                   "the built-in library); may be repeated")

@@ -3,35 +3,25 @@
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 from pathlib import Path
 
 from ..compiled import Compiled, to_json, to_timed
 from ..compiler import compile_program, load
-from ..errors import Diagnostic, GestError, did_you_mean
-from ..library import load_library
+from ..errors import GestError
+from ..library import find_gesture, library_dirs, scan_library
 from ..metrics import LinkReport, measure
 from ..plan import Plan
-from .common import EXIT_ERROR, EXIT_OK, report, run
+from .common import EXIT_ERROR, EXIT_OK, add_lib, report, run
 
 PROG = "gestc"
 
 
-def _target(target: str, gesture: str | None) -> tuple[str, str | None]:
-    """A .gest file, or the name of a library gesture (then that gesture is the default)."""
-    if os.path.exists(target) or target.endswith(".gest") or os.sep in target or "/" in target:
-        return target, gesture
-    library = load_library()
-    if target in library:
-        return str(library[target]), gesture or target
-    hint = did_you_mean(target, library) or "give a .gest file or a name from 'gestc list'"
-    raise GestError(Diagnostic("error", f"no file or library gesture '{target}'", hint=hint))
-
-
 def _compile(args: argparse.Namespace) -> tuple[Compiled, Plan]:
-    path, gesture = _target(args.target, args.gesture)
-    compiled, plan = compile_program(load(path), gesture, args.profile, args.start, args.strict)
+    dirs = library_dirs(args.lib)
+    path, gesture = find_gesture(args.target, args.gesture, dirs)
+    compiled, plan = compile_program(load(path, search=dirs), gesture, args.profile,
+                                     args.start, args.strict)
     report(compiled.warnings, PROG)
     return compiled, plan
 
@@ -57,9 +47,10 @@ def cmd_compile(args: argparse.Namespace) -> int:
 
 def cmd_check(args: argparse.Namespace) -> int:
     status = EXIT_OK
+    dirs = library_dirs(args.lib)
     for file in args.files:
         try:
-            program = load(file)
+            program = load(file, search=dirs)
             for name in program.own:
                 compiled, _ = compile_program(program, name, args.profile, None, args.strict)
                 report(compiled.warnings, PROG)
@@ -111,8 +102,14 @@ def _link_text(r: LinkReport) -> str:
 
 
 def cmd_list(args: argparse.Namespace) -> int:
-    for name, path in sorted(load_library().items()):
-        print(f"{name}\t{path}")
+    entries = sorted(scan_library(library_dirs(args.lib)).values(), key=lambda e: e.name)
+    if not args.long:
+        for e in entries:
+            print(f"{e.name}\t{e.path}")
+        return EXIT_OK
+    width = max((len(e.name) for e in entries), default=0)
+    for e in entries:
+        print(f"{e.name:<{width}}  {e.description or '-'}  ({e.path.name}:{e.line})")
     return EXIT_OK
 
 
@@ -134,6 +131,7 @@ def parser() -> argparse.ArgumentParser:
                        help="robot profile: a built-in name or a .toml path (default rhand)")
         p.add_argument("--strict", action="store_true",
                        help="treat warnings (stretched moves) as errors")
+        add_lib(p)
 
     p = sub.add_parser("compile", help="write a compiled gesture")
     common(p)
@@ -154,6 +152,9 @@ def parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_show)
 
     p = sub.add_parser("list", help="the library's gestures: NAME<TAB>FILE")
+    p.add_argument("-l", "--long", action="store_true",
+                   help="a table: name, what the gesture does, where it is defined")
+    add_lib(p)
     p.set_defaults(func=cmd_list)
     return ap
 

@@ -12,13 +12,13 @@ import serial
 from ..compiled import Compiled, from_json, to_timed
 from ..compiler import compile_program, load
 from ..errors import Diagnostic, GestError
-from ..library import load_library
+from ..library import find_gesture, library_dirs
 from ..player import Link, ask_dump, cancel_all, drain, play, wait_ready
 from ..ports import available, open_port
 from ..profile import Profile, load_profile
 from ..protocol import Signal
 from . import calibrate, repl
-from .common import EXIT_INTERRUPTED, EXIT_OK, report, run
+from .common import EXIT_INTERRUPTED, EXIT_OK, add_lib, report, run
 
 PROG = "gestplay"
 TOOLS = ("dump", "ports", "send", "calibrate", "repl")
@@ -37,14 +37,9 @@ class Target:
             self.compiled = from_json(Path(name).read_text(encoding="utf-8"), name)
             self.profile = load_profile(args.profile or self.compiled.profile)
             return
-        path, gesture = name, args.gesture
-        if not Path(name).exists() and not name.endswith(".gest"):
-            library = load_library()
-            if name not in library:
-                raise GestError(Diagnostic("error", f"no file or library gesture '{name}'",
-                                           hint="'gestc list' shows the library"))
-            path, gesture = str(library[name]), gesture or name
-        self.program, self.gesture = load(path), gesture
+        dirs = library_dirs(args.lib)
+        path, self.gesture = find_gesture(name, args.gesture, dirs)
+        self.program = load(path, search=dirs)
         self.profile = load_profile(args.profile or "rhand")
 
     def build(self, start: dict[str, int] | None) -> Compiled:
@@ -263,6 +258,7 @@ def play_parser() -> argparse.ArgumentParser:
     ap.add_argument("--dry-run", action="store_true",
                     help="print the schedule ('<seconds> <byte>') without a port")
     ap.add_argument("--strict", action="store_true", help="stretched moves are errors")
+    add_lib(ap)
     ap.set_defaults(func=cmd_play)
     return ap
 

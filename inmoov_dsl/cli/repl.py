@@ -12,17 +12,18 @@ import queue
 import sys
 import threading
 import time
+from pathlib import Path
 
 import serial
 
 from ..board import BoardCore
 from ..compiler import load
 from ..errors import Diagnostic, GestError
-from ..library import library_dirs
+from ..library import library_dirs, library_files
 from ..live import Segment, Session, line_steps
 from ..player import POLL, SPIN, Link, cancel_all, drain
 from ..profile import Profile, load_profile
-from .common import EXIT_INTERRUPTED, EXIT_OK, report
+from .common import EXIT_INTERRUPTED, EXIT_OK, add_lib, report
 
 PROG = "gestplay repl"
 HELP = """\
@@ -36,10 +37,11 @@ A step typed while the hand moves takes over from there, without stopping.
   quit     (or Ctrl-D) leave once the hand is still; Ctrl-C stops at once"""
 
 
-def library_program():
+def library_program(dirs: list[Path] | None = None):
     """Every library gesture, pose and group, for names typed at the prompt."""
-    files = sorted(p.name for d in library_dirs() for p in d.glob("*.gest"))
-    return load("<library>", "".join(f'use "{f}"\n' for f in files))
+    dirs = library_dirs() if dirs is None else dirs
+    uses = "".join(f'use "{f.resolve()}"\n' for f in library_files(dirs))
+    return load("<library>", uses, search=[str(d) for d in dirs])
 
 
 class Mirror:
@@ -75,10 +77,11 @@ def read_lines(lines: queue.Queue, prompt: str) -> None:
 
 
 def repl(links: list[Link], profile: Profile, pose: dict[str, int],
-         lines: queue.Queue, take_over: bool = True, now=time.perf_counter) -> int:
+         lines: queue.Queue, take_over: bool = True, now=time.perf_counter,
+         dirs: list[Path] | None = None) -> int:
     """Run until the input ends and the hand is still. Each line takes over the running
     move (``take_over``, a person typing), or waits for the steps before it (a script)."""
-    program = library_program()
+    program = library_program(dirs)
     start = [pose.get(s.name, s.rest) for s in profile.servos]
     mirror = Mirror(profile, links)
     mirror.set(start)
@@ -174,7 +177,8 @@ def cmd_repl(args: argparse.Namespace) -> int:
             print("gestplay repl: 'help' for help, Ctrl-D to leave", file=sys.stderr)
         threading.Thread(target=read_lines, args=(lines, "gest> " if interactive else ""),
                          daemon=True).start()
-        return repl(links, profile, pose, lines, take_over=interactive)
+        return repl(links, profile, pose, lines, take_over=interactive,
+                    dirs=library_dirs(args.lib))
     except KeyboardInterrupt:
         cancel_all(links)
         print(f"\n{PROG}: interrupted: CANCEL sent, the hand holds its pose", file=sys.stderr)
@@ -193,4 +197,5 @@ def add_parser(sub) -> None:
     p.add_argument("--port", action="append", default=[], required=True,
                    help="as for playing; BOARD=PORT for each board of a profile with several")
     p.add_argument("-p", "--profile", help="robot profile (default rhand)")
+    add_lib(p)
     p.set_defaults(func=cmd_repl)
