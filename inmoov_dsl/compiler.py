@@ -12,7 +12,7 @@ from .encode import encode
 from .errors import Diagnostic, GestError, did_you_mean
 from .library import library_dirs
 from .plan import Plan, Planner
-from .profile import Profile, load_profile
+from .profile import Profile, load_profile, profiles_with
 from .resolve import Program, Reader, Resolver, load_program, resolve_start
 
 
@@ -70,7 +70,7 @@ Start = str | Mapping[str, int] | None  #: ``--from`` text, or servo name -> val
 
 def plan_gesture(program: Program, gesture: str, profile: Profile, start: Start = None,
                  strict: bool = False) -> Plan:
-    resolver = Resolver(program, profile)
+    resolver = Resolver(program, profile, profiles_with)
     steps = resolver.gesture(gesture)
     pose = resolve_start(program, profile, start)
     return Planner(profile, program.sources).plan(steps, pose, strict)

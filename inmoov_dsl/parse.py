@@ -126,7 +126,10 @@ class _ToAst(Transformer):
         return int(text)
 
     def wait(self, duration: ast.Duration):
-        return ast.Wait(duration, duration.pos)
+        return ast.Wait(duration, duration.pos, "wait")
+
+    def hold(self, duration: ast.Duration):
+        return ast.Wait(duration, duration.pos, "hold")
 
     def move(self, *parts):
         targets = tuple(p for p in parts if isinstance(p, ast.Target))
@@ -181,7 +184,8 @@ class _ToAst(Transformer):
             raise _SyntaxProblem(f"duration {text}{unit} is too long (at most "
                                  f"{MAX_DURATION:g} s per step)", span,
                                  "split a long hold into several waits")
-        return ast.Duration(seconds, Pos(pos.file, pos.line, pos.column, span[2]))
+        return ast.Duration(seconds, Pos(pos.file, pos.line, pos.column, span[2]), text,
+                            str(unit))
 
 
 _TO_AST = _ToAst()

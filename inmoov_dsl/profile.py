@@ -73,6 +73,19 @@ def builtin_profiles() -> list[str]:
     return sorted(p.stem for p in profiles_dir().glob("*.toml"))
 
 
+def profiles_with(name: str) -> list[str]:
+    """The built-in profiles that have a servo or a group called ``name``."""
+    found = []
+    for builtin in builtin_profiles():
+        try:
+            profile = load_profile(builtin)
+        except GestError:
+            continue
+        if name in profile.names or name in profile.groups:
+            found.append(builtin)
+    return found
+
+
 def find_profile(name_or_path: str) -> Path:
     """A profile file from a built-in name (``rhand``) or a path."""
     path = Path(name_or_path)

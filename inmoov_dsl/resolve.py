@@ -121,9 +121,13 @@ def _find_import(use: ast.Use, importer: str, search: Sequence[str], read: Reade
 class Resolver:
     """Turns a gesture of a Program into Steps for one profile."""
 
-    def __init__(self, program: Program, profile: Profile):
+    def __init__(self, program: Program, profile: Profile,
+                 elsewhere: Callable[[str], Sequence[str]] | None = None):
+        """``elsewhere(name)``: the other profiles that have a servo or group ``name``
+        (asked only to word an error)."""
         self.program = program
         self.profile = profile
+        self.elsewhere = elsewhere
         self.src = program.sources
         self._sizes: dict[str, int] = {}
         self._check_names()
@@ -157,8 +161,11 @@ class Resolver:
         return self.profile.groups.get(name)
 
     def unknown(self, name: ast.Name, what: str = "servo, group, pose or gesture") -> GestError:
-        return GestError(self.src.error(f"unknown {what} '{name.text}'", name.pos,
-                                        did_you_mean(name.text, self.known())))
+        others = [p for p in self.elsewhere(name.text) if p != self.profile.name] \
+            if self.elsewhere else []
+        hint = (f"'{name.text}' is in profile '{others[0]}': add --profile {others[0]}"
+                if others else did_you_mean(name.text, self.known()))
+        return GestError(self.src.error(f"unknown {what} '{name.text}'", name.pos, hint))
 
     # -- targets ----------------------------------------------------------------
     def targets(self, targets: Sequence[ast.Target], chain: tuple[str, ...] = ()

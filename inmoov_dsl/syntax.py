@@ -26,6 +26,8 @@ class Target:
 class Duration:
     seconds: float
     pos: Pos
+    number: str = ""  #: as written, e.g. ``.5``
+    unit: str = "s"  #: ``s`` or ``ms``
 
 
 @dataclass(frozen=True)
@@ -40,6 +42,7 @@ class Move:
 class Wait:
     duration: Duration
     pos: Pos
+    keyword: str = "wait"  #: ``wait`` or ``hold`` (the same thing)
 
 
 @dataclass(frozen=True)

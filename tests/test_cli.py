@@ -86,7 +86,7 @@ def test_show_tables_steps_and_link(capsys):
     assert "coverage     100.0%" in out
     steps = [line for line in out.splitlines() if line.strip()[:1].isdigit()]
     assert len(steps) == 9
-    assert steps[0].split()[1:4] == ["count", "count.gest:5", "move"]
+    assert steps[0].split()[1:4] == ["count", "count.gest:4", "move"]
     assert "hold" in steps[1] and "0.500   0.500" in steps[1]
 
 

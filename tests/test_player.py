@@ -194,7 +194,7 @@ def test_a_silent_board_warns_and_starts_from_rest(capsys):
     (["peace", "--port", "sim://", "--speed", "2"], "gestplay: error: --speed 2: use a speed "
                                                     "above 0 and at most 1"),
     (["pece", "--port", "sim://"], "gestplay: error: no file or library gesture 'pece'"),
-    (["t.gest", "--profile", str(TWO), "--port", "sim://"],
+    (["t.gest", "--profile", str(TWO), "--port", "loop://"],
      "gestplay: error: profile 'two' has 2 boards: give a port for each"),
     (["t.gest", "--profile", str(TWO), "--port", "181=sim://"],
      "gestplay: error: no port for board 183"),

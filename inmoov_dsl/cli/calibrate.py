@@ -15,6 +15,7 @@ from ..ports import open_port
 from ..profile import find_profile, load_profile, parse_profile
 from ..protocol import MAX_VALUE, Signal
 from ..resources import profiles_dir
+from ..urlhandler import protocol_sim
 from .common import EXIT_INTERRUPTED, EXIT_OK
 from .keys import key_reader
 
@@ -40,7 +41,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     # how the board maps values to angles while we calibrate
     mapping = BoardServo(servo.id) if args.full_range else \
         BoardServo(servo.id, servo.calibration, servo.reversed)
-    port = open_port(args.port, board.baud)
+    port = open_port(protocol_sim.complete(args.port, profile, board.id), board.baud)
     try:
         wait_ready(port)
         values = ask_dump(port, board.id)

@@ -9,6 +9,7 @@ from pathlib import Path
 from ..compiled import Compiled, to_json, to_timed
 from ..compiler import compile_program, load
 from ..errors import GestError
+from ..fmt import format_source
 from ..library import find_gesture, library_dirs, scan_library
 from ..metrics import LinkReport, measure
 from ..plan import Plan
@@ -101,6 +102,39 @@ def _link_text(r: LinkReport) -> str:
     return "\n".join(rows)
 
 
+def cmd_plot(args: argparse.Namespace) -> int:
+    from ..plot import plot
+
+    compiled, plan = _compile(args)
+    out = args.output or f"{compiled.gesture}.png"
+    plot(plan, compiled, out)
+    print(f"wrote {out}", file=sys.stderr)
+    return EXIT_OK
+
+
+def cmd_fmt(args: argparse.Namespace) -> int:
+    """Rewrite files in the canonical layout (``-``: stdin to stdout)."""
+    status = EXIT_OK
+    for file in args.files:
+        try:
+            text = sys.stdin.read() if file == "-" else Path(file).read_text(encoding="utf-8")
+            formatted = format_source(text, "<stdin>" if file == "-" else file)
+        except GestError as exc:
+            report(exc.diagnostics, PROG)
+            status = EXIT_ERROR
+            continue
+        if file == "-":
+            sys.stdout.write(formatted)
+        elif formatted != text:
+            if args.check:
+                print(f"{file}: would be reformatted")
+                status = EXIT_ERROR
+            else:
+                Path(file).write_text(formatted, encoding="utf-8")
+                print(f"{file}: reformatted", file=sys.stderr)
+    return status
+
+
 def cmd_list(args: argparse.Namespace) -> int:
     entries = sorted(scan_library(library_dirs(args.lib)).values(), key=lambda e: e.name)
     if not args.long:
@@ -150,6 +184,19 @@ def parser() -> argparse.ArgumentParser:
     p = sub.add_parser("show", help="steps, bytes, link use, coverage and lag")
     common(p)
     p.set_defaults(func=cmd_show)
+
+    p = sub.add_parser("plot", help="draw each servo's planned motion and the values sent "
+                       "(needs matplotlib)")
+    common(p)
+    p.add_argument("-o", "--output", help="image file: .png, .svg or .pdf "
+                   "(default GESTURE.png)")
+    p.set_defaults(func=cmd_plot)
+
+    p = sub.add_parser("fmt", help="rewrite .gest files in the canonical layout")
+    p.add_argument("files", nargs="+", metavar="FILE", help="a .gest file, or - for stdin")
+    p.add_argument("--check", action="store_true",
+                   help="change nothing; list the files fmt would change, exit 1 if any")
+    p.set_defaults(func=cmd_fmt)
 
     p = sub.add_parser("list", help="the library's gestures: NAME<TAB>FILE")
     p.add_argument("-l", "--long", action="store_true",

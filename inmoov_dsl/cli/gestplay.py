@@ -17,6 +17,7 @@ from ..player import Link, ask_dump, cancel_all, drain, play, wait_ready
 from ..ports import available, open_port
 from ..profile import Profile, load_profile
 from ..protocol import Signal
+from ..urlhandler import protocol_sim
 from . import calibrate, repl
 from .common import EXIT_INTERRUPTED, EXIT_OK, add_lib, report, run
 
@@ -53,7 +54,8 @@ class Target:
 
 
 def parse_ports(specs: list[str], profile: Profile) -> dict[int, str]:
-    """``--port COM3`` (a one-board profile) or ``--port 181=COM3 --port 183=COM4``."""
+    """``--port COM3`` (a one-board profile) or ``--port 181=COM3 --port 183=COM4``;
+    a bare ``--port sim://`` is a virtual board for every board of the profile."""
     boards = [b.id for b in profile.boards]
     ports: dict[int, str] = {}
     for spec in specs:
@@ -62,9 +64,9 @@ def parse_ports(specs: list[str], profile: Profile) -> dict[int, str]:
             if int(board) not in boards:
                 raise GestError(Diagnostic("error", f"--port {spec}: profile '{profile.name}' "
                                            f"has no board {board} (boards: {_ids(boards)})"))
-            ports[int(board)] = name
-        elif len(boards) == 1:
-            ports[boards[0]] = spec
+            ports[int(board)] = protocol_sim.complete(name, profile, int(board))
+        elif len(boards) == 1 or (len(specs) == 1 and protocol_sim.bare(spec)):
+            ports.update({b: protocol_sim.complete(spec, profile, b) for b in boards})
         else:
             raise GestError(Diagnostic(
                 "error", f"profile '{profile.name}' has {len(boards)} boards: give a port for "
@@ -191,7 +193,7 @@ def cmd_ports(args: argparse.Namespace) -> int:
 
 def cmd_dump(args: argparse.Namespace) -> int:
     profile = load_profile(args.profile or "rhand")
-    port = open_port(args.port, profile.boards[0].baud)
+    port = _open_first(args.port, profile)
     try:
         wait_ready(port)
         found = ((b, ask_dump(port, b.id)) for b in profile.boards)
@@ -206,6 +208,12 @@ def cmd_dump(args: argparse.Namespace) -> int:
     finally:
         port.close()
     return EXIT_OK
+
+
+def _open_first(spec: str, profile: Profile):
+    """A bench tool's port, at the baud of the profile's first board."""
+    first = profile.boards[0]
+    return open_port(protocol_sim.complete(spec, profile, first.id), first.baud)
 
 
 SIGNAL_NAMES = {int(s): s.name for s in Signal}
@@ -226,7 +234,7 @@ def cmd_send(args: argparse.Namespace) -> int:
                                        "(cancel, dump, ...)"))
         data.append(number)
     profile = load_profile(args.profile or "rhand")
-    port = open_port(args.port, profile.boards[0].baud)
+    port = _open_first(args.port, profile)
     try:
         wait_ready(port)  # an Uno or Nano resets when its port opens
         port.write(bytes(data))

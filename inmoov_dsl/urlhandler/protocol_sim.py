@@ -2,6 +2,7 @@
 
 PROFILE defaults to ``rhand``, the board to the profile's first, ``boot`` (the time
 the bootloader swallows bytes after the port opens, as an Uno or Nano does) to 0.2 s.
+The player completes a bare ``sim://`` with the profile and board it plays for.
 The board runs in real time on this process's clock: what the host writes arrives at
 the board's baud, and replies come back the same way.
 """
@@ -10,15 +11,35 @@ from __future__ import annotations
 
 import time
 import urllib.parse
+from pathlib import Path
 
 from serial.serialutil import PortNotOpenError, SerialBase, SerialException
 
 from ..board import BoardCore
 from ..errors import GestError
-from ..profile import load_profile
+from ..profile import Profile, builtin_profiles, find_profile, load_profile
 from ..sim import VirtualBoard
 
 DEFAULT_BOOT = 0.2  #: s
+
+
+def bare(url: str) -> bool:
+    """Is ``url`` a ``sim://`` URL that names no profile?"""
+    parts = urllib.parse.urlsplit(url)
+    return parts.scheme == "sim" and not parts.netloc and not parts.path
+
+
+def complete(url: str, profile: Profile, board: int) -> str:
+    """A ``sim://`` URL that names no profile, completed with ``profile`` and ``board``
+    (the virtual board of what is being played); any other URL as it is."""
+    if not bare(url):
+        return url
+    options = urllib.parse.parse_qs(urllib.parse.urlsplit(url).query)
+    options.setdefault("board", [str(board)])
+    builtin = profile.name in builtin_profiles() and \
+        find_profile(profile.name).resolve() == Path(profile.path).resolve()
+    where = profile.name if builtin or not profile.path else Path(profile.path).as_posix()
+    return f"sim://{where}?{urllib.parse.urlencode(options, doseq=True)}"
 
 
 class Serial(SerialBase):
