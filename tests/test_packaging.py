@@ -28,6 +28,9 @@ def test_the_wheel_carries_grammar_profiles_and_library(wheel):
     assert "inmoov_dsl/_data/gestures/profiles/rhand.toml" in names
     assert "inmoov_dsl/_data/gestures/count.gest" in names
     assert "inmoov_dsl/_data/gestures/peace.gest" in names
+    for shipped in (*(ROOT / "gestures").glob("*.gest"),
+                    *(ROOT / "gestures" / "profiles").glob("*.toml")):
+        assert f"inmoov_dsl/_data/{shipped.relative_to(ROOT).as_posix()}" in names
     entry_points = next(n for n in names if n.endswith("entry_points.txt"))
     text = zipfile.ZipFile(wheel).read(entry_points).decode()
     assert "gestc = inmoov_dsl.cli.gestc:main" in text

@@ -1,0 +1,229 @@
+"""The gesture library, the profiles it plays on, and where gestures are found."""
+
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from boardmodel import final_values, read_stream
+
+from inmoov_dsl import GestError, load_profile, measure
+from inmoov_dsl.cli import gestc, gestplay
+from inmoov_dsl.compiler import compile_program, load
+from inmoov_dsl.library import library_dirs, scan_library
+from inmoov_dsl.player import play
+
+ROOT = Path(__file__).resolve().parent.parent
+LIBRARY = scan_library([ROOT / "gestures"])
+BODY = {name for name, e in LIBRARY.items() if e.path.name == "body.gest"}
+HAND = sorted(set(LIBRARY) - BODY)
+FINGERS = ("thumb", "index", "middle", "ring", "pinky")
+
+# facts.md: what each movement of the original demo ends in (0 straight, 180 curled)
+ORIGINAL = {
+    "reset": dict.fromkeys(("wrist", *FINGERS), 0),
+    "peace": {"thumb": 180, "ring": 180, "pinky": 180, "index": 0, "middle": 0},
+    "ok": {"thumb": 180, "index": 160, "middle": 0, "ring": 0, "pinky": 0},
+    "grab": dict.fromkeys(FINGERS, 180),
+    "fist": dict.fromkeys(FINGERS, 180),
+    "rockon": {"middle": 180, "ring": 180, "thumb": 0, "index": 0, "pinky": 0},
+    "count": dict.fromkeys(FINGERS, 0),  # five: every finger open at the end
+    "wiggle": {"thumb": 40, "index": 0, "middle": 0, "ring": 0, "pinky": 0},
+}
+
+
+def decoded_final(profile, compiled):
+    """Each servo's last value, as a board reading the bytes would hold it (by name)."""
+    ids = {s.id: s.name for s in profile.servos}
+    held = dict(zip((s.id for s in profile.servos), compiled.start, strict=True))
+    for stream in compiled.streams:
+        events = read_stream(stream.times, stream.data, stream.baud)
+        held = final_values(events, held)
+    return {ids[sid]: value for sid, value in held.items()}
+
+
+def compiled_for(name, profile, start=None):
+    return compile_program(load(str(LIBRARY[name].path)), name, profile, start)
+
+
+@pytest.fixture(scope="module", params=["rhand", "lhand", "inmoov"])
+def hand_profile(request):
+    return load_profile(request.param)
+
+
+def test_the_original_demo_is_all_there_and_more():
+    assert set(ORIGINAL) | {"demo"} <= set(LIBRARY)
+    assert len(HAND) - len(ORIGINAL) - 1 >= 12
+    assert {"hello", "nod", "shrug"} <= BODY
+    for entry in LIBRARY.values():
+        assert entry.description, f"{entry.name} has no description"
+        assert len(entry.description) < 90
+
+
+@pytest.mark.parametrize("name", sorted(ORIGINAL))
+def test_original_movements_end_in_their_original_pose(name, hand_profile):
+    compiled, _ = compiled_for(name, hand_profile)
+    final = decoded_final(hand_profile, compiled)
+    by_hand_name = {name: final[hand_profile.groups.get(name, (name,))[0]]
+                    for name in ("wrist", *FINGERS)}
+    assert {k: by_hand_name[k] for k in ORIGINAL[name]} == ORIGINAL[name]
+
+
+@pytest.mark.parametrize("name", HAND)
+def test_every_hand_gesture_plays_within_the_link_and_the_limits(name, hand_profile):
+    for start in (None, "hand 180"):
+        compiled, plan = compiled_for(name, hand_profile, start)
+        if start is None:
+            assert not compiled.warnings, [w.format() for w in compiled.warnings]
+        for report in measure(plan, compiled.streams):
+            assert report.coverage == 1.0
+            assert report.max_error <= 0.5 + 1e-9
+        t = np.linspace(0, plan.duration, 4000)
+        for servo, track in zip(hand_profile.servos, plan.tracks, strict=True):
+            assert np.abs(track.velocity(t)).max() <= servo.max_velocity * (1 + 1e-6)
+        assert all(max(s.data[1:], default=0) <= 180 for s in compiled.streams)
+
+
+def test_fist_is_grab():
+    grab, _ = compiled_for("grab", "rhand")
+    fist, _ = compiled_for("fist", "rhand")
+    assert fist.streams[0].data == grab.streams[0].data
+
+
+def test_demo_plays_every_original_movement_with_a_pause_between():
+    compiled, _ = compiled_for("demo", "rhand")
+    called = []
+    for step in compiled.steps:
+        where = step.where.split(" > ")
+        if len(where) > 1 and where[1] not in called:
+            called.append(where[1])
+    assert called == ["peace", "ok", "grab", "wiggle", "count", "rockon"]
+    pauses = [s for s in compiled.steps if s.where == "demo" and s.kind == "hold"]
+    assert [s.asked for s in pauses] == [1.0] * 5
+
+
+@pytest.mark.parametrize("name", sorted(BODY))
+def test_whole_robot_gestures_compile_to_one_stream_per_board(name):
+    inmoov = load_profile("inmoov")
+    compiled, plan = compiled_for(name, inmoov)
+    assert not compiled.warnings
+    assert [s.board for s in compiled.streams] == [b.id for b in inmoov.boards]
+    assert all(r.coverage == 1.0 for r in measure(plan, compiled.streams))
+    assert decoded_final(inmoov, compiled) == dict(zip(inmoov.names, plan.final,
+                                                       strict=True))
+
+
+def test_a_body_gesture_on_a_hand_names_the_profile_it_needs():
+    with pytest.raises(GestError) as info:
+        compiled_for("hello", "rhand")
+    assert info.value.first.hint == "'r_omoplate' is in profile 'inmoov': add --profile inmoov"
+
+
+def test_hand_gestures_play_on_the_robots_right_hand():
+    rhand, _ = compiled_for("peace", "rhand")
+    robot, _ = compiled_for("peace", "inmoov")
+    assert robot.streams[0].board == 181
+    assert robot.streams[0].data == rhand.streams[0].data
+    assert all(len(s.data) == 1 for s in robot.streams[1:])  # CANCEL only
+
+
+def test_left_hand_is_its_own_board_and_ids():
+    rhand, lhand = load_profile("rhand"), load_profile("lhand")
+    assert lhand.names == rhand.names
+    assert [b.id for b in lhand.boards] == [183]
+    assert [s.id for s in lhand.servos] == [6, 7, 8, 9, 10, 11]
+    inmoov = load_profile("inmoov")
+    for servo in lhand.servos:
+        twin = inmoov.servos[inmoov.index(f"l_{servo.name}")]
+        assert (twin.id, twin.board, twin.calibration, twin.max_velocity) == \
+            (servo.id, servo.board, servo.calibration, servo.max_velocity)
+
+
+def test_the_whole_robot_plays_in_lockstep_on_virtual_boards():
+    inmoov = load_profile("inmoov")
+    ports = gestplay.parse_ports(["sim://?boot=0"], inmoov)
+    assert ports[184] == "sim://inmoov?boot=0&board=184"
+    links = gestplay.connect(ports, inmoov)
+    try:
+        program = load("t.gest", "g: r_index 90, neck 110, l_thumb 45, r_shoulder 40 "
+                                 "over 0.3s\n")
+        compiled, _ = compile_program(program, "g", inmoov)
+        play(compiled, links)
+        boards = {link.board: link.port.board for link in links}
+        for board in boards.values():
+            board.advance(time.monotonic())
+        assert boards[181].positions()[2] == 90
+        assert boards[184].positions()[12] == 110
+        assert boards[183].positions()[7] == 45
+        assert boards[186].positions()[22] == 40
+        # one clock: every pair reached its board at its planned time plus one offset
+        offsets = []
+        for stream in compiled.streams:
+            planned = read_stream(stream.times, stream.data, stream.baud)
+            got = boards[stream.board].log
+            assert [(w.id, w.value) for _, w in got] == [(i, v) for _, i, v in planned]
+            offsets += [t - p for (t, _), (p, _, _) in zip(got, planned, strict=True)]
+        assert max(offsets) - min(offsets) < 0.02
+    finally:
+        gestplay.close(links)
+
+
+def test_a_bare_sim_port_is_the_virtual_board_of_the_profile_played(capsys):
+    assert gestplay.parse_ports(["sim://"], load_profile("lhand")) == \
+        {183: "sim://lhand?board=183"}
+    custom = ROOT / "tests" / "data" / "two.toml"
+    assert gestplay.parse_ports(["sim://"], load_profile(str(custom)))[183] == \
+        f"sim://{custom.as_posix()}?board=183"
+    assert gestplay.main(["dump", "--port", "sim://", "--profile", "lhand"]) == 0
+    assert "board 183 (left hand): 6 servos" in capsys.readouterr().out
+
+
+# -- where gestures come from --------------------------------------------------------------
+def write(directory, name, text):
+    directory.mkdir(parents=True, exist_ok=True)
+    (directory / name).write_text(text)
+    return directory / name
+
+
+def test_gestures_come_from_lib_gest_path_local_and_builtin(tmp_path, monkeypatch, capsys):
+    lib, env = tmp_path / "lib", tmp_path / "env"
+    write(lib, "a.gest", "# from --lib\nfrom_lib: index 10\n")
+    write(env, "b.gest", "# from GEST_PATH\nfrom_env: index 20\n")
+    write(tmp_path / "work" / "gestures", "c.gest", "# local\nfrom_here: index 30\n")
+    monkeypatch.chdir(tmp_path / "work")
+    monkeypatch.setenv("GEST_PATH", f"{env}{os.pathsep}{tmp_path / 'none'}")
+    dirs = [d.resolve() for d in library_dirs([lib])]
+    assert dirs == [lib.resolve(), env.resolve(), (tmp_path / "work" / "gestures").resolve(),
+                    (ROOT / "gestures").resolve()]  # a GEST_PATH entry that is not: skipped
+    assert gestc.main(["list", "--lib", str(lib)]) == 0
+    names = [line.split("\t")[0] for line in capsys.readouterr().out.splitlines()]
+    assert {"from_lib", "from_env", "from_here", "peace"} <= set(names)
+    assert gestc.main(["compile", "from_lib", "--lib", str(lib), "-o", "-", "-f",
+                       "timed"]) == 0
+    assert capsys.readouterr().out.splitlines()[-1].endswith(" 10")
+
+
+def test_a_name_in_two_places_is_an_error_naming_both(tmp_path, capsys):
+    mine = write(tmp_path, "mine.gest", "peace: index 0, middle 0\n")
+    assert gestc.main(["compile", "count", "--lib", str(tmp_path), "-o", "-"]) == 1
+    err = capsys.readouterr().err
+    builtin = LIBRARY["peace"].path
+    assert err.startswith(f"gestc: error: gesture 'peace' is defined in two library files: "
+                          f"{mine} and {builtin}\n  hint: rename one of them")
+
+
+def test_a_missing_lib_directory_is_an_error(capsys):
+    assert gestc.main(["list", "--lib", "/no/such/dir"]) == 1
+    assert capsys.readouterr().err == ("gestc: error: library directory '/no/such/dir' not "
+                                       "found\n  hint: --lib takes a directory of .gest "
+                                       "files\n")
+
+
+def test_list_long_shows_what_each_gesture_does(capsys):
+    assert gestc.main(["list", "--long"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert len(lines) == len(LIBRARY)
+    peace = next(line for line in lines if line.startswith("peace "))
+    assert peace.split()[1:4] == ["the", "V", "sign,"]
+    assert peace.endswith("(peace.gest:3)")

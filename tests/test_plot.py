@@ -1,0 +1,57 @@
+"""gestc plot: a picture of every library gesture, and a clear word without matplotlib."""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from inmoov_dsl.cli import gestc
+from inmoov_dsl.compiler import compile_program, load
+from inmoov_dsl.library import scan_library
+from inmoov_dsl.plot import moving_servos, sent_values
+
+ROOT = Path(__file__).resolve().parent.parent
+LIBRARY = scan_library([ROOT / "gestures"])
+PNG = b"\x89PNG\r\n\x1a\n"
+
+
+def profile_for(name):
+    return "inmoov" if LIBRARY[name].path.name == "body.gest" else "rhand"
+
+
+@pytest.mark.parametrize("name", sorted(LIBRARY))
+def test_every_library_gesture_plots(name, tmp_path, capsys):
+    out = tmp_path / f"{name}.png"
+    assert gestc.main(["plot", name, "--profile", profile_for(name), "-o", str(out)]) == 0
+    assert capsys.readouterr().err == f"wrote {out}\n"
+    assert out.read_bytes().startswith(PNG)
+
+
+def test_svg_and_the_default_name(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    assert gestc.main(["plot", "peace", "-o", "p.svg"]) == 0
+    assert b"<svg" in (tmp_path / "p.svg").read_bytes()[:500]
+    assert gestc.main(["plot", "peace"]) == 0
+    assert (tmp_path / "peace.png").read_bytes().startswith(PNG)
+
+
+def test_the_plot_shows_what_the_board_is_sent():
+    compiled, plan = compile_program(load(str(LIBRARY["count"].path)), "count")
+    sent = sent_values(plan, compiled)
+    # index never moves in count: no row for it; the others end where the plan ends
+    rows = [plan.profile.servos[i].name for i in moving_servos(plan, sent)]
+    assert rows == ["thumb", "middle", "ring", "pinky"]
+    for i in moving_servos(plan, sent):
+        times, values = sent[i]
+        assert values[-1] == plan.final[i]
+        assert np.all(np.abs(values - plan.tracks[i].position(times)) <= 0.5 + 1e-9)
+
+
+def test_without_matplotlib_plot_says_how_to_get_it(monkeypatch, capsys, tmp_path):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    monkeypatch.setitem(sys.modules, "matplotlib.figure", None)
+    assert gestc.main(["plot", "peace", "-o", str(tmp_path / "p.png")]) == 1
+    assert capsys.readouterr().err == (
+        "gestc: error: gestc plot needs matplotlib, which is not installed\n"
+        "  hint: pip install 'inmoov-dsl[plot]'\n")
