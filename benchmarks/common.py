@@ -22,6 +22,27 @@ def best_and_median(fn: Callable[[], object], runs: int) -> tuple[float, float]:
     return min(times), statistics.median(times)
 
 
+def library_gestures(profiles=("rhand", "inmoov")):
+    """(name, program, profile) of every library gesture, each on the first of
+    ``profiles`` that has its servos (hand gestures on the hand, the rest on the robot)."""
+    from inmoov_dsl import GestError, load_library, load_profile
+    from inmoov_dsl.compiler import load
+    from inmoov_dsl.resolve import Resolver
+
+    loaded = [load_profile(p) for p in profiles]
+    out = []
+    for name, path in sorted(load_library().items()):
+        program = load(str(path))
+        for profile in loaded:
+            try:
+                Resolver(program, profile).gesture(name)
+            except GestError:
+                continue
+            out.append((name, program, profile))
+            break
+    return out
+
+
 def random_gesture(names: list[str], steps: int, seed: int = 1) -> str:
     """A gesture of ``steps`` lines like a person writes them: moves of 1..8 servos by
     up to 60 degrees (some timed), and short waits."""

@@ -70,13 +70,18 @@ def _fixed_slots(plan: Plan, servos: list[int], ends: np.ndarray, pair_time: flo
     arrivals, ids, values = [], [], []
     n = len(servos)
     for j, i in enumerate(servos):
+        track = plan.tracks[i]
+        if len(track.breaks) == 1 and track.coefs[0, 0] == plan.start[i]:
+            continue  # it never moves: nothing to send
         at = ends - (n - 1 - j) * pair_time
-        q = round_values(plan.tracks[i].position(at))
+        q = round_values(track.position(at))
         previous = np.concatenate(([plan.start[i]], q[:-1]))
         changed = q != previous
         arrivals.append(at[changed])
         values.append(q[changed])
         ids.append(np.full(int(changed.sum()), plan.profile.servos[i].id))
+    if not arrivals:
+        return np.empty(0), np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64)
     return np.concatenate(arrivals), np.concatenate(ids), np.concatenate(values)
 
 

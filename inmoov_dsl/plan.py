@@ -10,6 +10,7 @@ and evaluated with numpy.
 from __future__ import annotations
 
 import math
+from array import array
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -79,13 +80,16 @@ class Plan:
 
 
 class _TrackBuilder:
+    """A track piece by piece, in flat float arrays (no object per piece: a long
+    gesture's millions of pieces would otherwise keep the garbage collector busy)."""
+
     def __init__(self, value: float):
-        self.breaks: list[float] = [0.0]
-        self.coefs: list[tuple[float, float, float, float]] = [(value, 0.0, 0.0, 0.0)]
+        self.breaks = array("d", [0.0])
+        self.coefs = array("d", [value, 0.0, 0.0, 0.0])
 
     def hold(self, t: float, value: float) -> None:
         self.breaks.append(max(t, self.breaks[-1]))
-        self.coefs.append((value, 0.0, 0.0, 0.0))
+        self.coefs.extend((value, 0.0, 0.0, 0.0))
 
     def phases(self, t0: float, profile) -> None:
         """Append ruckig's phases (after its brake phases, when it had to brake)."""
@@ -95,11 +99,12 @@ class _TrackBuilder:
             for dt, j, a, v, p in zip(part.t, part.j, part.a, part.v, part.p, strict=False):
                 if dt > 1e-12:
                     self.breaks.append(t)
-                    self.coefs.append((p, v, a, j))
+                    self.coefs.extend((p, v, a, j))
                     t += dt
 
     def build(self) -> Track:
-        return Track(np.asarray(self.breaks, dtype=float), np.asarray(self.coefs, dtype=float))
+        return Track(np.frombuffer(self.breaks, dtype=float).copy(),
+                     np.frombuffer(self.coefs, dtype=float).reshape(-1, 4).copy())
 
 
 class Planner:

@@ -6,6 +6,7 @@ import hashlib
 import re
 import tomllib
 from dataclasses import dataclass, replace
+from functools import cached_property
 from pathlib import Path
 from typing import Any
 
@@ -54,12 +55,14 @@ class Profile:
     sha256: str = ""  #: of the TOML text it was read from
 
     def index(self, name: str) -> int:
-        for i, servo in enumerate(self.servos):
-            if servo.name == name:
-                return i
-        raise KeyError(name)
+        """The position of servo ``name`` in ``servos``; KeyError if there is none."""
+        return self._indices[name]
 
-    @property
+    @cached_property
+    def _indices(self) -> dict[str, int]:
+        return {servo.name: i for i, servo in enumerate(self.servos)}
+
+    @cached_property
     def names(self) -> tuple[str, ...]:
         return tuple(s.name for s in self.servos)
 
