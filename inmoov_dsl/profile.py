@@ -45,6 +45,30 @@ class Board:
 
 
 @dataclass(frozen=True)
+class Sensor:
+    """One flex sensor of a glove: the servo it commands and how it reads."""
+
+    servo: str
+    pin: int  #: analog pin (14 is A0 on an Uno or Nano)
+    calibration: tuple[int, int]  #: readings (0..1023) that map to 0 and 180
+    reversed: bool = False  #: the low reading maps to 180 instead
+
+
+@dataclass(frozen=True)
+class Glove:
+    """A flex-sensor glove: it reads its sensors and commands a servo board."""
+
+    id: int
+    name: str
+    board: int  #: the servo board it sends to, on its software serial command port
+    baud: int  #: USB, to the computer
+    command_pins: tuple[int, int]  #: rx, tx of the command port
+    deadband: int  #: command degrees a value must move before it is sent again
+    frame_ms: int  #: ms between readings
+    sensors: tuple[Sensor, ...]
+
+
+@dataclass(frozen=True)
 class Profile:
     name: str
     description: str
@@ -53,6 +77,7 @@ class Profile:
     groups: dict[str, tuple[str, ...]]
     path: str = ""
     sha256: str = ""  #: of the TOML text it was read from
+    gloves: tuple[Glove, ...] = ()
 
     def index(self, name: str) -> int:
         """The position of servo ``name`` in ``servos``; KeyError if there is none."""
@@ -222,10 +247,11 @@ class _Builder:
                 servos.append(self.servo(servo_name, s, board.id, ids))
 
         groups = self.groups(data.get("groups", {}), [s.name for s in servos])
+        gloves = self.gloves(data.get("glove", []), boards)
         if self.errors:
             raise GestError(self.errors)
         return Profile(str(name), str(data.get("description", "")), tuple(boards),
-                       tuple(servos), groups, self.file)
+                       tuple(servos), groups, self.file, gloves=gloves)
 
     def servo(self, name: str, s: dict, board: int, ids: dict[int, str]) -> Servo:
         where = f"servo '{name}'"
@@ -257,6 +283,71 @@ class _Builder:
             reversed=bool(s.get("reversed", False)),
             pin=pin,
         )
+
+    def whole(self, where: str, table: dict, key: str, default: int, low: int, high: int
+              ) -> int:
+        value = table.get(key, default)
+        if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= high:
+            self.fail(f"{where}: '{key}' must be a whole number in {low}..{high}, "
+                      f"got {value!r}")
+            return default
+        return value
+
+    def gloves(self, data: Any, boards: list[Board]) -> tuple[Glove, ...]:
+        if not isinstance(data, list) or not all(isinstance(g, dict) for g in data):
+            self.fail("[[glove]] tables expected")
+            return ()
+        taken = {b.id for b in boards}
+        out = []
+        for g in data:
+            gid = g.get("id")
+            where = f"glove {gid}"
+            low, high = protocol.FIRST_BOARD_ID, min(protocol.Signal) - 1
+            if not isinstance(gid, int) or not low <= gid <= high or gid in taken:
+                self.fail(f"glove id must be a board ID in {low}..{high} that no other "
+                          f"board has, got {gid!r}")
+                continue
+            taken.add(gid)
+            board = g.get("board")
+            target = next((b for b in boards if b.id == board), None)
+            if target is None:
+                self.fail(f"{where}: 'board' must be the ID of a servo board of the profile, "
+                          f"got {board!r}")
+                continue
+            pins = g.get("command_pins", [10, 11])
+            if not (isinstance(pins, list) and len(pins) == 2
+                    and all(isinstance(p, int) and 0 <= p <= 255 for p in pins)):
+                self.fail(f"{where}: 'command_pins' must be [rx, tx], got {pins!r}")
+                pins = [10, 11]
+            sensors = []
+            for k, sd in enumerate(g.get("sensors", [])):
+                swhere = f"{where}, sensor {k + 1}"
+                if not isinstance(sd, dict):
+                    self.fail(f"{swhere}: expected {{ servo = ..., pin = ..., "
+                              f"calibration = [low, high] }}")
+                    continue
+                servo = sd.get("servo")
+                if servo not in target.servos:
+                    self.fail(f"{swhere}: 'servo' must be a servo of board {board}, "
+                              f"got {servo!r}", did_you_mean(str(servo), target.servos))
+                    continue
+                cal = sd.get("calibration")
+                if not (isinstance(cal, list) and len(cal) == 2
+                        and all(isinstance(c, int) and not isinstance(c, bool) for c in cal)
+                        and 0 <= cal[0] < cal[1] <= 1023):
+                    self.fail(f"{swhere}: 'calibration' must be [low, high] readings with "
+                              f"0 <= low < high <= 1023, got {cal!r}")
+                    continue
+                sensors.append(Sensor(servo, self.whole(swhere, sd, "pin", 14, 0, 255),
+                                      (cal[0], cal[1]), bool(sd.get("reversed", False))))
+            if not sensors:
+                self.fail(f"{where}: a glove needs at least one sensor")
+                continue
+            out.append(Glove(gid, str(g.get("name", f"glove {gid}")), board,
+                             self.whole(where, g, "baud", 9600, 300, 2_000_000),
+                             (pins[0], pins[1]), self.whole(where, g, "deadband", 2, 0, 180),
+                             self.whole(where, g, "frame_ms", 20, 1, 1000), tuple(sensors)))
+        return tuple(out)
 
     def groups(self, data: Any, servo_names: list[str]) -> dict[str, tuple[str, ...]]:
         groups: dict[str, tuple[str, ...]] = {}

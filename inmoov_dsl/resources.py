@@ -8,7 +8,7 @@ _PACKAGE = Path(__file__).resolve().parent
 
 
 def data_dir(name: str) -> Path:
-    """The shipped directory ``name`` (``grammar`` or ``gestures``).
+    """The shipped directory ``name`` (``grammar``, ``gestures`` or ``firmware``).
 
     A wheel carries them in ``inmoov_dsl/_data``; a source checkout (or an editable
     install) has them at the top of the repository.

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import shutil
 import sys
 from pathlib import Path
 
@@ -13,6 +14,8 @@ from ..fmt import format_source
 from ..library import find_gesture, library_dirs, scan_library
 from ..metrics import LinkReport, measure
 from ..plan import Plan
+from ..profile import load_profile
+from ..resources import data_dir
 from .common import EXIT_ERROR, EXIT_OK, add_lib, report, run
 
 PROG = "gestc"
@@ -135,6 +138,43 @@ def cmd_fmt(args: argparse.Namespace) -> int:
     return status
 
 
+def cmd_firmware(args: argparse.Namespace) -> int:
+    """Write (or, with --check, compare) the sketch folders of a profile's boards."""
+    from ..firmware import sketches
+
+    profile = load_profile(args.profile_name)
+    out = Path(args.output)
+    stale = []
+    for folder, files in sketches(profile, args.baud).items():
+        for name, text in files.items():
+            path = out / folder / name
+            current = path.read_text(encoding="utf-8") if path.is_file() else None
+            if current == text:
+                continue
+            stale.append(path)
+            if not args.check:
+                path.parent.mkdir(parents=True, exist_ok=True)
+                path.write_text(text, encoding="utf-8")
+    if args.check:
+        for path in stale:
+            print(f"{path}: out of date (gestc firmware {args.profile_name} -o {out})")
+        return EXIT_ERROR if stale else EXIT_OK
+    library = out / "libraries" / "InmoovDsl"
+    if not library.exists():  # a sketchbook of its own: the library and the build beside
+        shipped = data_dir("firmware")
+        for part in ("libraries", "stub", "harness", "host", "Makefile", "size.awk"):
+            source = shipped / part
+            if source.is_dir():
+                shutil.copytree(source, out / part, dirs_exist_ok=True)
+            else:
+                shutil.copy2(source, out / part)
+    for path in stale:
+        print(f"wrote {path}", file=sys.stderr)
+    print(f"{out}: {profile.name}'s sketches are up to date; build them with make -C {out}",
+          file=sys.stderr)
+    return EXIT_OK
+
+
 def cmd_list(args: argparse.Namespace) -> int:
     entries = sorted(scan_library(library_dirs(args.lib)).values(), key=lambda e: e.name)
     if not args.long:
@@ -197,6 +237,16 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--check", action="store_true",
                    help="change nothing; list the files fmt would change, exit 1 if any")
     p.set_defaults(func=cmd_fmt)
+
+    p = sub.add_parser("firmware", help="write the Arduino sketch of every board of a profile")
+    p.add_argument("profile_name", metavar="PROFILE", help="a built-in name or a .toml path")
+    p.add_argument("-o", "--output", default="firmware",
+                   help="the sketchbook to write into (default ./firmware)")
+    p.add_argument("--baud", type=int, choices=(9600, 19200, 38400, 57600, 115200),
+                   help="the boards' link speed (default: the profile's)")
+    p.add_argument("--check", action="store_true",
+                   help="change nothing; list the files that are out of date, exit 1 if any")
+    p.set_defaults(func=cmd_firmware)
 
     p = sub.add_parser("list", help="the library's gestures: NAME<TAB>FILE")
     p.add_argument("-l", "--long", action="store_true",

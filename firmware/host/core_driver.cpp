@@ -1,0 +1,179 @@
+// The protocol cores on this computer, driven by the tests (tests/test_firmware.py).
+//
+//   core_driver servo < script     a servo board: "board ID", "servo ID PIN LO HI REV REST"
+//                                  lines, then "begin", or "case B B B ..." lines: each case
+//                                  starts from the boot state and prints
+//                                  "writes ID VALUE ANGLE ... | out B B ..."
+//   core_driver fuzz N SEED < script   N random bytes into that board: every write in
+//                                  range and owned, back in step after CANCEL; "ok"
+//   core_driver glove < script     a glove: "deadband D", "sensor ID PIN LO HI REV" lines,
+//                                  then "read R R ..." (sensor readings: prints the bytes
+//                                  sent) and "host B" (a byte from the computer) lines
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "glove_core.h"
+#include "servo_core.h"
+
+using inmoov::FlexSettings;
+using inmoov::GloveCore;
+using inmoov::ServoCore;
+using inmoov::ServoSettings;
+
+static char writes[8192];
+static char out[8192];
+static uint8_t last_index, last_angle;
+static int write_count;
+
+static void append(char* buf, int value) {
+  size_t n = strlen(buf);
+  snprintf(buf + n, 8192 - n, " %d", value);
+}
+
+static void on_write(uint8_t index, uint8_t angle) {
+  last_index = index;
+  last_angle = angle;
+  write_count++;
+  append(writes, index);  // replaced by the ID below
+  append(writes, angle);
+}
+
+static void on_send(uint8_t byte) { append(out, byte); }
+
+static int next_int(char** p) { return static_cast<int>(strtol(*p, p, 10)); }
+
+static int servo(bool fuzz, long count, unsigned seed) {
+  ServoSettings servos[64];
+  uint8_t values[64];
+  int board = 181, n = 0;
+  char line[8192];
+  while (fgets(line, sizeof line, stdin)) {
+    char* p = line;
+    if (strncmp(line, "board", 5) == 0) {
+      p += 5;
+      board = next_int(&p);
+    } else if (strncmp(line, "servo", 5) == 0) {
+      p += 5;
+      ServoSettings s;
+      s.id = static_cast<uint8_t>(next_int(&p));
+      s.pin = static_cast<uint8_t>(next_int(&p));
+      s.lo = static_cast<uint8_t>(next_int(&p));
+      s.hi = static_cast<uint8_t>(next_int(&p));
+      s.reversed = static_cast<uint8_t>(next_int(&p));
+      s.rest = static_cast<uint8_t>(next_int(&p));
+      servos[n++] = s;
+    } else if (strncmp(line, "begin", 5) == 0 || strncmp(line, "case", 4) == 0) {
+      ServoCore core(static_cast<uint8_t>(board), servos, static_cast<uint8_t>(n), values,
+                     on_write, on_send);
+      writes[0] = out[0] = 0;
+      core.begin();
+      if (line[0] == 'b') {
+        printf("begin%s\n", writes);
+        continue;
+      }
+      writes[0] = 0;
+      p += 4;
+      // a write is reported as ID VALUE ANGLE: the core gives the index and the angle
+      char report[8192] = "";
+      for (;;) {
+        char* end;
+        long byte = strtol(p, &end, 10);
+        if (end == p) break;
+        p = end;
+        write_count = 0;
+        core.feed(static_cast<uint8_t>(byte));
+        if (write_count) {
+          size_t k = strlen(report);
+          snprintf(report + k, sizeof report - k, " %d %d %d", servos[last_index].id,
+                   core.value(last_index), last_angle);
+        }
+      }
+      printf("writes%s | out%s\n", report, out);
+    }
+  }
+  if (!fuzz) return 0;
+  ServoCore core(static_cast<uint8_t>(board), servos, static_cast<uint8_t>(n), values,
+                 on_write, on_send);
+  core.begin();
+  srand(seed);
+  for (long k = 0; k < count; k++) {
+    write_count = 0;
+    writes[0] = out[0] = 0;
+    core.feed(static_cast<uint8_t>(rand() & 0xFF));
+    if (write_count) {
+      const ServoSettings& s = servos[last_index];
+      uint8_t lo = s.lo, hi = s.hi;
+      if (last_index >= n || core.value(last_index) > 180 || last_angle < lo || last_angle > hi) {
+        printf("bad write after %ld bytes: servo index %d value %d angle %d\n", k, last_index,
+               core.value(last_index), last_angle);
+        return 1;
+      }
+    }
+    if (rand() % 50 == 0) {  // back in step after a CANCEL, whatever came before
+      core.feed(inmoov::CANCEL);
+      write_count = 0;
+      core.feed(servos[0].id);
+      core.feed(77);
+      if (write_count != 1 || last_index != 0 || core.value(0) != 77) {
+        printf("out of step after a CANCEL at byte %ld\n", k);
+        return 1;
+      }
+    }
+  }
+  printf("ok %ld bytes\n", count);
+  return 0;
+}
+
+static int glove() {
+  FlexSettings sensors[16];
+  uint16_t bounds[32], readings[16] = {0};
+  uint8_t sent[16];
+  int n = 0, deadband = 2;
+  char line[8192];
+  GloveCore* core = 0;
+  while (fgets(line, sizeof line, stdin)) {
+    char* p = line;
+    if (strncmp(line, "deadband", 8) == 0) {
+      p += 8;
+      deadband = next_int(&p);
+    } else if (strncmp(line, "sensor", 6) == 0) {
+      p += 6;
+      FlexSettings s;
+      s.servo_id = static_cast<uint8_t>(next_int(&p));
+      s.pin = static_cast<uint8_t>(next_int(&p));
+      s.lo = static_cast<uint16_t>(next_int(&p));
+      s.hi = static_cast<uint16_t>(next_int(&p));
+      s.reversed = static_cast<uint8_t>(next_int(&p));
+      sensors[n++] = s;
+    } else {
+      if (!core) {
+        core = new GloveCore(sensors, static_cast<uint8_t>(n), static_cast<uint8_t>(deadband),
+                             bounds, sent, on_send);
+        core->begin();
+      }
+      out[0] = 0;
+      if (strncmp(line, "read", 4) == 0) {
+        p += 4;
+        for (int i = 0; i < n; i++) readings[i] = static_cast<uint16_t>(next_int(&p));
+        core->update(readings);
+      } else if (strncmp(line, "host", 4) == 0) {
+        p += 4;
+        core->feed(static_cast<uint8_t>(next_int(&p)), readings);
+      }
+      printf("sent%s\n", out);
+    }
+  }
+  delete core;
+  return 0;
+}
+
+int main(int argc, char** argv) {
+  if (argc >= 2 && strcmp(argv[1], "servo") == 0) return servo(false, 0, 0);
+  if (argc >= 4 && strcmp(argv[1], "fuzz") == 0)
+    return servo(true, atol(argv[2]), static_cast<unsigned>(atol(argv[3])));
+  if (argc >= 2 && strcmp(argv[1], "glove") == 0) return glove();
+  fprintf(stderr, "usage: core_driver servo | fuzz N SEED | glove  (script on stdin)\n");
+  return 2;
+}

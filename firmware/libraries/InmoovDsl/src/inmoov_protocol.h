@@ -1,0 +1,29 @@
+// The servo boards' byte protocol: every constant defined once for the firmware.
+// The same numbers are defined once in Python (inmoov_dsl/protocol.py); a test
+// (tests/test_firmware.py) checks the two against each other.
+#ifndef INMOOV_PROTOCOL_H
+#define INMOOV_PROTOCOL_H
+
+#include <stdint.h>
+
+namespace inmoov {
+
+// Signals: bytes above MAX_VALUE that are not values, numbered down from 255.
+enum Signal : uint8_t {
+  CANCEL = 255,  // host -> board: drop any half-read command, expect a servo ID
+  WAIT = 254,    // board -> host: nothing left to read
+  DUMP = 253,    // host -> board: answer START BOARD_ID N (id value)*N END
+  START = 252,   // board -> host: a reply begins
+  END = 251,     // board -> host: a reply ends
+  MIN = 250,     // host -> glove: capture the lower calibration bound
+  MAX = 249,     // host -> glove: capture the upper calibration bound
+};
+
+const uint8_t LOWEST_SIGNAL = MAX;   // bytes from here up are signals
+const uint8_t MAX_VALUE = 180;       // largest servo value; larger values are clamped
+const uint8_t MAX_SERVO_ID = 180;    // servo IDs are values too
+const uint8_t FIRST_BOARD_ID = 181;  // board IDs start here
+
+}  // namespace inmoov
+
+#endif

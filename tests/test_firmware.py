@@ -1,0 +1,354 @@
+"""The firmware: its protocol core on this computer (the board's conformance vectors, a
+fuzz run, the glove), the constants against Python's, the generated settings, the build
+for the ATmega328P, and the built image running in simavr on library streams and on a
+pseudo-terminal that gestplay plays to.
+
+Tests that need a toolchain skip without it, except under CI=true, where a missing
+toolchain is a failure.
+"""
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import pytest
+import serial
+
+from inmoov_dsl import load_profile, to_timed
+from inmoov_dsl.board import BoardCore, BoardServo
+from inmoov_dsl.compiler import compile_program, load
+from inmoov_dsl.firmware import sketches
+from inmoov_dsl.library import scan_library
+from inmoov_dsl.player import Link, ask_dump, play, wait_ready
+from inmoov_dsl.protocol import FIRST_BOARD_ID, MAX_SERVO_ID, MAX_VALUE, Signal
+from inmoov_dsl.sim import VirtualBoard
+
+ROOT = Path(__file__).resolve().parent.parent
+FIRMWARE = ROOT / "firmware"
+CORE = FIRMWARE / "libraries" / "InmoovDsl" / "src"
+VECTORS = json.loads((ROOT / "tests" / "vectors" / "board.json").read_text())
+LIBRARY = scan_library([ROOT / "gestures"])
+SHIPPED = ("rhand", "lhand", "inmoov")
+
+
+def need(*tools):
+    missing = [t for t in tools if shutil.which(t) is None and not Path(t).exists()]
+    if not missing:
+        return
+    message = f"needs {', '.join(missing)} (apt-get install gcc-avr avr-libc " \
+              "arduino-core-avr simavr libsimavr-dev libelf-dev g++ make)"
+    if os.environ.get("CI") == "true":
+        pytest.fail(f"CI: {message}")
+    pytest.skip(message)
+
+
+def make(build, *targets, **variables):
+    need("make")
+    args = ["make", "-C", str(FIRMWARE), "-j2", f"BUILD={build}", *targets,
+            *(f"{k}={v}" for k, v in variables.items())]
+    return subprocess.run(args, capture_output=True, text=True, timeout=600)
+
+
+@pytest.fixture(scope="session")
+def build(tmp_path_factory):
+    """A build directory of this run's own: every board is built from scratch."""
+    return tmp_path_factory.mktemp("firmware-build")
+
+
+@pytest.fixture(scope="session")
+def driver(build):
+    need("g++", "make")
+    done = make(build, "host")
+    assert done.returncode == 0, done.stderr
+    return build / "host" / "core_driver"
+
+
+@pytest.fixture(scope="session")
+def boards(build):
+    need("avr-gcc", "avr-g++", "make", "/usr/share/arduino/hardware/arduino/avr/cores")
+    done = make(build, "all")
+    assert done.returncode == 0, done.stdout + done.stderr
+    return done.stdout
+
+
+@pytest.fixture(scope="session")
+def simboard(build, boards):
+    need("/usr/include/simavr/sim_avr.h", "cc")
+    done = make(build, "harness")
+    assert done.returncode == 0, done.stderr
+    return build / "harness" / "simboard"
+
+
+# -- the protocol constants, once in Python and once in the firmware -----------------
+def test_the_constants_are_the_same_in_python_and_cpp():
+    header = (CORE / "inmoov_protocol.h").read_text()
+    signals = dict(re.findall(r"^\s+([A-Z]+) = (\d+),", header, re.M))
+    assert {name: int(v) for name, v in signals.items()} == {s.name: int(s) for s in Signal}
+    consts = dict(re.findall(r"const uint8_t (\w+) = (\w+);", header))
+    assert int(consts["MAX_VALUE"]) == MAX_VALUE
+    assert int(consts["MAX_SERVO_ID"]) == MAX_SERVO_ID
+    assert int(consts["FIRST_BOARD_ID"]) == FIRST_BOARD_ID
+    assert consts["LOWEST_SIGNAL"] == min(Signal).name
+
+
+# -- the settings come from the profiles ---------------------------------------------
+@pytest.mark.parametrize("name", SHIPPED)
+def test_the_committed_sketches_are_generated_from_the_profiles(name):
+    for folder, files in sketches(load_profile(name)).items():
+        for file, text in files.items():
+            path = FIRMWARE / folder / file
+            assert path.is_file(), f"{path} is missing: gestc firmware {name}"
+            assert path.read_text() == text, f"{path} is stale: run gestc firmware {name}"
+
+
+def test_firmware_check_finds_a_stale_header(tmp_path, capsys):
+    from inmoov_dsl.cli import gestc
+
+    assert gestc.main(["firmware", "rhand", "-o", str(tmp_path)]) == 0
+    assert (tmp_path / "libraries" / "InmoovDsl" / "src" / "servo_core.cpp").is_file()
+    assert (tmp_path / "Makefile").is_file()
+    assert gestc.main(["firmware", "rhand", "-o", str(tmp_path), "--check"]) == 0
+    settings = tmp_path / "servo_rhand" / "settings.h"
+    settings.write_text(settings.read_text().replace("{2, 4, 55, 155", "{2, 4, 60, 155"))
+    capsys.readouterr()
+    assert gestc.main(["firmware", "rhand", "-o", str(tmp_path), "--check"]) == 1
+    assert capsys.readouterr().out == (f"{settings}: out of date (gestc firmware rhand -o "
+                                       f"{tmp_path})\n")
+
+
+def test_settings_say_what_the_board_needs():
+    rhand = load_profile("rhand")
+    files = sketches(rhand, baud=115200)
+    assert set(files) == {"servo_rhand", "glove_rhand"}
+    servo = files["servo_rhand"]["settings.h"]
+    assert "const uint8_t BOARD_ID = 181;" in servo
+    assert "const long BAUD = 115200;" in servo
+    assert "{2, 4, 55, 155, 1, 0},  // index" in servo
+    glove = files["glove_rhand"]["settings.h"]
+    assert "{1, 14, 579, 713, 0},  // thumb" in glove
+    assert "const long BOARD_BAUD = 115200;" in glove
+    assert set(sketches(load_profile("inmoov"))) == {
+        "servo_inmoov_right_hand", "servo_inmoov_left_hand", "servo_inmoov_head",
+        "servo_inmoov_torso", "servo_inmoov_right_arm", "servo_inmoov_left_arm"}
+
+
+# -- the core on this computer --------------------------------------------------------
+def board_script(servos=VECTORS["servos"], board=VECTORS["board"], pins=range(2, 100)):
+    lines = [f"board {board}"]
+    lines += [f"servo {s['id']} {pin} {s['calibration'][0]} {s['calibration'][1]} "
+              f"{int(s['reversed'])} {s['default']}" for s, pin in zip(servos, pins, strict=False)]
+    return lines
+
+
+def run_driver(driver, mode, lines, *args):
+    done = subprocess.run([str(driver), mode, *map(str, args)], input="\n".join(lines) + "\n",
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stdout + done.stderr
+    return done.stdout.splitlines()
+
+
+def test_the_core_passes_the_boards_conformance_vectors(driver):
+    cases = VECTORS["cases"]
+    out = run_driver(driver, "servo", board_script() + [
+        "case " + " ".join(map(str, c["in"])) for c in cases])
+    assert len(out) == len(cases)
+    for case, line in zip(cases, out, strict=True):
+        writes, sent = line.split(" | ")
+        numbers = list(map(int, writes.split()[1:]))
+        assert [numbers[k:k + 3] for k in range(0, len(numbers), 3)] == case["writes"], \
+            case["name"]
+        assert list(map(int, sent.split()[1:])) == case["out"], case["name"]
+
+
+def test_the_core_starts_every_servo_at_its_rest_value(driver):
+    rests = (0, 90, 180, 0, 45, 0)
+    servos = [dict(s, default=d) for s, d in zip(VECTORS["servos"], rests, strict=True)]
+    (line,) = run_driver(driver, "servo", board_script(servos) + ["begin"])
+    expected = []  # servo index, and the angle of its rest value as the Python board maps it
+    for index, s in enumerate(servos):
+        servo = BoardServo(s["id"], tuple(s["calibration"]), s["reversed"], s["default"])
+        expected += [index, servo.angle(s["default"])]
+    assert list(map(int, line.split()[1:])) == expected
+
+
+def test_fuzz_the_core_never_writes_out_of_range_and_recovers_after_cancel(driver):
+    for seed in (1, 2, 3):
+        assert run_driver(driver, "fuzz", board_script(), 300_000, seed) == [
+            "ok 300000 bytes"]
+
+
+GLOVE = ["deadband 2", "sensor 1 14 579 713 0", "sensor 2 15 519 743 0",
+         "sensor 3 16 588 793 1"]
+
+
+def test_the_glove_maps_sends_what_changed_and_ignores_noise(driver):
+    out = run_driver(driver, "glove", GLOVE + [
+        "read 579 519 793",   # first reading: every sensor, thumb 0, index 0, middle (rev.) 0
+        "read 580 520 792",   # noise under the dead-band: nothing
+        "read 646 631 690",   # thumb and index half way, middle (reversed) half way
+        "read 647 631 690",   # one degree: nothing
+        "read 713 743 588",   # the ends: 180, 180, and reversed 180
+        "read 900 100 1000",  # beyond the calibration: clamped
+    ])
+    assert out == [
+        "sent 255 1 0 2 0 3 0",
+        "sent",
+        "sent 255 1 90 2 90 3 91",
+        "sent",
+        "sent 255 1 180 2 180 3 180",
+        "sent 255 2 0 3 0",
+    ]
+
+
+def test_the_glove_captures_its_calibration_from_min_and_max(driver):
+    out = run_driver(driver, "glove", GLOVE + [
+        "read 100 200 300",
+        "host 250",          # MIN: these readings are now 0 (and everything is resent)
+        "read 100 200 300",
+        "read 400 500 600",
+        "host 249",          # MAX: these are now 180
+        "read 400 500 600",
+        "read 250 350 450",
+        "host 255",          # anything else from the computer: ignored
+        "read 250 350 450",
+    ])
+    assert out[2] == "sent 255 1 0 2 0 3 180"  # middle is reversed
+    assert out[5] == "sent 255 1 180 2 180 3 0"
+    assert out[6] == "sent 255 1 90 2 90 3 90"
+    assert out[7:] == ["sent", "sent"]
+
+
+# -- the build ----------------------------------------------------------------------
+def test_every_board_builds_and_says_what_it_uses(build, boards):
+    names = sorted(folder for name in SHIPPED for folder in sketches(load_profile(name)))
+    for name in names:
+        assert (build / f"{name}.elf").is_file() and (build / f"{name}.hex").is_file()
+        assert re.search(rf"^{name}: flash \d+ of 30720 bytes \(\d+%\), RAM \d+ of 2048 "
+                         rf"bytes \(\d+%\)$", boards, re.M), (name, boards)
+
+
+def test_a_board_that_does_not_fit_fails_the_build(boards, tmp_path):
+    done = make(tmp_path, "servo_rhand", FLASH_MAX=1000)
+    assert done.returncode != 0
+    assert re.search(r"^servo_rhand: does not fit: \d+ bytes of flash over$", done.stdout,
+                     re.M), done.stdout
+    assert not (tmp_path / "servo_rhand.hex").exists()
+    done = make(tmp_path, "servo_rhand", RAM_MAX=400)
+    assert done.returncode != 0
+    assert re.search(r"^servo_rhand: does not fit: \d+ bytes of RAM leave less than 256 for "
+                     r"the stack$", done.stdout, re.M), done.stdout
+
+
+# -- the image in the simulator --------------------------------------------------------
+def simulate(simboard, elf, timed: str, baud=9600):
+    done = subprocess.run([str(simboard), str(elf), "--baud", str(baud)], input=timed,
+                          capture_output=True, text=True, errors="replace", timeout=300)
+    assert done.returncode == 0, done.stderr
+    result = {"out": []}
+    for line in done.stdout.splitlines():
+        key, *rest = line.split()
+        if key == "out":
+            result["out"].append((float(rest[0]), int(rest[1])))
+        elif key == "dump":
+            board, _, *body = map(int, rest)
+            result["dump"] = (board, dict(zip(body[0::2], body[1::2], strict=True)))
+        else:
+            result[key] = float(rest[0]) if key == "ready" else int(rest[0])
+    return result
+
+
+HAND = sorted(n for n, e in LIBRARY.items() if e.path.name != "body.gest")
+
+
+def test_library_streams_play_on_the_firmware_image(simboard, build):
+    """Every hand gesture of the library, fed at its planned times at 9600 baud: the
+    board ends in the gesture's final pose and reads every byte (none lost)."""
+    rhand = load_profile("rhand")
+    ids = [s.id for s in rhand.servos]
+
+    def one(name):
+        compiled, _ = compile_program(load(str(LIBRARY[name].path)), name, rhand)
+        result = simulate(simboard, build / "servo_rhand.elf", to_timed(compiled.stream()))
+        return name, compiled, result
+
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        for name, compiled, result in pool.map(one, HAND):
+            assert result["dump"] == (181, dict(zip(ids, compiled.final, strict=True))), name
+            assert result["read"] == result["sent"] == len(compiled.stream().data) + 1, name
+            assert result["jumps"] == 0, name
+
+
+def test_the_firmware_answers_like_the_virtual_board(simboard, build):
+    """The same stream into the image and into the Python board: the same replies."""
+    rhand = load_profile("rhand")
+    compiled, _ = compile_program(load(str(LIBRARY["wiggle"].path)), "wiggle", rhand)
+    stream = compiled.stream()
+    result = simulate(simboard, build / "servo_rhand.elf", to_timed(stream))
+    board = VirtualBoard(BoardCore.from_profile(rhand, rhand.boards[0]), 9600)
+    board.advance(0.0)
+    for t, b in zip(stream.times.tolist(), stream.data, strict=True):
+        board.write(bytes([b]), t)
+    board.write(bytes([Signal.DUMP]), stream.times[-1] + 0.05)
+    python = board.read(1e9)
+    firmware = bytes(b for _, b in result["out"])
+    assert firmware == python
+    assert result["jumps"] == 0
+
+
+def test_a_burst_at_wire_speed_loses_no_byte(simboard, build):
+    """Bytes back to back for 3 s (2,880 at 9600 baud) never overflow the 64-byte buffer."""
+    data = [255] + [b for k in range(1439) for b in (k % 6, k % 181)]
+    timed = "".join(f"0.000000 {b}\n" for b in data)  # all due at once: the wire paces them
+    result = simulate(simboard, build / "servo_rhand.elf", timed)
+    assert result["read"] == result["sent"] == len(data) + 1
+    expected = {sid: v for sid, v in zip(data[1::2], data[2::2], strict=True)}
+    assert result["dump"] == (181, expected)
+
+
+def test_the_head_of_the_whole_robot_nods(simboard, build):
+    inmoov = load_profile("inmoov")
+    compiled, _ = compile_program(load(str(LIBRARY["nod"].path)), "nod", inmoov)
+    result = simulate(simboard, build / "servo_inmoov_head.elf", to_timed(compiled.stream(184)))
+    head = [s for s in inmoov.servos if s.board == 184]
+    assert result["dump"] == (184, {s.id: compiled.final[inmoov.index(s.name)] for s in head})
+    assert result["read"] == result["sent"]
+
+
+@pytest.fixture
+def firmware_pty(simboard, build):
+    proc = subprocess.Popen([str(simboard), str(build / "servo_rhand.elf"), "--pty"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    path = proc.stdout.readline().strip()
+    assert path.startswith("/dev/"), proc.stderr.read()
+    yield path
+    proc.kill()
+    proc.wait()
+
+
+def test_gestplay_plays_to_the_firmware_image_on_a_pty(firmware_pty):
+    done = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "peace",
+                           "--port", firmware_pty], capture_output=True, text=True,
+                          timeout=60)
+    assert done.returncode == 0, done.stderr
+    assert done.stderr.startswith("played peace: 0.70 s, ")
+    assert "warning" not in done.stderr  # it booted, sent WAIT and answered DUMP
+
+
+def test_the_firmware_image_ends_in_the_pose_played(firmware_pty):
+    rhand = load_profile("rhand")
+    port = serial.Serial(firmware_pty, 9600, timeout=0)
+    try:
+        assert wait_ready(port)  # the board reset when the port opened, and booted
+        assert ask_dump(port, 181) == dict.fromkeys(range(6), 0)
+        compiled, _ = compile_program(load(str(LIBRARY["rockon"].path)), "rockon", rhand)
+        play(compiled, [Link(181, port, firmware_pty)])
+        time.sleep(0.05)
+        assert ask_dump(port, 181) == dict(zip(range(6), compiled.final, strict=True))
+    finally:
+        port.close()
