@@ -47,6 +47,13 @@ def test_a_profile_from_a_path(tmp_path):
     assert profile.name == "mine" and profile.servos[0].id == 9
 
 
+GLOVE = """[[glove]]
+id = 182
+board = 181
+deadband = 2
+sensors = [{ servo = "a", pin = 14, calibration = [500, 700] }]
+"""
+
 PROFILE_ERRORS = [
     (board_toml(181, ["a", "b"]) + servo_toml("a", 1) + servo_toml("b", 1),
      "servo 'b': id 1 is already used by servo 'a'"),
@@ -75,6 +82,18 @@ PROFILE_ERRORS = [
     ('name = "x"\n', "a profile needs at least one [[board]]"),
     (board_toml(181, ["a"]) + servo_toml("a", 1).replace("rest = 0", "rest = 200"),
      "servo 'a': 'rest' must be a whole number in its range 0..180, got 200"),
+    (board_toml(181, ["a"]) + servo_toml("a", 1) + GLOVE.replace("id = 182", "id = 181"),
+     "glove id must be a board ID in 181..248 that no other board has, got 181"),
+    (board_toml(181, ["a"]) + servo_toml("a", 1) + GLOVE.replace("board = 181", "board = 9"),
+     "glove 182: 'board' must be the ID of a servo board of the profile, got 9"),
+    (board_toml(181, ["a"]) + servo_toml("a", 1) + GLOVE.replace('servo = "a"', 'servo = "b"'),
+     "glove 182, sensor 1: 'servo' must be a servo of board 181, got 'b'"),
+    (board_toml(181, ["a"]) + servo_toml("a", 1) + GLOVE.replace("[500, 700]", "[700, 500]"),
+     "glove 182, sensor 1: 'calibration' must be [low, high] readings with 0 <= low < high "
+     "<= 1023, got [700, 500]"),
+    (board_toml(181, ["a"]) + servo_toml("a", 1) + GLOVE.replace("deadband = 2",
+                                                                 "deadband = -1"),
+     "glove 182: 'deadband' must be a whole number in 0..180, got -1"),
 ]
 
 
@@ -85,6 +104,15 @@ def test_profile_errors_name_the_problem(text, message):
     first = info.value.diagnostics[0]
     assert first.message == message
     assert first.pos.file == "bad.toml"
+
+
+def test_the_right_hand_has_the_original_glove(rhand):
+    (glove,) = rhand.gloves
+    assert (glove.id, glove.board, glove.baud) == (182, 181, 9600)
+    assert [s.servo for s in glove.sensors] == ["thumb", "index", "middle", "ring", "pinky"]
+    assert [s.pin for s in glove.sensors] == [14, 15, 16, 17, 18]  # A0..A4
+    assert [s.calibration for s in glove.sensors] == [
+        (579, 713), (519, 743), (588, 793), (610, 811), (591, 806)]
 
 
 def test_toml_syntax_errors_have_a_line():
