@@ -21,6 +21,7 @@ import numpy as np
 
 from . import protocol
 from .board import BoardCore
+from .compiled import Compiled
 from .encode import Stream, frame_ends, round_values
 from .plan import Plan
 
@@ -56,6 +57,31 @@ def decode(stream: Stream, board: BoardCore) -> list[tuple[float, int, int]]:
         write, _ = board.feed(b)
         if write is not None:
             out.append((t + tau, write.id, write.value))
+    return out
+
+
+def sent_values(plan: Plan, compiled: Compiled) -> dict[int, tuple[np.ndarray, np.ndarray]]:
+    """Servo index -> (arrival times, values) of every pair the boards act on."""
+    profile = plan.profile
+    index = {s.id: i for i, s in enumerate(profile.servos)}
+    boards = {b.id: b for b in profile.boards}
+    out: dict[int, tuple[list[float], list[int]]] = {}
+    for stream in compiled.streams:
+        core = BoardCore.from_profile(profile, boards[stream.board])
+        for t, sid, value in decode(stream, core):
+            times, values = out.setdefault(index[sid], ([], []))
+            times.append(t)
+            values.append(value)
+    return {i: (np.asarray(t), np.asarray(v)) for i, (t, v) in out.items()}
+
+
+def held_at(plan: Plan, sent: dict, times: np.ndarray) -> np.ndarray:
+    """The value each servo's board holds at each of ``times``: [time][servo]."""
+    out = np.empty((len(times), len(plan.tracks)), dtype=np.int64)
+    for i, start in enumerate(plan.start):
+        at, values = sent.get(i, (np.empty(0), np.empty(0, dtype=np.int64)))
+        series = np.concatenate(([start], values)).astype(np.int64)
+        out[:, i] = series[np.searchsorted(at, times, side="right")]
     return out
 
 

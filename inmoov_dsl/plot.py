@@ -12,10 +12,9 @@ import os
 
 import numpy as np
 
-from .board import BoardCore
 from .compiled import Compiled
 from .errors import Diagnostic, GestError
-from .metrics import decode
+from .metrics import sent_values
 from .plan import Plan
 
 PLAN_COLOUR = "#1f77b4"
@@ -33,21 +32,6 @@ def _matplotlib():
             "error", "gestc plot needs matplotlib, which is not installed",
             hint="pip install 'inmoov-dsl[plot]'")) from None
     return Figure, Patch
-
-
-def sent_values(plan: Plan, compiled: Compiled) -> dict[int, tuple[np.ndarray, np.ndarray]]:
-    """Servo index -> (arrival times, values) of every pair the boards act on."""
-    profile = plan.profile
-    index = {s.id: i for i, s in enumerate(profile.servos)}
-    boards = {b.id: b for b in profile.boards}
-    out: dict[int, tuple[list[float], list[int]]] = {}
-    for stream in compiled.streams:
-        core = BoardCore.from_profile(profile, boards[stream.board])
-        for t, sid, value in decode(stream, core):
-            times, values = out.setdefault(index[sid], ([], []))
-            times.append(t)
-            values.append(value)
-    return {i: (np.asarray(t), np.asarray(v)) for i, (t, v) in out.items()}
 
 
 def moving_servos(plan: Plan, sent: dict) -> list[int]:

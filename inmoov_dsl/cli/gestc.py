@@ -9,7 +9,7 @@ from pathlib import Path
 
 from ..compiled import Compiled, to_json, to_timed
 from ..compiler import compile_program, load
-from ..errors import GestError
+from ..errors import Diagnostic, GestError
 from ..fmt import format_source
 from ..library import find_gesture, library_dirs, scan_library
 from ..metrics import LinkReport, measure
@@ -112,6 +112,21 @@ def cmd_plot(args: argparse.Namespace) -> int:
     out = args.output or f"{compiled.gesture}.png"
     plot(plan, compiled, out)
     print(f"wrote {out}", file=sys.stderr)
+    return EXIT_OK
+
+
+def cmd_export(args: argparse.Namespace) -> int:
+    from ..export import joint_states, to_csv
+
+    compiled, plan = _compile(args)
+    if args.rate <= 0:
+        raise GestError(Diagnostic("error", f"--rate {args.rate:g}: give a rate above 0 Hz"))
+    text = to_csv(*joint_states(plan, compiled, 1 / args.rate))
+    if args.joint_states == "-":
+        sys.stdout.write(text)
+    else:
+        Path(args.joint_states).write_text(text, encoding="utf-8")
+        print(f"wrote {args.joint_states}: {text.count(chr(10)) - 1} rows", file=sys.stderr)
     return EXIT_OK
 
 
@@ -231,6 +246,15 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", help="image file: .png, .svg or .pdf "
                    "(default GESTURE.png)")
     p.set_defaults(func=cmd_plot)
+
+    p = sub.add_parser("export", help="joint positions over time for a ROS (URDF) model")
+    common(p)
+    p.add_argument("--joint-states", required=True, metavar="CSV",
+                   help="the CSV file to write ('-' for standard output): time, then "
+                   "each joint in radians")
+    p.add_argument("--rate", type=float, default=50.0,
+                   help="rows per second (default 50: one per servo frame)")
+    p.set_defaults(func=cmd_export)
 
     p = sub.add_parser("fmt", help="rewrite .gest files in the canonical layout")
     p.add_argument("files", nargs="+", metavar="FILE", help="a .gest file, or - for stdin")
