@@ -115,6 +115,19 @@ def cmd_plot(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_preview(args: argparse.Namespace) -> int:
+    from ..preview import write_gif
+
+    compiled, plan = _compile(args)
+    out = args.output or f"{compiled.gesture}.gif"
+    if not str(out).lower().endswith(".gif"):
+        raise GestError(Diagnostic("error", f"-o {out}: the preview is an animated GIF",
+                                   hint=f"-o {Path(out).stem}.gif"))
+    frames, ms = write_gif(plan, compiled, out)
+    print(f"wrote {out}: {frames} frames, {ms / 1000:.2f} s", file=sys.stderr)
+    return EXIT_OK
+
+
 def cmd_export(args: argparse.Namespace) -> int:
     from ..export import joint_states, to_csv
 
@@ -246,6 +259,12 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", help="image file: .png, .svg or .pdf "
                    "(default GESTURE.png)")
     p.set_defaults(func=cmd_plot)
+
+    p = sub.add_parser("preview", help="an animated drawing of the hand doing the gesture "
+                       "(needs Pillow)")
+    common(p)
+    p.add_argument("-o", "--output", help="the GIF to write (default GESTURE.gif)")
+    p.set_defaults(func=cmd_preview)
 
     p = sub.add_parser("export", help="joint positions over time for a ROS (URDF) model")
     common(p)

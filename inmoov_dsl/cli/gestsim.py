@@ -43,7 +43,11 @@ def serve(args: argparse.Namespace) -> int:
     print(f"{PROG}: board {board_cfg.id} ({board_cfg.name}) of profile '{profile.name}' on "
           f"{path} at {board_cfg.baud} baud; Ctrl-C stops", file=sys.stderr, flush=True)
     log = open(args.log, "w", encoding="utf-8") if args.log else None  # noqa: SIM115
-    view = _View(profile, board_cfg) if sys.stderr.isatty() and not args.quiet else None
+    view = None
+    if args.view:
+        view = _HandView(profile, board_cfg)
+    elif sys.stderr.isatty() and not args.quiet:
+        view = _View(profile, board_cfg)
     poller = select.poll()
     poller.register(master, select.POLLIN)
     board: VirtualBoard | None = None
@@ -113,6 +117,36 @@ class _View:
         self.drawn = True
 
 
+class _HandView:
+    """The hand drawn in the terminal (gestc preview's picture), redrawn on change."""
+
+    def __init__(self, profile, board_cfg):
+        from ..preview import draw_hand, hand_servos, pose_of, to_terminal
+
+        hand_servos(profile)  # a profile without a hand is an error now, not later
+        self.profile, self.ids = profile, [profile.servos[profile.index(n)].id
+                                           for n in board_cfg.servos]
+        self.draw_hand, self.pose_of, self.to_terminal = draw_hand, pose_of, to_terminal
+        draw_hand({})  # Pillow is there
+        self.next = 0.0
+        self.shown: list[int] | None = None
+        self.lines = 0
+
+    def draw(self, board: VirtualBoard, now: float) -> None:
+        if now < self.next or board.core.values == self.shown:
+            return
+        self.next = now + FRAME
+        self.shown = list(board.core.values)
+        pose = self.pose_of(self.profile, self.shown, self.ids)
+        lines = self.to_terminal(self.draw_hand(pose), columns=48)
+        out = sys.stderr
+        if self.lines:
+            out.write(f"\x1b[{self.lines}F")
+        out.write("\n".join(lines) + "\n")
+        out.flush()
+        self.lines = len(lines)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog=PROG, description=__doc__.splitlines()[0])
     ap.add_argument("-p", "--profile", default="rhand", help="robot profile (default rhand)")
@@ -122,6 +156,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--log", help="write every byte received to this file, as it "
                     "arrives: '<seconds> <byte>' per line (monotonic clock)")
     ap.add_argument("--quiet", action="store_true", help="no live view")
+    ap.add_argument("--view", action="store_true",
+                    help="draw the hand in the terminal, live (needs Pillow and a terminal "
+                    "with 24-bit colour)")
     args = ap.parse_args(argv)
     return run(PROG, lambda: serve(args))
 
