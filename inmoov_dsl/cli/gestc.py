@@ -16,6 +16,7 @@ from ..metrics import LinkReport, measure
 from ..plan import Plan
 from ..profile import load_profile
 from ..resources import data_dir
+from . import record
 from .common import EXIT_ERROR, EXIT_OK, add_lib, report, run
 
 PROG = "gestc"
@@ -290,6 +291,8 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--check", action="store_true",
                    help="change nothing; list the files that are out of date, exit 1 if any")
     p.set_defaults(func=cmd_firmware)
+
+    record.add_parser(sub)
 
     p = sub.add_parser("list", help="the library's gestures: NAME<TAB>FILE")
     p.add_argument("-l", "--long", action="store_true",

@@ -16,6 +16,7 @@ import time
 
 from ..board import BoardCore
 from ..errors import Diagnostic, GestError
+from ..glove import VirtualGlove
 from ..profile import load_profile
 from ..sim import VirtualBoard
 from .common import EXIT_OK, run
@@ -43,14 +44,18 @@ def serve(args: argparse.Namespace) -> int:
     print(f"{PROG}: board {board_cfg.id} ({board_cfg.name}) of profile '{profile.name}' on "
           f"{path} at {board_cfg.baud} baud; Ctrl-C stops", file=sys.stderr, flush=True)
     log = open(args.log, "w", encoding="utf-8") if args.log else None  # noqa: SIM115
+    glove = _glove(args, profile) if args.glove else None
     view = None
-    if args.view:
+    if glove is not None:
+        print(f"{PROG}: a glove performing '{args.glove}' from the moment the port opens",
+              file=sys.stderr, flush=True)
+    elif args.view:
         view = _HandView(profile, board_cfg)
     elif sys.stderr.isatty() and not args.quiet:
         view = _View(profile, board_cfg)
     poller = select.poll()
     poller.register(master, select.POLLIN)
-    board: VirtualBoard | None = None
+    board: VirtualBoard | VirtualGlove | None = None
     hung_up = True  # no program has the port open
     try:
         while True:
@@ -75,8 +80,9 @@ def serve(args: argparse.Namespace) -> int:
                 continue
             if hung_up:  # a program opened the port: the board resets
                 hung_up = False
-                board = VirtualBoard(BoardCore.from_profile(profile, board_cfg),
-                                     board_cfg.baud, ready_at=now + args.boot)
+                board = VirtualGlove(glove, now + args.boot) if glove is not None else \
+                    VirtualBoard(BoardCore.from_profile(profile, board_cfg), board_cfg.baud,
+                                 ready_at=now + args.boot)
             if data:
                 board.write(data, now)
             out = board.read(now)
@@ -93,6 +99,29 @@ def serve(args: argparse.Namespace) -> int:
         os.close(master)
         if log is not None:
             log.close()
+
+
+def _glove(args: argparse.Namespace, profile) -> list[tuple[float, bytes]]:
+    """The stream of a glove performing a gesture, untidy as asked."""
+    from ..compiler import compile_program, load
+    from ..glove import Imperfections, glove_stream
+    from ..library import find_gesture
+
+    if not profile.gloves:
+        raise GestError(Diagnostic("error", f"profile '{profile.name}' has no glove",
+                                   hint="a [[glove]] table describes one (rhand has it)"))
+    path, gesture = find_gesture(args.glove, None)
+    _, plan = compile_program(load(path), gesture, profile)
+    gaps = []
+    for spec in args.gap:
+        start, _, end = spec.partition("-")
+        try:
+            gaps.append((float(start), float(end)))
+        except ValueError:
+            raise GestError(Diagnostic("error", f"--gap {spec}: give START-END in seconds",
+                                       hint="--gap 1.0-1.3")) from None
+    return glove_stream(plan, profile.gloves[0], Imperfections(
+        args.noise, args.drop, tuple(gaps), seed=args.seed))
 
 
 class _View:
@@ -156,6 +185,16 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--log", help="write every byte received to this file, as it "
                     "arrives: '<seconds> <byte>' per line (monotonic clock)")
     ap.add_argument("--quiet", action="store_true", help="no live view")
+    ap.add_argument("--glove", metavar="GESTURE",
+                    help="be the profile's glove instead, its fingers performing GESTURE "
+                    "(a library name or a .gest file): for trying gestc record")
+    ap.add_argument("--noise", type=float, default=0.0,
+                    help="with --glove: noise on each reading, in degrees (std. dev.)")
+    ap.add_argument("--drop", type=float, default=0.0,
+                    help="with --glove: the chance that a byte is lost (0..1)")
+    ap.add_argument("--gap", action="append", default=[], metavar="START-END",
+                    help="with --glove: nothing is sent between these seconds")
+    ap.add_argument("--seed", type=int, default=1, help="with --glove: for the noise")
     ap.add_argument("--view", action="store_true",
                     help="draw the hand in the terminal, live (needs Pillow and a terminal "
                     "with 24-bit colour)")

@@ -1,0 +1,261 @@
+"""From a recorded stream to a short gesture (``gestc record``): pure, no clock, no I/O.
+
+1. ``StreamReader`` reads the bytes as a servo board would (CANCEL, pairs, signals
+   skipped) with the time each arrived, and keeps every (time, servo, value): a glove's
+   stream, or any stream in the protocol.
+2. ``traces`` cleans each servo's samples: a lone sample far from its neighbours (a
+   byte lost in a pair) is dropped, and the rest becomes the value held on every
+   20 ms servo frame, within the glove's dead-band of the finger.
+3. ``keyframes`` picks the poses: starting from the first and last frame, a stretch is
+   planned as one move, exactly as the compiler will plan it; where the planned motion
+   strays from the recording by more than the tolerance, the stretch is split at the
+   worst frame, until every stretch follows the recording (or is one frame long).
+4. ``to_gest`` writes them as a gesture in the canonical layout, durations taken from
+   the recording.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .fmt import format_source
+from .plan import Planner
+from .profile import Profile
+from .protocol import MAX_VALUE, SERVO_FRAME, Signal
+from .resolve import Step
+
+DEFAULT_TOLERANCE = 3.0  #: command degrees
+OUTLIER = 12.0  #: command degrees from both neighbours makes a lone sample an outlier
+SILENCE = 0.1  #: s without a report
+
+
+@dataclass
+class StreamReader:
+    """Bytes in the protocol, as they arrive, to (time, servo ID, value) samples."""
+
+    ids: frozenset[int]  #: the servo IDs to keep
+    samples: list[tuple[float, int, int]] = field(default_factory=list)
+    skipped: int = 0  #: bytes before the first CANCEL, pairs for other IDs, signals
+    pending: int | None = None
+    synced: bool = False  #: a CANCEL has come: pairs can be told apart
+
+    def feed(self, t: float, data: Iterable[int]) -> None:
+        for byte in data:
+            if byte == Signal.CANCEL:
+                self.pending = None
+                self.synced = True
+            elif not self.synced:
+                self.skipped += 1  # joined mid-command: wait for the next CANCEL
+            elif byte > MAX_VALUE:
+                self.skipped += 1  # a signal (WAIT, DUMP...) or noise
+                if self.pending is not None and byte < min(Signal):
+                    self.pending = None  # not a value: the pair is lost
+            elif self.pending is None:
+                self.pending = byte
+            else:
+                sid, self.pending = self.pending, None
+                if sid in self.ids:
+                    self.samples.append((t, sid, byte))
+                else:
+                    self.skipped += 1
+
+
+@dataclass(frozen=True)
+class Traces:
+    """Each servo's recorded value on every servo frame from the first sample on."""
+
+    times: np.ndarray  #: s from the first sample, every SERVO_FRAME
+    values: dict[int, np.ndarray]  #: servo index -> command degrees, one per frame
+    samples: int  #: samples kept
+    dropped: int  #: outliers dropped
+    band: float = 0.0  #: command degrees the true value may be from the value held
+
+
+def _drop_spikes(t: np.ndarray, v: np.ndarray, vmax: float
+                 ) -> tuple[np.ndarray, np.ndarray, int]:
+    """Drop lone samples (a byte lost in a pair makes one): far from the median of
+    their neighbourhood and reached faster than three times the servo's limit."""
+    n = len(v)
+    if n < 3:
+        return t, v, 0
+    window = np.stack([v[np.clip(np.arange(n) + d, 0, n - 1)] for d in (-1, 0, 1)])
+    window[:, 0], window[:, -1] = v[:3], v[-3:]
+    median = np.median(window, axis=0)
+    dt = np.maximum(np.abs(np.diff(t)), SERVO_FRAME)
+    speed = np.abs(np.diff(v)) / dt
+    fast = np.concatenate(([speed[0]], np.minimum(speed[:-1], speed[1:]) if n > 2 else [],
+                           [speed[-1]]))
+    spike = (np.abs(v - median) > OUTLIER) & (fast > 3 * vmax)
+    return t[~spike], v[~spike], int(spike.sum())
+
+
+def traces(samples: Sequence[tuple[float, int, int]], profile: Profile,
+           deadband: float = 0.0) -> Traces:
+    """The samples of each of ``profile``'s servos, cleaned, on the servo frame grid:
+    the value last reported at each frame's end, as a board holds it. A glove reports
+    a finger only once it has moved more than its ``deadband``, so between reports the
+    finger is anywhere within that band of the value held; a big change after a
+    silence means reports were lost, and the motion is drawn straight across."""
+    if not samples:
+        return Traces(np.zeros(1), {}, 0, 0, deadband)
+    t0 = samples[0][0]
+    end = samples[-1][0] - t0
+    grid = np.arange(int(np.ceil(end / SERVO_FRAME + 1e-9)) + 1) * SERVO_FRAME
+    index = {s.id: i for i, s in enumerate(profile.servos)}
+    heard = np.unique([s[0] - t0 for s in samples])  # when anything came
+    values: dict[int, np.ndarray] = {}
+    kept = dropped = 0
+    for sid in sorted({sid for _, sid, _ in samples}):
+        t = np.asarray([s[0] - t0 for s in samples if s[1] == sid])
+        v = np.asarray([s[2] for s in samples if s[1] == sid], dtype=float)
+        t, v, lost = _drop_spikes(t, v, profile.servos[index[sid]].max_velocity)
+        kept, dropped = kept + len(v), dropped + lost
+        held = v[np.maximum(np.searchsorted(t, grid + 1e-9, side="right") - 1, 0)]
+        # more than the servo can move in two frames, after a silence: reports were lost
+        lost_jump = deadband + 2 * SERVO_FRAME * profile.servos[index[sid]].max_velocity
+        for k in np.flatnonzero((np.diff(t) > SILENCE) & (np.abs(np.diff(v)) > lost_jump)):
+            # the motion was lost in the longest silence of the whole stream in between
+            inside = heard[(heard >= t[k]) & (heard <= t[k + 1])]
+            m = int(np.argmax(np.diff(inside)))
+            gap = (grid > inside[m]) & (grid < t[k + 1])
+            held[gap] = np.interp(grid[gap], [inside[m], t[k + 1]], v[k:k + 2])
+        values[index[sid]] = held
+    return Traces(grid, values, kept, dropped, deadband)
+
+
+@dataclass(frozen=True)
+class Keyframe:
+    """Where the recorded motion goes: a pose (servo index -> value), reached ``at``."""
+
+    at: float  #: s
+    pose: dict[int, int]
+
+
+@dataclass(frozen=True)
+class Fit:
+    keyframes: tuple[Keyframe, ...]
+    error: float  #: the largest difference between the planned motion and the recording
+    stretched: tuple[float, ...]  #: times of moves the limits make slower than recorded
+
+
+WINDOW = 40  #: a move spans at most this many candidate pauses
+
+
+def keyframes(tr: Traces, profile: Profile, tolerance: float = DEFAULT_TOLERANCE) -> Fit:
+    """The fewest keyframes whose planned moves stay within ``tolerance`` of the
+    recording. A move is planned from rest to rest, so keyframes belong where the hand
+    pauses or turns: the candidates are the frames where the recorded motion is
+    slowest, and a shortest path over them (each hop one move, planned exactly as the
+    compiler plans it) picks the fewest that fit: first the least error beyond the
+    tolerance (summed over the moves; a move the limits would slow down counts a
+    thousand degrees), then the fewest moves."""
+    servos = sorted(tr.values)
+    if not servos:
+        return Fit((), 0.0, ())
+    rec = np.stack([tr.values[i] for i in servos], axis=1)  # [frame][servo]
+    poses = np.clip(np.floor(rec + 0.5), 0, MAX_VALUE).astype(int)
+    planner = Planner(profile)
+    last = len(tr.times) - 1
+    if last == 0:
+        return Fit((Keyframe(0.0, dict(zip(servos, poses[0].tolist(), strict=True))),),
+                   0.0, ())
+    frames = sorted({0, last, *_pauses(rec, [profile.servos[i].max_velocity
+                                             for i in servos])})
+    best: list[tuple[float, int, int]] = [(0.0, 0, -1)]  # (excess, hops, previous)
+    for j in range(1, len(frames)):
+        options = []
+        for i in range(max(0, j - WINDOW), j):
+            error, slow = _segment(planner, servos, tr.times, rec, poses, frames[i],
+                                   frames[j], tr.band)
+            excess = max(0.0, error - tolerance) + (1000.0 if slow else 0.0)
+            options.append((best[i][0] + excess, best[i][1] + 1, i))
+        best.append(min(options))
+    path = [len(frames) - 1]
+    while best[path[-1]][2] >= 0:
+        path.append(best[path[-1]][2])
+    path.reverse()
+    cuts = [frames[k] for k in path]
+
+    def hop(a: int, b: int) -> tuple[float, bool]:
+        return _segment(planner, servos, tr.times, rec, poses, a, b, tr.band)
+
+    results = [hop(a, b) for a, b in zip(cuts, cuts[1:], strict=False)]
+    worst = max((error for error, _ in results), default=0.0)
+    stretched = tuple(float(tr.times[a]) for a, (_, slow) in zip(cuts, results, strict=False)
+                      if slow)
+    keys = tuple(Keyframe(float(tr.times[k]), dict(zip(servos, poses[k].tolist(), strict=True)))
+                 for k in cuts)
+    return Fit(keys, worst, stretched)
+
+
+def _pauses(rec: np.ndarray, limits: list[float]) -> list[int]:
+    """Frames where the recorded motion is slowest: near the local minima of its speed
+    (each servo's share of its velocity limit, the largest of them, smoothed over 5
+    frames); of a still stretch, near its first and last frame."""
+    if len(rec) < 3:
+        return []
+    velocity = np.gradient(rec, SERVO_FRAME, axis=0) / np.asarray(limits)
+    speed = np.convolve(np.abs(velocity).max(axis=1), np.ones(5) / 5, mode="same")
+    low = (speed[1:-1] <= speed[:-2] + 1e-9) & (speed[1:-1] <= speed[2:] + 1e-9)
+    frames = np.flatnonzero(low) + 1
+    # a run of equal minima (a hold) counts by its ends, and the frames around them:
+    # smoothing shortens a hold by two frames at each end
+    out: set[int] = set()
+    for n, k in enumerate(frames):
+        inner = 0 < n < len(frames) - 1 and frames[n - 1] == k - 1 and frames[n + 1] == k + 1
+        if not inner:
+            out.update(range(max(0, k - 2), min(len(rec), k + 3)))
+    return sorted(out)
+
+
+def _segment(planner: Planner, servos: list[int], times: np.ndarray, rec: np.ndarray,
+             poses: np.ndarray, a: int, b: int, band: float) -> tuple[float, bool]:
+    """Plan the move from frame a's pose to frame b's over their time: (how far it
+    strays beyond ``band`` of the recording, whether the limits stretch it)."""
+    start = [s.rest for s in planner.profile.servos]
+    for k, i in enumerate(servos):
+        start[i] = int(poses[a][k])
+    targets = tuple((i, int(poses[b][k])) for k, i in enumerate(servos))
+    over = float(times[b] - times[a])
+    plan = planner.plan([Step(targets, over=over)], start)
+    span = times[a:b + 1] - times[a]
+    planned = np.stack([plan.tracks[i].position(span) for i in servos], axis=1)
+    error = np.abs(planned - rec[a:b + 1]).max() - band
+    return max(0.0, float(error)), plan.duration > over + 1e-6
+
+
+def to_gest(name: str, fit: Fit, profile: Profile, about: Sequence[str] = ()) -> str:
+    """The keyframes as a gesture: the first pose, then each move (only the servos that
+    change, ``over`` the recorded time) or hold, in the canonical layout."""
+    if not fit.keyframes:
+        raise ValueError("nothing was recorded")
+    names = [s.name for s in profile.servos]
+    first = fit.keyframes[0]
+    lines = [f"# {line}" for line in about]
+    lines.append(f"{name}:")
+    lines.append("    " + ", ".join(f"{names[i]} {v}" for i, v in first.pose.items()))
+    hold = 0.0
+    previous = first
+    for key in fit.keyframes[1:]:
+        ms = round((key.at - previous.at) * 1000)
+        changed = {i: v for i, v in key.pose.items() if previous.pose[i] != v}
+        if not changed:
+            hold += ms
+        else:
+            if hold:
+                lines.append(f"    hold {round(hold)}ms")
+                hold = 0
+            targets = ", ".join(f"{names[i]} {v}" for i, v in changed.items())
+            lines.append(f"    {targets} over {ms}ms")
+        previous = key
+    if hold:
+        lines.append(f"    hold {round(hold)}ms")
+    return format_source("\n".join(lines) + "\n")
+
+
+def start_pose(fit: Fit, profile: Profile) -> Mapping[str, int]:
+    """The first recorded pose by servo name: where the recording starts."""
+    return {profile.servos[i].name: v for i, v in fit.keyframes[0].pose.items()}
