@@ -84,7 +84,7 @@ def _drop_spikes(t: np.ndarray, v: np.ndarray, vmax: float
     window = np.stack([v[np.clip(np.arange(n) + d, 0, n - 1)] for d in (-1, 0, 1)])
     window[:, 0], window[:, -1] = v[:3], v[-3:]
     median = np.median(window, axis=0)
-    dt = np.maximum(np.abs(np.diff(t)), SERVO_FRAME)
+    dt = np.clip(np.abs(np.diff(t)), SERVO_FRAME, SILENCE)  # a jump after a silence counts
     speed = np.abs(np.diff(v)) / dt
     fast = np.concatenate(([speed[0]], np.minimum(speed[:-1], speed[1:]) if n > 2 else [],
                            [speed[-1]]))

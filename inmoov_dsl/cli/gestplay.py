@@ -18,11 +18,11 @@ from ..ports import available, open_port
 from ..profile import Profile, load_profile
 from ..protocol import Signal
 from ..urlhandler import protocol_sim
-from . import calibrate, repl
+from . import calibrate, repl, teach
 from .common import EXIT_INTERRUPTED, EXIT_OK, add_lib, report, run
 
 PROG = "gestplay"
-TOOLS = ("dump", "ports", "send", "calibrate", "repl")
+TOOLS = ("dump", "ports", "send", "calibrate", "repl", "teach")
 
 
 # -- playing -------------------------------------------------------------------------
@@ -250,7 +250,7 @@ def cmd_send(args: argparse.Namespace) -> int:
 def play_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(
         prog=PROG, description="Play a gesture on the InMoov hand. Bench tools: "
-        "gestplay dump|ports|send|calibrate|repl --help.")
+        "gestplay dump|ports|send|calibrate|repl|teach --help.")
     ap.add_argument("target", metavar="GESTURE",
                     help="a library gesture, a .gest file or a compiled .gestc file")
     ap.add_argument("--port", action="append", default=[], metavar="PORT",
@@ -289,6 +289,7 @@ def tools_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_send)
     calibrate.add_parser(sub)
     repl.add_parser(sub)
+    teach.add_parser(sub)
     return ap
 
 

@@ -1,0 +1,107 @@
+"""gestplay teach: pose the hand from the keyboard, keep poses as keyframes, play them
+back, and save them as a gesture."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import serial
+
+from ..compiler import compile_program, load
+from ..errors import Diagnostic, GestError
+from ..player import Link, cancel_all, drain, play
+from ..profile import load_profile
+from ..protocol import Signal
+from ..teach import HELP, Teach
+from .common import EXIT_INTERRUPTED, EXIT_OK, report
+from .keys import key_reader
+
+PROG = "gestplay teach"
+
+
+def cmd_teach(args: argparse.Namespace) -> int:
+    from .gestplay import board_pose, close, connect, parse_ports
+
+    name = args.name or (Path(args.output).stem if args.output else "taught")
+    if not name.isidentifier():
+        raise GestError(Diagnostic("error", f"'{name}' cannot name a gesture",
+                                   hint="--name takes a word: letters, digits and _"))
+    output = Path(args.output or f"{name}.gest")
+    profile = load_profile(args.profile or "rhand")
+    links = connect(parse_ports(args.port, profile), profile)
+    link_of = {link.board: link for link in links}
+    try:
+        held = board_pose(links, profile)
+        teach = Teach(profile, [held.get(s.name, s.rest) for s in profile.servos])
+        with key_reader() as keys:
+            print(HELP)
+            _show(teach)
+            for key in keys:
+                action = teach.press(key)
+                if action == "send":
+                    servo = profile.servos[teach.selected]
+                    _send(link_of[servo.board], servo.id, teach.pose[teach.selected])
+                elif action == "play":
+                    _play_back(teach, name, links)
+                elif action == "save":
+                    output.write_text(teach.gesture(name), encoding="utf-8")
+                    teach.saved = True
+                    _say(f"saved {len(teach.keys)} keyframes to {output} as '{name}'")
+                elif action == "quit":
+                    break
+                _show(teach)
+        if not teach.saved:
+            _say(f"{len(teach.keys)} keyframes not saved (s saves)")
+        print()
+        return EXIT_OK
+    except KeyboardInterrupt:
+        cancel_all(links)
+        print(f"\n{PROG}: interrupted: CANCEL sent, the hand holds its pose", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except serial.SerialException as exc:
+        cancel_all(links)
+        raise GestError(Diagnostic("error", f"lost the link: {exc}")) from None
+    finally:
+        close(links)
+
+
+def _send(link: Link, servo_id: int, value: int) -> None:
+    link.port.write(bytes([Signal.CANCEL, servo_id, value]))
+    drain(link.port)  # WAIT bytes; a pulled cable raises here
+
+
+def _play_back(teach: Teach, name: str, links: list[Link]) -> None:
+    """Play the keyframes from the pose the hand is in; the hand ends on the last one."""
+    start = dict(zip((s.name for s in teach.profile.servos), teach.pose, strict=True))
+    compiled, _ = compile_program(load(f"<{name}>", teach.gesture(name)), name,
+                                  teach.profile, start)
+    report(compiled.warnings, PROG)
+    _say(f"playing {len(teach.keys)} keyframes, {compiled.duration:.2f} s")
+    play(compiled, links)
+    teach.pose = list(compiled.final)
+
+
+def _say(text: str) -> None:
+    sys.stdout.write(f"\n{text}\n")
+
+
+def _show(teach: Teach) -> None:
+    if sys.stdout.isatty():
+        sys.stdout.write(f"\r\x1b[2K{teach.line()}")
+    else:
+        sys.stdout.write(f"{teach.line()}\n")
+    sys.stdout.flush()
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("teach", help="pose the hand from the keyboard and save the poses "
+                       "as a gesture", description=HELP,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--port", action="append", default=[], required=True,
+                   help="as for playing; BOARD=PORT for each board of a profile with several")
+    p.add_argument("-o", "--output", help="the .gest file 's' writes (default NAME.gest)")
+    p.add_argument("--name", help="the gesture's name (default: the file's name, or taught)")
+    p.add_argument("-p", "--profile", help="robot profile (default rhand)")
+    p.set_defaults(func=cmd_teach)

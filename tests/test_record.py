@@ -1,0 +1,134 @@
+"""gestc record: a glove's stream in, a short gesture out that plays the recording back."""
+
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+from inmoov_dsl import load_profile
+from inmoov_dsl.compiler import compile_program, load
+from inmoov_dsl.glove import GloveCore, Imperfections, glove_stream
+from inmoov_dsl.library import scan_library
+from inmoov_dsl.record import StreamReader, keyframes, start_pose, to_gest, traces
+
+RHAND = load_profile("rhand")
+GLOVE = RHAND.gloves[0]
+FINGERS = frozenset(range(1, 6))
+LIBRARY = scan_library()
+POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
+
+
+def truth(name):
+    return compile_program(load(str(LIBRARY[name].path)), name, RHAND)[1]
+
+
+def record(stream, tolerance=3.0):
+    reader = StreamReader(FINGERS)
+    for t, data in stream:
+        reader.feed(t, data)
+    tr = traces(reader.samples, RHAND, GLOVE.deadband)
+    fit = keyframes(tr, RHAND, tolerance)
+    text = to_gest("again", fit, RHAND, ["a test"])
+    _, plan = compile_program(load("again.gest", text), "again", RHAND,
+                              dict(start_pose(fit, RHAND)))
+    return reader, tr, fit, text, plan
+
+
+def worst(plan, motion, tr, t0, outside=()):
+    """The largest difference between the replayed and the true motion of the fingers,
+    on every servo frame (except in the windows ``outside``)."""
+    keep = np.ones(len(tr.times), dtype=bool)
+    for a, b in outside:
+        keep &= (tr.times + t0 < a) | (tr.times + t0 > b + 0.2)
+    return max(float(np.abs(plan.tracks[i].position(tr.times[keep])
+                            - motion.tracks[i].position(tr.times[keep] + t0)).max())
+               for i in range(1, 6))
+
+
+def test_the_reader_waits_for_a_cancel_and_skips_what_is_not_a_pair():
+    reader = StreamReader(frozenset({1, 2}))
+    reader.feed(0.0, [90, 2, 45])  # joined mid-command: nothing is a pair yet
+    reader.feed(0.02, [255, 1, 30, 254, 2, 200, 7, 9, 253, 2, 60])
+    assert reader.samples == [(0.02, 1, 30), (0.02, 2, 60)]
+    assert reader.skipped == 3 + 4  # the 3 bytes before the CANCEL; WAIT, 200, (7, 9), DUMP
+
+
+def test_a_clean_recording_becomes_the_gesture_it_was():
+    motion = truth("count")
+    reader, tr, fit, text, plan = record(glove_stream(motion, GLOVE))
+    assert fit.error <= 3.0 and not fit.stretched
+    assert len(fit.keyframes) == 10 and len(reader.samples) > 20 * len(fit.keyframes)
+    # within the tolerance of what the glove reported, which is within its dead-band
+    assert worst(plan, motion, tr, reader.samples[0][0]) <= 3.0 + GLOVE.deadband
+    assert plan.final[1:] == motion.final[1:]
+    assert text.startswith("# a test\nagain:\n    thumb 0, index 0, middle 0, ring 0, "
+                           "pinky 0\n    thumb 180, middle 180, ring 180, pinky 180 over ")
+
+
+def test_noise_lost_bytes_a_gap_and_a_mid_command_start_do_not_break_it():
+    motion = truth("wiggle")
+    gap = (2.3, 2.6)  # nothing arrives for 0.3 s, in the middle of a move
+    untidy = Imperfections(noise=0.5, drop=0.005, gaps=(gap,), seed=3)
+    reader, tr, fit, text, plan = record(glove_stream(motion, GLOVE, untidy), tolerance=4)
+    assert reader.skipped >= 2  # the tail of a command before the first CANCEL
+    assert len(fit.keyframes) < len(reader.samples) / 10
+    assert worst(plan, motion, tr, reader.samples[0][0], [gap]) <= 4 + GLOVE.deadband + 1.5
+    assert plan.final[1:] == motion.final[1:]
+
+
+def test_a_lost_byte_that_makes_a_wrong_pair_is_dropped():
+    motion = truth("peace")
+    stream = glove_stream(motion, GLOVE, Imperfections(mid_command=False))
+    t_end = stream[-1][0]
+    # "255 4 180 3 0" lost its "180": the ring (4) seems to jump to 3
+    stream.append((t_end + 0.02, bytes([255, 4, 3, 0])))
+    reader, tr, fit, _, plan = record(stream)
+    assert tr.dropped == 1
+    assert plan.final == motion.final
+
+
+def test_the_python_glove_maps_and_keeps_its_dead_band():
+    core = GloveCore([1, 2], [(500, 700), (500, 700)], [False, True], 2)
+    assert core.update([500, 500]) == bytes([255, 1, 0, 2, 180])
+    assert core.update([501, 501]) == b""
+    assert core.update([600, 700]) == bytes([255, 1, 90, 2, 0])
+    core.feed(250, [600, 600])  # MIN: these readings are now 0
+    assert core.update([600, 600]) == bytes([255, 1, 0, 2, 180])
+
+
+@POSIX
+def test_record_a_virtual_glove_on_a_pseudo_terminal(tmp_path):
+    sim = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim", "--glove",
+                            "count", "--noise", "0.3", "--boot", "0.1"],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        path = sim.stdout.readline().strip()
+        assert path.startswith("/dev/"), sim.stderr.read()
+        out = tmp_path / "counted.gest"
+        done = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestc", "record",
+                               "--port", path, "-o", str(out), "--seconds", "6.5"],
+                              capture_output=True, text=True, timeout=60)
+    finally:
+        sim.kill()
+        sim.wait()
+    assert done.returncode == 0, done.stderr
+    assert f"wrote {out}: counted, " in done.stderr
+    compiled, plan = compile_program(load(str(out)), None, RHAND)
+    assert compiled.gesture == "counted"
+    assert compiled.final[1:] == (0, 0, 0, 0, 0)
+    assert 8 <= len(plan.steps) <= 14
+
+
+def test_nothing_recorded_is_a_clear_error(tmp_path, capsys):
+    from inmoov_dsl.cli import gestc
+
+    code = gestc.main(["record", "--port", "sim://?boot=0", "-o", str(tmp_path / "x.gest"),
+                       "--seconds", "0.3"])
+    assert code == 1
+    assert capsys.readouterr().err.endswith(
+        "gestc: error: no servo command for profile 'rhand' came from sim://?boot=0\n"
+        "  hint: is the glove on this port, sending to these servo IDs?\n")
+    assert not (tmp_path / "x.gest").exists()
