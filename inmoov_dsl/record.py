@@ -94,11 +94,9 @@ def _drop_spikes(t: np.ndarray, v: np.ndarray, vmax: float
 
 def traces(samples: Sequence[tuple[float, int, int]], profile: Profile,
            deadband: float = 0.0) -> Traces:
-    """The samples of each of ``profile``'s servos, cleaned, on the servo frame grid:
-    the value last reported at each frame's end, as a board holds it. A glove reports
-    a finger only once it has moved more than its ``deadband``, so between reports the
-    finger is anywhere within that band of the value held; a big change after a
-    silence means reports were lost, and the motion is drawn straight across."""
+    """The samples of each of ``profile``'s servos, cleaned, on the servo frame grid.
+    A glove reports a finger only once it has moved more than its ``deadband``, so the
+    finger is anywhere within that band of the line drawn through its reports."""
     if not samples:
         return Traces(np.zeros(1), {}, 0, 0, deadband)
     t0 = samples[0][0]
@@ -113,15 +111,22 @@ def traces(samples: Sequence[tuple[float, int, int]], profile: Profile,
         v = np.asarray([s[2] for s in samples if s[1] == sid], dtype=float)
         t, v, lost = _drop_spikes(t, v, profile.servos[index[sid]].max_velocity)
         kept, dropped = kept + len(v), dropped + lost
-        held = v[np.maximum(np.searchsorted(t, grid + 1e-9, side="right") - 1, 0)]
-        # more than the servo can move in two frames, after a silence: reports were lost
+        # close samples are a motion: straight from one to the next (arrival times
+        # jitter by a few ms, a held value would lag a whole frame behind); after a
+        # silence, a small change ends a hold (held until a frame before it), a big one
+        # means reports were lost (straight across the stream's longest silence)
         lost_jump = deadband + 2 * SERVO_FRAME * profile.servos[index[sid]].max_velocity
-        for k in np.flatnonzero((np.diff(t) > SILENCE) & (np.abs(np.diff(v)) > lost_jump)):
-            # the motion was lost in the longest silence of the whole stream in between
-            inside = heard[(heard >= t[k]) & (heard <= t[k + 1])]
-            m = int(np.argmax(np.diff(inside)))
-            gap = (grid > inside[m]) & (grid < t[k + 1])
-            held[gap] = np.interp(grid[gap], [inside[m], t[k + 1]], v[k:k + 2])
+        knots_t, knots_v = list(t), list(v)
+        for k in np.flatnonzero(np.diff(t) > SILENCE):
+            if abs(v[k + 1] - v[k]) > lost_jump:
+                inside = heard[(heard >= t[k]) & (heard <= t[k + 1])]
+                m = int(np.argmax(np.diff(inside)))
+                knots_t.append(inside[m])
+            else:
+                knots_t.append(t[k + 1] - SERVO_FRAME)
+            knots_v.append(v[k])
+        order = np.argsort(knots_t, kind="stable")
+        held = np.interp(grid, np.asarray(knots_t)[order], np.asarray(knots_v)[order])
         values[index[sid]] = held
     return Traces(grid, values, kept, dropped, deadband)
 

@@ -224,6 +224,37 @@ def test_the_glove_captures_its_calibration_from_min_and_max(driver):
     assert out[7:] == ["sent", "sent"]
 
 
+def test_the_python_glove_answers_like_the_firmware_glove(driver):
+    """The same readings and commands into the C++ core and the Python one (the virtual
+    glove of gestsim --glove): the same bytes."""
+    import random
+
+    from inmoov_dsl.glove import GloveCore as PythonGlove
+
+    rng = random.Random(5)
+    script = []
+    for _ in range(400):
+        if rng.random() < 0.05:
+            script.append(f"host {rng.choice([249, 250, 255, 7])}")
+        else:
+            script.append("read " + " ".join(str(rng.randint(400, 900)) for _ in range(3)))
+    cpp = run_driver(driver, "glove", GLOVE + script)
+    python = PythonGlove([1, 2, 3], [(579, 713), (519, 743), (588, 793)], [False, False, True],
+                         2)
+    readings = [0, 0, 0]
+    expected = []
+    for line in script:
+        kind, *numbers = line.split()
+        if kind == "read":
+            readings = list(map(int, numbers))
+            sent = python.update(readings)
+        else:
+            python.feed(int(numbers[0]), readings)
+            sent = b""
+        expected.append(" ".join(["sent", *map(str, sent)]))
+    assert cpp == expected
+
+
 # -- the build ----------------------------------------------------------------------
 def test_every_board_builds_and_says_what_it_uses(build, boards):
     names = sorted(folder for name in SHIPPED for folder in sketches(load_profile(name)))

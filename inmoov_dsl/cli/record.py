@@ -44,7 +44,7 @@ def cmd_record(args: argparse.Namespace) -> int:
     start = time.monotonic()
     try:
         while args.seconds is None or time.monotonic() - start < args.seconds:
-            data = port.read(4096)
+            data = port.read(max(1, port.in_waiting))  # at once: each byte's own time
             if data:
                 reader.feed(time.monotonic(), data)
             if live:

@@ -1,0 +1,116 @@
+"""gestc preview (the hand, animated), gestsim --view (the same, live), gestc export."""
+
+import csv
+import io
+import math
+import os
+import select
+import subprocess
+import sys
+import time
+
+import pytest
+from PIL import Image
+
+from inmoov_dsl import GestError, load_profile
+from inmoov_dsl.cli import gestc
+from inmoov_dsl.compiler import compile_program, load
+from inmoov_dsl.library import scan_library
+from inmoov_dsl.preview import draw_hand, hand_servos, poses
+
+LIBRARY = scan_library()
+POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
+
+
+def compiled(name, profile="rhand"):
+    return compile_program(load(str(LIBRARY[name].path)), name, profile)
+
+
+def test_the_preview_is_frame_accurate_to_the_stream(tmp_path, capsys):
+    out = tmp_path / "peace.gif"
+    assert gestc.main(["preview", "peace", "-o", str(out)]) == 0
+    assert capsys.readouterr().err.startswith(f"wrote {out}: ")
+    gif = Image.open(out)
+    durations = []
+    for k in range(gif.n_frames):
+        gif.seek(k)
+        durations.append(gif.info["duration"])
+    c, plan = compiled("peace")
+    # one frame per 20 ms servo frame, repeated frames merged: the same total time
+    assert all(d % 20 == 0 for d in durations)
+    assert sum(durations) == 20 * (math.ceil(c.duration / 0.02) + 1)
+    times, frames = poses(plan, c)
+    assert frames[0] == dict.fromkeys(("wrist", "thumb", "index", "middle", "ring",
+                                       "pinky"), 0)
+    assert frames[-1] == {"wrist": 0, "thumb": 180, "index": 0, "middle": 0, "ring": 180,
+                          "pinky": 180}
+
+
+def tip_is_drawn(image, finger_x, y=100):
+    return image.getpixel((finger_x, y)) != (255, 255, 255)
+
+
+def test_a_curled_finger_folds_down_and_a_straight_one_stands_up():
+    straight = draw_hand({"index": 0, "ring": 0})
+    curled = draw_hand({"index": 0, "ring": 180})
+    assert tip_is_drawn(straight, 86) and tip_is_drawn(straight, 138)
+    assert tip_is_drawn(curled, 86) and not tip_is_drawn(curled, 138)
+
+
+def test_the_robot_hand_and_the_left_hand_are_drawn_too():
+    assert hand_servos(load_profile("inmoov"))["index"] == load_profile("inmoov").index(
+        "r_index")
+    assert set(hand_servos(load_profile("lhand"))) == {"wrist", "thumb", "index", "middle",
+                                                       "ring", "pinky"}
+    from conftest import make_profile
+
+    with pytest.raises(GestError, match="has no hand to draw"):
+        hand_servos(make_profile({181: ["neck"]}))
+
+
+def test_a_preview_must_be_a_gif(tmp_path, capsys):
+    assert gestc.main(["preview", "peace", "-o", str(tmp_path / "p.png")]) == 1
+    assert "the preview is an animated GIF" in capsys.readouterr().err
+
+
+def test_export_writes_joint_states_in_radians(tmp_path, capsys):
+    out = tmp_path / "peace.csv"
+    assert gestc.main(["export", "peace", "--joint-states", str(out)]) == 0
+    rows = list(csv.reader(io.StringIO(out.read_text())))
+    assert rows[0] == ["time", "right_arm_to_wrist", "right_palm_to_thumb",
+                       "right_palm_to_index", "right_palm_to_medius", "right_palm_to_ring",
+                       "right_palm_to_pinky"]
+    assert rows[1] == ["0.000"] + ["0.000000"] * 6
+    assert [float(x) for x in rows[-1]] == pytest.approx(
+        [0.7, 0, math.pi, 0, 0, math.pi, math.pi], abs=1e-6)
+    assert len(rows) == 1 + 36  # 0.70 s at 50 rows a second, both ends
+    times = [float(r[0]) for r in rows[1:]]
+    assert times == pytest.approx([k * 0.02 for k in range(36)])
+
+
+def test_export_names_the_robots_right_hand_like_the_model():
+    assert gestc.main(["export", "peace", "--profile", "inmoov", "--joint-states", "-"]) == 0
+
+
+@POSIX
+def test_gestsim_view_draws_the_hand_live():
+    master, slave = os.openpty()
+    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim", "--view",
+                             "--boot", "0.1"], stdout=subprocess.PIPE, stderr=slave, text=True)
+    os.close(slave)
+    try:
+        path = proc.stdout.readline().strip()
+        player = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "peace",
+                                 "--port", path], capture_output=True, timeout=30)
+        assert player.returncode == 0, player.stderr
+        time.sleep(0.3)
+        screen, deadline = b"", time.monotonic() + 5
+        while select.select([master], [], [], 0.2)[0] and time.monotonic() < deadline:
+            screen += os.read(master, 1 << 16)
+    finally:
+        proc.kill()
+        proc.wait()
+        os.close(master)
+    text = screen.decode(errors="replace")
+    assert text.count("\u2580") >= 48 * 30  # a picture of half blocks, redrawn
+    assert "\x1b[38;2;" in text and "\x1b[48;2;" in text
