@@ -1,11 +1,10 @@
 """gestplay calibrate: arrow keys at a real terminal, the result written into the profile."""
 
 import os
-import subprocess
 import sys
-import time
 
 import pytest
+from terminal import AtTerminal
 
 from inmoov_dsl.calibrate import edit_profile, found
 from inmoov_dsl.errors import GestError
@@ -56,29 +55,11 @@ def test_missing_keys_are_added_and_a_missing_table_is_a_clear_error():
 
 def calibrate(tmp_path, keys, *argv):
     """Run gestplay calibrate on sim:// at a real pseudo-terminal, pressing ``keys``."""
-    master, slave = os.openpty()
-    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "calibrate",
-                             "--port", "sim://?boot=0", *argv], stdin=slave, stdout=slave,
-                            stderr=slave, cwd=tmp_path)
-    os.close(slave)
-    out = b""
-
-    def read_until(text, timeout=20):
-        nonlocal out
-        deadline = time.monotonic() + timeout
-        while text not in out and time.monotonic() < deadline:
-            try:
-                out += os.read(master, 4096)
-            except OSError:
-                break
-
-    read_until(b"value   0")
-    for key in keys:
-        os.write(master, key.encode())
-        time.sleep(0.02)
-    read_until(b"\xff never")  # everything until the process ends
-    os.close(master)
-    return proc.wait(timeout=20), out.decode(errors="replace")
+    term = AtTerminal([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "calibrate",
+                       "--port", "sim://?boot=0", *argv], cwd=tmp_path)
+    term.read_until(b"value   0")
+    term.press(*keys, pause=0.02)
+    return term.finish()
 
 
 RIGHT, UP = "\x1b[C", "\x1b[A"

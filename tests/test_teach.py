@@ -1,11 +1,11 @@
 """gestplay teach: keys pose the hand, poses become keyframes, keyframes a gesture."""
 
 import os
-import subprocess
 import sys
 import time
 
 import pytest
+from terminal import AtTerminal
 
 from inmoov_dsl import compile_source, load_profile
 from inmoov_dsl.teach import Teach
@@ -56,46 +56,25 @@ def test_the_taught_gesture_compiles_to_its_keyframes():
 
 @POSIX
 def test_teach_at_a_terminal_poses_plays_back_and_saves(tmp_path):
-    master, slave = os.openpty()
-    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "teach",
-                             "--port", "sim://?boot=0", "-o", "wave.gest"],
-                            stdin=slave, stdout=slave, stderr=slave, cwd=tmp_path)
-    os.close(slave)
-    out = b""
-
-    def read_until(text, timeout=20):
-        nonlocal out
-        deadline = time.monotonic() + timeout
-        while text not in out and time.monotonic() < deadline:
-            try:
-                out += os.read(master, 4096)
-            except OSError:
-                break
-
-    def press(*keys):
-        for key in keys:
-            os.write(master, key.encode())
-            time.sleep(0.03)
-
-    read_until(b"keyframes, next over")
-    press("2", *[UP] * 5, PGUP, PGUP, "\r")            # thumb 25: the first keyframe
-    press("3", *[PGUP] * 9, *["+"] * 5, "\r")          # index 90, one second later
-    press(*[PGDN] * 9, "-", "-", " ")                   # index 0, 0.8 s later
-    press("p")
-    read_until(b"playing 3 keyframes")
-    time.sleep(2.2)                                     # the playback: 1.8 s
-    press("s")
-    read_until(b"saved 3 keyframes")
-    press("q")
-    read_until(b"\xff never")
-    os.close(master)
-    assert proc.wait(timeout=20) == 0, out.decode(errors="replace")
+    term = AtTerminal([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "teach",
+                       "--port", "sim://?boot=0", "-o", "wave.gest"], cwd=tmp_path)
+    term.read_until(b"keyframes, next over")
+    term.press("2", *[UP] * 5, PGUP, PGUP, "\r")            # thumb 25: the first keyframe
+    term.press("3", *[PGUP] * 9, *["+"] * 5, "\r")          # index 90, one second later
+    term.press(*[PGDN] * 9, "-", "-", " ")                   # index 0, 0.8 s later
+    term.press("p")
+    term.read_until(b"playing 3 keyframes")
+    time.sleep(2.2)                                          # the playback: 1.8 s
+    term.press("s")
+    term.read_until(b"saved 3 keyframes")
+    term.press("q")
+    code, screen = term.finish()
+    assert code == 0, screen
     text = (tmp_path / "wave.gest").read_text()
     assert text == ("# wave: taught with gestplay teach, 3 keyframes\n"
                     "wave:\n"
                     "    wrist 0, thumb 25, index 0, middle 0, ring 0, pinky 0\n"
                     "    index 90 over 1000ms\n"
                     "    index 0 over 800ms\n")
-    screen = out.decode(errors="replace")
     assert "[thumb 25]" in screen and "[index 90]" in screen
     assert "Traceback" not in screen

@@ -10,13 +10,13 @@ from pathlib import Path
 from ..board import BoardServo
 from ..calibrate import edit_profile, found
 from ..errors import Diagnostic, GestError, did_you_mean
-from ..player import ask_dump, drain, wait_ready
+from ..player import ask_dump, wait_ready
 from ..ports import open_port
 from ..profile import find_profile, load_profile, parse_profile
 from ..protocol import MAX_VALUE, Signal
 from ..resources import profiles_dir
 from ..urlhandler import protocol_sim
-from .common import EXIT_INTERRUPTED, EXIT_OK
+from .common import EXIT_INTERRUPTED, EXIT_OK, send_value, status_line
 from .keys import key_reader
 
 PROG = "gestplay calibrate"
@@ -52,12 +52,12 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
         marks: dict[str, int] = {}
         with key_reader() as keys:
             print(HELP)
-            _send(port, servo.id, value)
+            send_value(port, servo.id, value)
             _show(servo.name, value, mapping, marks)
             for key in keys:
                 if key in STEPS:
                     value = max(0, min(MAX_VALUE, value + STEPS[key]))
-                    _send(port, servo.id, value)
+                    send_value(port, servo.id, value)
                 elif key in ("s", "c"):
                     marks["straight" if key == "s" else "curled"] = mapping.angle(value)
                 elif key == "enter":
@@ -99,19 +99,9 @@ def _output(source: Path, name: str) -> Path:
     return Path.cwd() / f"{name}.toml"
 
 
-def _send(port, servo_id: int, value: int) -> None:
-    port.write(bytes([Signal.CANCEL, servo_id, value]))
-    drain(port)  # WAIT bytes; a pulled cable raises here
-
-
 def _show(name: str, value: int, mapping: BoardServo, marks: dict[str, int]) -> None:
     mark = "  ".join(f"{k} {v}" for k, v in marks.items()) or "no ends marked"
-    line = f"{name}: value {value:>3}  angle {mapping.angle(value):>3}  |  {mark}"
-    if sys.stdout.isatty():
-        sys.stdout.write(f"\r\x1b[2K{line}")
-    else:
-        sys.stdout.write(f"{line}\n")
-    sys.stdout.flush()
+    status_line(f"{name}: value {value:>3}  angle {mapping.angle(value):>3}  |  {mark}")
 
 
 def add_parser(sub) -> None:

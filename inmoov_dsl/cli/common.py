@@ -42,3 +42,22 @@ def add_lib(p: argparse.ArgumentParser) -> None:
     p.add_argument("--lib", action="append", default=[], metavar="DIR",
                    help="also look for gestures in DIR (before GEST_PATH, ./gestures and "
                    "the built-in library); may be repeated")
+
+
+def status_line(text: str) -> None:
+    """One line that redraws itself on a terminal (each one on its own line otherwise)."""
+    if sys.stdout.isatty():
+        sys.stdout.write(f"\r\x1b[2K{text}")
+    else:
+        sys.stdout.write(f"{text}\n")
+    sys.stdout.flush()
+
+
+def send_value(port, servo_id: int, value: int) -> None:
+    """Move one servo now: CANCEL (the board may be mid-command), then the pair; the
+    board's WAIT bytes are read off, so a pulled cable raises here."""
+    from ..player import drain
+    from ..protocol import Signal
+
+    port.write(bytes([Signal.CANCEL, servo_id, value]))
+    drain(port)

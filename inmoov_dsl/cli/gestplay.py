@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 import serial
@@ -139,27 +140,37 @@ def cmd_play(args: argparse.Namespace) -> int:
                                    "--port /dev/ttyUSB0, or --port sim:// for the virtual "
                                    "board (--dry-run prints the schedule)"))
     links = connect(parse_ports(args.port, profile), profile)
+    return on_the_hand(PROG, links, lambda: _play_loop(args, target, links))
+
+
+def _play_loop(args: argparse.Namespace, target: Target, links: list[Link]) -> int:
+    pose = board_pose(links, target.profile)
+    for _ in range(args.loop):
+        compiled = target.build(pose)
+        if target.program is None and pose and pose != dict(zip(compiled.servos,
+                                                                compiled.start, strict=True)):
+            _warn("the hand is not in the pose this compiled gesture starts from: it will "
+                  "jump to it")
+        show = _progress(compiled, args.speed) if sys.stderr.isatty() else None
+        worst = play(compiled, links, args.speed, progress=show)
+        if show:
+            print(file=sys.stderr)
+        pose = dict(zip(compiled.servos, compiled.final, strict=True))
+    sent = sum(len(s.data) for s in compiled.streams)
+    print(f"played {compiled.gesture}: {compiled.duration / args.speed:.2f} s, "
+          f"{sent:,} bytes, worst lateness {worst * 1000:.2f} ms", file=sys.stderr)
+    return EXIT_OK
+
+
+def on_the_hand(prog: str, links: list[Link], body: Callable[[], int]) -> int:
+    """Run ``body`` with the boards' links open, and close them after. Ctrl-C stops it,
+    sends CANCEL so that no half command is pending and exits 130 with the hand holding
+    its pose; a lost link sends CANCEL where it still can and is one line of error."""
     try:
-        pose = board_pose(links, profile)
-        for _ in range(args.loop):
-            compiled = target.build(pose)
-            if target.program is None and pose and pose != dict(zip(compiled.servos,
-                                                                    compiled.start,
-                                                                    strict=True)):
-                _warn("the hand is not in the pose this compiled gesture starts from: it "
-                      "will jump to it")
-            show = _progress(compiled, args.speed) if sys.stderr.isatty() else None
-            worst = play(compiled, links, args.speed, progress=show)
-            if show:
-                print(file=sys.stderr)
-            pose = dict(zip(compiled.servos, compiled.final, strict=True))
-        sent = sum(len(s.data) for s in compiled.streams)
-        print(f"played {compiled.gesture}: {compiled.duration / args.speed:.2f} s, "
-              f"{sent:,} bytes, worst lateness {worst * 1000:.2f} ms", file=sys.stderr)
-        return EXIT_OK
+        return body()
     except KeyboardInterrupt:
         cancel_all(links)
-        print(f"\n{PROG}: interrupted: CANCEL sent, the hand holds its pose", file=sys.stderr)
+        print(f"\n{prog}: interrupted: CANCEL sent, the hand holds its pose", file=sys.stderr)
         return EXIT_INTERRUPTED
     except serial.SerialException as exc:
         cancel_all(links)

@@ -14,16 +14,14 @@ import threading
 import time
 from pathlib import Path
 
-import serial
-
 from ..board import BoardCore
 from ..compiler import load
-from ..errors import Diagnostic, GestError
+from ..errors import GestError
 from ..library import library_dirs, library_files
 from ..live import Segment, Session, line_steps
-from ..player import POLL, SPIN, Link, cancel_all, drain
+from ..player import POLL, SPIN, Link, drain
 from ..profile import Profile, load_profile
-from .common import EXIT_INTERRUPTED, EXIT_OK, add_lib, report
+from .common import EXIT_OK, add_lib, report
 
 PROG = "gestplay repl"
 HELP = """\
@@ -165,11 +163,12 @@ def _events(segment: Segment, links: list[Link]) -> list[tuple[float, int, int]]
 
 
 def cmd_repl(args: argparse.Namespace) -> int:
-    from .gestplay import board_pose, close, connect, parse_ports
+    from .gestplay import board_pose, connect, on_the_hand, parse_ports
 
     profile = load_profile(args.profile or "rhand")
     links = connect(parse_ports(args.port, profile), profile)
-    try:
+
+    def session() -> int:
         pose = board_pose(links, profile)
         lines: queue.Queue = queue.Queue()
         interactive = sys.stdin.isatty()
@@ -179,16 +178,8 @@ def cmd_repl(args: argparse.Namespace) -> int:
                          daemon=True).start()
         return repl(links, profile, pose, lines, take_over=interactive,
                     dirs=library_dirs(args.lib))
-    except KeyboardInterrupt:
-        cancel_all(links)
-        print(f"\n{PROG}: interrupted: CANCEL sent, the hand holds its pose", file=sys.stderr)
-        return EXIT_INTERRUPTED
-    except serial.SerialException as exc:
-        cancel_all(links)
-        where = ", ".join(f"board {link.board} on {link.name}" for link in links)
-        raise GestError(Diagnostic("error", f"lost the link ({where}): {exc}")) from None
-    finally:
-        close(links)
+
+    return on_the_hand(PROG, links, session)
 
 
 def add_parser(sub) -> None:

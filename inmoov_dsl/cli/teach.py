@@ -7,22 +7,19 @@ import argparse
 import sys
 from pathlib import Path
 
-import serial
-
 from ..compiler import compile_program, load
 from ..errors import Diagnostic, GestError
-from ..player import Link, cancel_all, drain, play
-from ..profile import load_profile
-from ..protocol import Signal
+from ..player import Link, play
+from ..profile import Profile, load_profile
 from ..teach import HELP, Teach
-from .common import EXIT_INTERRUPTED, EXIT_OK, report
+from .common import EXIT_OK, report, send_value, status_line
 from .keys import key_reader
 
 PROG = "gestplay teach"
 
 
 def cmd_teach(args: argparse.Namespace) -> int:
-    from .gestplay import board_pose, close, connect, parse_ports
+    from .gestplay import connect, on_the_hand, parse_ports
 
     name = args.name or (Path(args.output).stem if args.output else "taught")
     if not name.isidentifier():
@@ -31,45 +28,36 @@ def cmd_teach(args: argparse.Namespace) -> int:
     output = Path(args.output or f"{name}.gest")
     profile = load_profile(args.profile or "rhand")
     links = connect(parse_ports(args.port, profile), profile)
+    return on_the_hand(PROG, links, lambda: _teach(profile, links, name, output))
+
+
+def _teach(profile: Profile, links: list[Link], name: str, output: Path) -> int:
+    from .gestplay import board_pose
+
     link_of = {link.board: link for link in links}
-    try:
-        held = board_pose(links, profile)
-        teach = Teach(profile, [held.get(s.name, s.rest) for s in profile.servos])
-        with key_reader() as keys:
-            print(HELP)
+    held = board_pose(links, profile)
+    teach = Teach(profile, [held.get(s.name, s.rest) for s in profile.servos])
+    with key_reader() as keys:
+        print(HELP)
+        _show(teach)
+        for key in keys:
+            action = teach.press(key)
+            if action == "send":
+                servo = profile.servos[teach.selected]
+                send_value(link_of[servo.board].port, servo.id, teach.pose[teach.selected])
+            elif action == "play":
+                _play_back(teach, name, links)
+            elif action == "save":
+                output.write_text(teach.gesture(name), encoding="utf-8")
+                teach.saved = True
+                _say(f"saved {len(teach.keys)} keyframes to {output} as '{name}'")
+            elif action == "quit":
+                break
             _show(teach)
-            for key in keys:
-                action = teach.press(key)
-                if action == "send":
-                    servo = profile.servos[teach.selected]
-                    _send(link_of[servo.board], servo.id, teach.pose[teach.selected])
-                elif action == "play":
-                    _play_back(teach, name, links)
-                elif action == "save":
-                    output.write_text(teach.gesture(name), encoding="utf-8")
-                    teach.saved = True
-                    _say(f"saved {len(teach.keys)} keyframes to {output} as '{name}'")
-                elif action == "quit":
-                    break
-                _show(teach)
-        if not teach.saved:
-            _say(f"{len(teach.keys)} keyframes not saved (s saves)")
-        print()
-        return EXIT_OK
-    except KeyboardInterrupt:
-        cancel_all(links)
-        print(f"\n{PROG}: interrupted: CANCEL sent, the hand holds its pose", file=sys.stderr)
-        return EXIT_INTERRUPTED
-    except serial.SerialException as exc:
-        cancel_all(links)
-        raise GestError(Diagnostic("error", f"lost the link: {exc}")) from None
-    finally:
-        close(links)
-
-
-def _send(link: Link, servo_id: int, value: int) -> None:
-    link.port.write(bytes([Signal.CANCEL, servo_id, value]))
-    drain(link.port)  # WAIT bytes; a pulled cable raises here
+    if not teach.saved:
+        _say(f"{len(teach.keys)} keyframes not saved (s saves)")
+    print()
+    return EXIT_OK
 
 
 def _play_back(teach: Teach, name: str, links: list[Link]) -> None:
@@ -88,11 +76,7 @@ def _say(text: str) -> None:
 
 
 def _show(teach: Teach) -> None:
-    if sys.stdout.isatty():
-        sys.stdout.write(f"\r\x1b[2K{teach.line()}")
-    else:
-        sys.stdout.write(f"{teach.line()}\n")
-    sys.stdout.flush()
+    status_line(teach.line())
 
 
 def add_parser(sub) -> None:

@@ -1,0 +1,37 @@
+"""A program at a real pseudo-terminal, for the tests that press keys."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import time
+
+
+class AtTerminal:
+    """``argv`` running with a pseudo-terminal as its stdin, stdout and stderr."""
+
+    def __init__(self, argv: list[str], cwd=None):
+        self.master, slave = os.openpty()
+        self.proc = subprocess.Popen(argv, stdin=slave, stdout=slave, stderr=slave, cwd=cwd)
+        os.close(slave)
+        self.out = b""
+
+    def read_until(self, text: bytes, timeout: float = 20) -> None:
+        """Read the screen until ``text`` appears (or the program ends, or time is up)."""
+        deadline = time.monotonic() + timeout
+        while text not in self.out and time.monotonic() < deadline:
+            try:
+                self.out += os.read(self.master, 4096)
+            except OSError:  # the program has ended
+                break
+
+    def press(self, *keys: str, pause: float = 0.03) -> None:
+        for key in keys:
+            os.write(self.master, key.encode())
+            time.sleep(pause)
+
+    def finish(self) -> tuple[int, str]:
+        """Read until the program ends: (exit status, everything it wrote)."""
+        self.read_until(b"\xff never")
+        os.close(self.master)
+        return self.proc.wait(timeout=20), self.out.decode(errors="replace")
