@@ -3,13 +3,14 @@
 1. ``StreamReader`` reads the bytes as a servo board would (CANCEL, pairs, signals
    skipped) with the time each arrived, and keeps every (time, servo, value): a glove's
    stream, or any stream in the protocol.
-2. ``traces`` cleans each servo's samples: a lone sample far from its neighbours (a
-   byte lost in a pair) is dropped, and the rest becomes the value held on every
-   20 ms servo frame, within the glove's dead-band of the finger.
-3. ``keyframes`` picks the poses: starting from the first and last frame, a stretch is
-   planned as one move, exactly as the compiler will plan it; where the planned motion
-   strays from the recording by more than the tolerance, the stretch is split at the
-   worst frame, until every stretch follows the recording (or is one frame long).
+2. ``traces`` cleans each servo's samples (a lone wrong one, made by a byte lost in a
+   pair, is dropped) and draws a line through them, on every 20 ms servo frame: a
+   glove reports a finger once it has moved more than its dead-band, so the finger is
+   within that band of the line.
+3. ``keyframes`` picks the poses: a move is planned from rest to rest, so keyframes
+   belong where the motion pauses or turns; of those frames, a shortest path picks the
+   fewest whose moves, planned exactly as the compiler plans them, stay within the
+   tolerance of the recording.
 4. ``to_gest`` writes them as a gesture in the canonical layout, durations taken from
    the recording.
 """
@@ -30,6 +31,7 @@ from .resolve import Step
 DEFAULT_TOLERANCE = 3.0  #: command degrees
 OUTLIER = 12.0  #: command degrees from both neighbours makes a lone sample an outlier
 SILENCE = 0.1  #: s without a report
+WINDOW = 40  #: a move spans at most this many candidate pauses
 
 
 @dataclass
@@ -71,7 +73,7 @@ class Traces:
     values: dict[int, np.ndarray]  #: servo index -> command degrees, one per frame
     samples: int  #: samples kept
     dropped: int  #: outliers dropped
-    band: float = 0.0  #: command degrees the true value may be from the value held
+    band: float = 0.0  #: command degrees the true value may be from the line
 
 
 def _drop_spikes(t: np.ndarray, v: np.ndarray, vmax: float
@@ -86,8 +88,7 @@ def _drop_spikes(t: np.ndarray, v: np.ndarray, vmax: float
     median = np.median(window, axis=0)
     dt = np.clip(np.abs(np.diff(t)), SERVO_FRAME, SILENCE)  # a jump after a silence counts
     speed = np.abs(np.diff(v)) / dt
-    fast = np.concatenate(([speed[0]], np.minimum(speed[:-1], speed[1:]) if n > 2 else [],
-                           [speed[-1]]))
+    fast = np.concatenate(([speed[0]], np.minimum(speed[:-1], speed[1:]), [speed[-1]]))
     spike = (np.abs(v - median) > OUTLIER) & (fast > 3 * vmax)
     return t[~spike], v[~spike], int(spike.sum())
 
@@ -126,8 +127,8 @@ def traces(samples: Sequence[tuple[float, int, int]], profile: Profile,
                 knots_t.append(t[k + 1] - SERVO_FRAME)
             knots_v.append(v[k])
         order = np.argsort(knots_t, kind="stable")
-        held = np.interp(grid, np.asarray(knots_t)[order], np.asarray(knots_v)[order])
-        values[index[sid]] = held
+        values[index[sid]] = np.interp(grid, np.asarray(knots_t)[order],
+                                       np.asarray(knots_v)[order])
     return Traces(grid, values, kept, dropped, deadband)
 
 
@@ -142,11 +143,8 @@ class Keyframe:
 @dataclass(frozen=True)
 class Fit:
     keyframes: tuple[Keyframe, ...]
-    error: float  #: the largest difference between the planned motion and the recording
+    error: float  #: degrees the planned motion strays beyond the recording's band, at most
     stretched: tuple[float, ...]  #: times of moves the limits make slower than recorded
-
-
-WINDOW = 40  #: a move spans at most this many candidate pauses
 
 
 def keyframes(tr: Traces, profile: Profile, tolerance: float = DEFAULT_TOLERANCE) -> Fit:
@@ -183,11 +181,8 @@ def keyframes(tr: Traces, profile: Profile, tolerance: float = DEFAULT_TOLERANCE
         path.append(best[path[-1]][2])
     path.reverse()
     cuts = [frames[k] for k in path]
-
-    def hop(a: int, b: int) -> tuple[float, bool]:
-        return _segment(planner, servos, tr.times, rec, poses, a, b, tr.band)
-
-    results = [hop(a, b) for a, b in zip(cuts, cuts[1:], strict=False)]
+    results = [_segment(planner, servos, tr.times, rec, poses, a, b, tr.band)
+               for a, b in zip(cuts, cuts[1:], strict=False)]
     worst = max((error for error, _ in results), default=0.0)
     stretched = tuple(float(tr.times[a]) for a, (_, slow) in zip(cuts, results, strict=False)
                       if slow)
