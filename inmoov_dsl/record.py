@@ -93,6 +93,24 @@ def _drop_spikes(t: np.ndarray, v: np.ndarray, vmax: float
     return t[~spike], v[~spike], int(spike.sum())
 
 
+def on_the_clock(samples: Sequence[tuple[float, int, int]], period: float
+                 ) -> list[tuple[float, int, int]]:
+    """A glove reports on its own clock, every ``period`` s; the computer sees the
+    reports late by a varying few ms (a USB-serial chip holds them up to 16 ms). When
+    the arrival times fit that clock, each is moved back onto its tick."""
+    if len(samples) < 3:
+        return list(samples)
+    t = np.asarray([s[0] for s in samples])
+    t0 = t[0]
+    shift = float(np.median(t - t0 - np.round((t - t0) / period) * period))
+    ticks = np.round((t - t0 - shift) / period)
+    off = t - t0 - shift - ticks * period
+    if np.mean(np.abs(off) < period / 3) < 0.9:
+        return list(samples)  # not a periodic sender: the arrival times as they are
+    return [(t0 + shift + k * period, sid, v)
+            for k, (_, sid, v) in zip(ticks.tolist(), samples, strict=True)]
+
+
 def traces(samples: Sequence[tuple[float, int, int]], profile: Profile,
            deadband: float = 0.0) -> Traces:
     """The samples of each of ``profile``'s servos, cleaned, on the servo frame grid.

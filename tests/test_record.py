@@ -12,7 +12,7 @@ from inmoov_dsl import load_profile
 from inmoov_dsl.compiler import compile_program, load
 from inmoov_dsl.glove import GloveCore, Imperfections, glove_stream
 from inmoov_dsl.library import scan_library
-from inmoov_dsl.record import StreamReader, keyframes, start_pose, to_gest, traces
+from inmoov_dsl.record import StreamReader, keyframes, on_the_clock, start_pose, to_gest, traces
 
 RHAND = load_profile("rhand")
 GLOVE = RHAND.gloves[0]
@@ -88,6 +88,19 @@ def test_a_lost_byte_that_makes_a_wrong_pair_is_dropped():
     reader, tr, fit, _, plan = record(stream)
     assert tr.dropped == 1
     assert plan.final == motion.final
+
+
+def test_late_arrivals_are_put_back_on_the_gloves_clock():
+    rng = np.random.default_rng(2)
+    sent = [(k * 0.02, 1, k) for k in range(100)]
+    late = [(t + 0.5 + rng.uniform(0, 0.006), sid, v) for t, sid, v in sent]
+    snapped = on_the_clock(late, 0.02)
+    assert [v for _, _, v in snapped] == list(range(100))
+    steps = np.diff([t for t, _, _ in snapped])
+    assert np.allclose(steps, 0.02)
+    scattered = [(rng.uniform(0, 2), 1, k) for k in range(100)]
+    scattered.sort()
+    assert on_the_clock(scattered, 0.02) == scattered  # not a clock: left as it is
 
 
 def test_the_python_glove_maps_and_keeps_its_dead_band():

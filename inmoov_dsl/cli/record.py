@@ -14,7 +14,7 @@ from pathlib import Path
 
 from ..errors import Diagnostic, GestError
 from ..profile import load_profile
-from ..record import DEFAULT_TOLERANCE, StreamReader, keyframes, to_gest, traces
+from ..record import DEFAULT_TOLERANCE, StreamReader, keyframes, on_the_clock, to_gest, traces
 from ..urlhandler import protocol_sim
 from .common import EXIT_OK
 
@@ -61,7 +61,10 @@ def cmd_record(args: argparse.Namespace) -> int:
         raise GestError(Diagnostic(
             "error", f"no servo command for profile '{profile.name}' came from {args.port}",
             hint="is the glove on this port, sending to these servo IDs?"))
-    tr = traces(reader.samples, profile, deadband)
+    samples = reader.samples
+    if glove is not None:
+        samples = on_the_clock(samples, glove.frame_ms / 1000)
+    tr = traces(samples, profile, deadband)
     fit = keyframes(tr, profile, args.tolerance)
     span = tr.times[-1]
     about = [f"{name}: recorded on {args.port}, {span:.2f} s, {tr.samples:,} samples, "
