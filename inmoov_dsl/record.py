@@ -152,10 +152,13 @@ def traces(samples: Sequence[tuple[float, int, int]], profile: Profile,
 
 @dataclass(frozen=True)
 class Keyframe:
-    """Where the recorded motion goes: a pose (servo index -> value), reached ``at``."""
+    """Where the recorded motion goes: a pose (servo index -> value), reached ``at``;
+    the move into it starts its servos ``stagger`` s apart, in ``order``."""
 
     at: float  #: s
     pose: dict[int, int]
+    stagger: float = 0.0
+    order: tuple[int, ...] = ()  #: servo indices, when staggered
 
 
 @dataclass(frozen=True)
@@ -189,8 +192,8 @@ def keyframes(tr: Traces, profile: Profile, tolerance: float = DEFAULT_TOLERANCE
     for j in range(1, len(frames)):
         options = []
         for i in range(max(0, j - WINDOW), j):
-            error, slow = _segment(planner, servos, tr.times, rec, poses, frames[i],
-                                   frames[j], tr.band)
+            error, slow, _ = _segment(planner, servos, tr.times, rec, poses, frames[i],
+                                      frames[j], tr.band)
             excess = max(0.0, error - tolerance) + (1000.0 if slow else 0.0)
             options.append((best[i][0] + excess, best[i][1] + 1, i))
         best.append(min(options))
@@ -201,11 +204,12 @@ def keyframes(tr: Traces, profile: Profile, tolerance: float = DEFAULT_TOLERANCE
     cuts = [frames[k] for k in path]
     results = [_segment(planner, servos, tr.times, rec, poses, a, b, tr.band)
                for a, b in zip(cuts, cuts[1:], strict=False)]
-    worst = max((error for error, _ in results), default=0.0)
-    stretched = tuple(float(tr.times[a]) for a, (_, slow) in zip(cuts, results, strict=False)
+    worst = max((error for error, _, _ in results), default=0.0)
+    stretched = tuple(float(tr.times[a]) for a, (_, slow, _) in zip(cuts, results, strict=False)
                       if slow)
-    keys = tuple(Keyframe(float(tr.times[k]), dict(zip(servos, poses[k].tolist(), strict=True)))
-                 for k in cuts)
+    staggers = [(0.0, ())] + [wave for _, _, wave in results]
+    keys = tuple(Keyframe(float(tr.times[k]), dict(zip(servos, poses[k].tolist(), strict=True)),
+                          *wave) for k, wave in zip(cuts, staggers, strict=True))
     return Fit(keys, worst, stretched)
 
 
@@ -230,19 +234,39 @@ def _pauses(rec: np.ndarray, limits: list[float]) -> list[int]:
 
 
 def _segment(planner: Planner, servos: list[int], times: np.ndarray, rec: np.ndarray,
-             poses: np.ndarray, a: int, b: int, band: float) -> tuple[float, bool]:
-    """Plan the move from frame a's pose to frame b's over their time: (how far it
-    strays beyond ``band`` of the recording, whether the limits stretch it)."""
+             poses: np.ndarray, a: int, b: int, band: float
+             ) -> tuple[float, bool, tuple[float, tuple[int, ...]]]:
+    """Plan the move from frame a's pose to frame b's over their time, all servos
+    together, or (if that follows the recording better) one after another in the order
+    they started, ``stagger`` apart: (how far it strays beyond ``band`` of the
+    recording, whether the limits stretch it, (stagger, order))."""
     start = [s.rest for s in planner.profile.servos]
     for k, i in enumerate(servos):
         start[i] = int(poses[a][k])
-    targets = tuple((i, int(poses[b][k])) for k, i in enumerate(servos))
-    over = float(times[b] - times[a])
-    plan = planner.plan([Step(targets, over=over)], start)
     span = times[a:b + 1] - times[a]
-    planned = np.stack([plan.tracks[i].position(span) for i in servos], axis=1)
-    error = np.abs(planned - rec[a:b + 1]).max() - band
-    return max(0.0, float(error)), plan.duration > over + 1e-6
+    total = float(span[-1])
+
+    def try_plan(targets, stagger=0.0):
+        over = total - stagger * (len(targets) - 1)
+        plan = planner.plan([Step(tuple(targets), over=over, stagger=stagger)], start)
+        planned = np.stack([plan.tracks[i].position(span) for i in servos], axis=1)
+        error = max(0.0, float(np.abs(planned - rec[a:b + 1]).max()) - band)
+        return error, plan.duration > total + 1e-6
+
+    changed = [k for k in range(len(servos)) if poses[b][k] != poses[a][k]]
+    best = (*try_plan([(servos[k], int(poses[b][k])) for k in changed]), (0.0, ()))
+    if len(changed) > 1 and best[0] > 0:
+        moved = np.abs(rec[a:b + 1, changed] - rec[a, changed]) > band + 1
+        first = [int(np.argmax(m)) if m.any() else 0 for m in moved.T]
+        order = sorted(range(len(changed)), key=lambda n: first[n])
+        spread = (first[order[-1]] - first[order[0]]) * SERVO_FRAME
+        stagger = round(spread / (len(changed) - 1), 2)
+        if stagger >= SERVO_FRAME and total - stagger * (len(changed) - 1) > SERVO_FRAME:
+            targets = [(servos[changed[n]], int(poses[b][changed[n]])) for n in order]
+            error, slow = try_plan(targets, stagger)
+            if (slow, error) < (best[1], best[0]):
+                best = (error, slow, (stagger, tuple(i for i, _ in targets)))
+    return best
 
 
 def to_gest(name: str, fit: Fit, profile: Profile, about: Sequence[str] = ()) -> str:
@@ -266,8 +290,14 @@ def to_gest(name: str, fit: Fit, profile: Profile, about: Sequence[str] = ()) ->
             if hold:
                 lines.append(f"    hold {round(hold)}ms")
                 hold = 0
-            targets = ", ".join(f"{names[i]} {v}" for i, v in changed.items())
-            lines.append(f"    {targets} over {ms}ms")
+            order = key.order or tuple(changed)
+            targets = ", ".join(f"{names[i]} {changed[i]}" for i in order if i in changed)
+            if key.stagger:
+                stagger = round(key.stagger * 1000)
+                over = ms - stagger * (len(changed) - 1)
+                lines.append(f"    {targets} over {over}ms stagger {stagger}ms")
+            else:
+                lines.append(f"    {targets} over {ms}ms")
         previous = key
     if hold:
         lines.append(f"    hold {round(hold)}ms")
