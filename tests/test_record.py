@@ -68,6 +68,14 @@ def test_a_clean_recording_becomes_the_gesture_it_was():
                            "pinky 0\n    thumb 180, middle 180, ring 180, pinky 180 over ")
 
 
+def test_fingers_that_start_one_after_another_become_a_stagger():
+    motion = truth("bye")  # its moves have "stagger 40ms"
+    reader, tr, fit, text, plan = record(glove_stream(motion, GLOVE))
+    assert fit.error <= 3.0
+    assert "stagger" in text
+    assert worst(plan, motion, tr, reader.samples[0][0]) <= 3.0 + GLOVE.deadband
+
+
 def test_noise_lost_bytes_a_gap_and_a_mid_command_start_do_not_break_it():
     motion = truth("wiggle")
     gap = (2.3, 2.6)  # nothing arrives for 0.3 s, in the middle of a move
