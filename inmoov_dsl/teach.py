@@ -9,9 +9,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from .fmt import format_source
 from .profile import Profile
 from .protocol import MAX_VALUE
+from .record import Fit, Keyframe, to_gest
 
 STEPS = {"up": 1, "down": -1, "pageup": 10, "pagedown": -10}
 MIN_OVER, MAX_OVER, OVER_STEP = 0.1, 10.0, 0.1  #: s
@@ -75,20 +75,13 @@ class Teach:
         return f"{values}  | {len(self.keys)} keyframes, next over {self.over:.1f} s"
 
     def gesture(self, name: str) -> str:
-        """The keyframes as a gesture: the first pose, then each change ``over`` its time."""
+        """The keyframes as a gesture: the first pose, then each change ``over`` its time
+        (written as a recording is, by record.to_gest)."""
         if not self.keys:
             raise ValueError("no keyframe")
-        names = [s.name for s in self.profile.servos]
-        _, first = self.keys[0]
-        lines = [f"# {name}: taught with gestplay teach, {len(self.keys)} keyframes",
-                 f"{name}:", "    " + ", ".join(f"{n} {v}" for n, v in zip(names, first,
-                                                                          strict=True))]
-        previous = first
-        for over, pose in self.keys[1:]:
-            changed = [f"{n} {v}" for n, v, old in zip(names, pose, previous, strict=True)
-                       if v != old]
-            ms = round(over * 1000)
-            lines.append(f"    {', '.join(changed)} over {ms}ms" if changed
-                         else f"    hold {ms}ms")
-            previous = pose
-        return format_source("\n".join(lines) + "\n")
+        keyframes, at = [], 0.0
+        for over, pose in self.keys:
+            at += over
+            keyframes.append(Keyframe(at, dict(enumerate(pose))))
+        about = [f"{name}: taught with gestplay teach, {len(self.keys)} keyframes"]
+        return to_gest(name, Fit(tuple(keyframes), 0.0, ()), self.profile, about)

@@ -61,3 +61,11 @@ def send_value(port, servo_id: int, value: int) -> None:
 
     port.write(bytes([Signal.CANCEL, servo_id, value]))
     drain(port)
+
+
+def gesture_name(name: str) -> str:
+    """``name`` if it can name a gesture; a GestError saying why not otherwise."""
+    if not name.isidentifier():
+        raise GestError(Diagnostic("error", f"'{name}' cannot name a gesture",
+                                   hint="--name takes a word: letters, digits and _"))
+    return name

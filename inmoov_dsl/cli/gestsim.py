@@ -36,6 +36,7 @@ def serve(args: argparse.Namespace) -> int:
     if board_cfg is None:
         raise GestError(Diagnostic("error", f"profile '{profile.name}' has no board "
                                    f"{args.board}"))
+    glove = _glove(args, profile) if args.glove else None  # a bad one fails before the pty
     master, slave = os.openpty()
     path = os.ttyname(slave)
     tty.setraw(slave)
@@ -44,7 +45,6 @@ def serve(args: argparse.Namespace) -> int:
     print(f"{PROG}: board {board_cfg.id} ({board_cfg.name}) of profile '{profile.name}' on "
           f"{path} at {board_cfg.baud} baud; Ctrl-C stops", file=sys.stderr, flush=True)
     log = open(args.log, "w", encoding="utf-8") if args.log else None  # noqa: SIM115
-    glove = _glove(args, profile) if args.glove else None
     view = None
     if glove is not None:
         print(f"{PROG}: a glove performing '{args.glove}' from the moment the port opens",
@@ -125,55 +125,49 @@ def _glove(args: argparse.Namespace, profile) -> list[tuple[float, bytes]]:
 
 
 class _View:
+    """The board's values in the terminal, redrawn in place when they change (at most
+    every FRAME): a bar per servo."""
+
     def __init__(self, profile, board_cfg):
         self.names = board_cfg.servos
         self.next = 0.0
-        self.drawn = False
         self.shown: list[int] | None = None
+        self.height = 0  # lines drawn last time
+
+    def lines(self, values: list[int]) -> list[str]:
+        return [f"  {name:<10} {value:>3}  {'#' * (value * 30 // 180)}"
+                for name, value in zip(self.names, values, strict=True)]
 
     def draw(self, board: VirtualBoard, now: float) -> None:
         if now < self.next or board.core.values == self.shown:
             return
         self.next = now + FRAME
         self.shown = list(board.core.values)
+        lines = self.lines(self.shown)
         out = sys.stderr
-        if self.drawn:
-            out.write(f"\x1b[{len(self.names)}F")
-        for name, value in zip(self.names, board.core.values, strict=True):
-            bar = "#" * (value * 30 // 180)
-            out.write(f"\x1b[2K  {name:<10} {value:>3}  {bar}\n")
+        if self.height:
+            out.write(f"\x1b[{self.height}F")
+        out.write("".join(f"\x1b[2K{line}\n" for line in lines))
         out.flush()
-        self.drawn = True
+        self.height = len(lines)
 
 
-class _HandView:
-    """The hand drawn in the terminal (gestc preview's picture), redrawn on change."""
+class _HandView(_View):
+    """The hand drawn in the terminal (gestc preview's picture)."""
 
     def __init__(self, profile, board_cfg):
         from ..preview import draw_hand, hand_servos, pose_of, to_terminal
 
+        super().__init__(profile, board_cfg)
         hand_servos(profile)  # a profile without a hand is an error now, not later
         self.profile, self.ids = profile, [profile.servos[profile.index(n)].id
                                            for n in board_cfg.servos]
         self.draw_hand, self.pose_of, self.to_terminal = draw_hand, pose_of, to_terminal
         draw_hand({})  # Pillow is there
-        self.next = 0.0
-        self.shown: list[int] | None = None
-        self.lines = 0
 
-    def draw(self, board: VirtualBoard, now: float) -> None:
-        if now < self.next or board.core.values == self.shown:
-            return
-        self.next = now + FRAME
-        self.shown = list(board.core.values)
-        pose = self.pose_of(self.profile, self.shown, self.ids)
-        lines = self.to_terminal(self.draw_hand(pose), columns=48)
-        out = sys.stderr
-        if self.lines:
-            out.write(f"\x1b[{self.lines}F")
-        out.write("\n".join(lines) + "\n")
-        out.flush()
-        self.lines = len(lines)
+    def lines(self, values: list[int]) -> list[str]:
+        pose = self.pose_of(self.profile, values, self.ids)
+        return self.to_terminal(self.draw_hand(pose), columns=48)
 
 
 def main(argv: list[str] | None = None) -> int:

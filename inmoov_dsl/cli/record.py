@@ -16,7 +16,7 @@ from ..errors import Diagnostic, GestError
 from ..profile import load_profile
 from ..record import DEFAULT_TOLERANCE, StreamReader, keyframes, on_the_clock, to_gest, traces
 from ..urlhandler import protocol_sim
-from .common import EXIT_OK
+from .common import EXIT_OK, gesture_name
 
 PROG = "gestc record"
 
@@ -28,10 +28,7 @@ def cmd_record(args: argparse.Namespace) -> int:
     glove = profile.gloves[0] if profile.gloves else None
     baud = args.baud or (glove.baud if glove else profile.boards[0].baud)
     deadband = glove.deadband if glove and args.deadband is None else (args.deadband or 0)
-    name = args.name or Path(args.output).stem
-    if not name.isidentifier():
-        raise GestError(Diagnostic("error", f"'{name}' cannot name a gesture",
-                                   hint="--name takes a word: letters, digits and _"))
+    name = gesture_name(args.name or Path(args.output).stem)
     first = profile.boards[0].id
     port = open_port(protocol_sim.complete(args.port, profile, first), baud, timeout=0.05)
     # a glove reports its own fingers: a pair for another servo is a byte lost

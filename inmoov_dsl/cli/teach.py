@@ -8,11 +8,10 @@ import sys
 from pathlib import Path
 
 from ..compiler import compile_program, load
-from ..errors import Diagnostic, GestError
 from ..player import Link, play
 from ..profile import Profile, load_profile
 from ..teach import HELP, Teach
-from .common import EXIT_OK, report, send_value, status_line
+from .common import EXIT_OK, gesture_name, report, send_value, status_line
 from .keys import key_reader
 
 PROG = "gestplay teach"
@@ -21,10 +20,7 @@ PROG = "gestplay teach"
 def cmd_teach(args: argparse.Namespace) -> int:
     from .gestplay import connect, on_the_hand, parse_ports
 
-    name = args.name or (Path(args.output).stem if args.output else "taught")
-    if not name.isidentifier():
-        raise GestError(Diagnostic("error", f"'{name}' cannot name a gesture",
-                                   hint="--name takes a word: letters, digits and _"))
+    name = gesture_name(args.name or (Path(args.output).stem if args.output else "taught"))
     output = Path(args.output or f"{name}.gest")
     profile = load_profile(args.profile or "rhand")
     links = connect(parse_ports(args.port, profile), profile)

@@ -1,0 +1,56 @@
+"""The errors this session's commands give for bad input: one clear message, exit 1."""
+
+import os
+import subprocess
+import sys
+
+import pytest
+
+from inmoov_dsl import GestError
+from inmoov_dsl.cli import gestc, gestplay
+from inmoov_dsl.firmware import sketches
+from inmoov_dsl.profile import parse_profile
+
+POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
+
+
+@pytest.mark.parametrize(("main", "argv", "message"), [
+    (gestc.main, ["record", "--port", "sim://", "-o", "2fast.gest"],
+     "gestc: error: '2fast' cannot name a gesture\n"
+     "  hint: --name takes a word: letters, digits and _\n"),
+    (gestplay.main, ["teach", "--port", "sim://", "--name", "my-wave"],
+     "gestplay: error: 'my-wave' cannot name a gesture\n"
+     "  hint: --name takes a word: letters, digits and _\n"),
+    (gestc.main, ["export", "peace", "--joint-states", "-", "--rate", "0"],
+     "gestc: error: --rate 0: give a rate above 0 Hz\n"),
+])
+def test_bad_options_are_one_clear_message(main, argv, message, capsys, tmp_path,
+                                           monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(argv) == 1
+    assert capsys.readouterr().err == message
+
+
+def test_a_board_without_pins_cannot_have_firmware():
+    profile = parse_profile('[[board]]\nid = 181\nservos = ["a"]\n[servo.a]\nid = 0\n'
+                            'max_velocity = 1\nmax_acceleration = 1\nmax_jerk = 1\n', "p.toml")
+    with pytest.raises(GestError) as info:
+        sketches(profile)
+    assert info.value.format() == ("error: profile 'p': servo a of board 181 has no 'pin'\n"
+                                   "  hint: add pin = N to each [servo.NAME] of the board")
+
+
+@POSIX
+@pytest.mark.parametrize(("argv", "message"), [
+    (["--glove", "peace", "--profile", "lhand"],
+     "gestsim: error: profile 'lhand' has no glove\n"
+     "  hint: a [[glove]] table describes one (rhand has it)\n"),
+    (["--glove", "peace", "--gap", "later"],
+     "gestsim: error: --gap later: give START-END in seconds\n  hint: --gap 1.0-1.3\n"),
+])
+def test_a_virtual_glove_that_cannot_be_is_one_clear_message(argv, message):
+    done = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestsim", *argv],
+                          capture_output=True, text=True, timeout=30)
+    assert done.returncode == 1
+    assert done.stderr == message and done.stdout == ""
+    assert "Traceback" not in done.stderr
