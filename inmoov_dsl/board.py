@@ -1,4 +1,5 @@
-"""A servo board's rules, exactly as the protocol states them (docs/protocol.md).
+"""A servo board's rules, byte for byte as the original firmware reads them
+(docs/protocol.md).
 
 A pure state machine fed one byte at a time: ``feed(byte)`` returns what the board
 does with it (servo writes, reply bytes). No clock and no I/O: the virtual board
@@ -6,12 +7,15 @@ does with it (servo writes, reply bytes). No clock and no I/O: the virtual board
 tests check the C++ core against the same rules.
 
 - CANCEL (255) drops a half-read command; the board then expects a servo ID.
-- DUMP (253) is answered ``START BOARD_ID N (id value)*N END`` and changes nothing else.
-- Other signals (249..254) are not commands and are skipped wherever they arrive.
-- A command is (servo ID, value). A value above 180 is clamped to 180. A pair for an
-  ID the board does not own is read (to stay in step) and ignored.
-- A value is mapped onto the servo's calibration (reversed servos map 180..0 onto
-  it) with the Arduino's integer ``map()`` before it is written to the servo.
+- DUMP (253) is answered ``START BOARD_ID N (id value)*N END`` wherever it arrives, and
+  drops a half-read command.
+- RELAX (248, ours) stops the pulses wherever it arrives and drops a half-read command;
+  the next servo write drives every servo again, from the pose the board holds.
+- Any other byte is a servo ID where an ID is expected (a foreign one, if the board has
+  no such servo: its value is read and the pair ignored) and a value where a value is
+  expected, clamped to 180: WAIT (254) arriving as a value sets 180.
+- A value is mapped onto the servo's calibration (reversed servos map 180..0 onto it)
+  with the Arduino's integer ``map()``, and the angle onto a pulse of 544..2400 us.
 """
 
 from __future__ import annotations
@@ -22,6 +26,21 @@ from dataclasses import dataclass
 from .profile import Board, Profile
 from .protocol import MAX_VALUE, Signal
 
+PULSE_MIN, PULSE_MAX = 544, 2400  #: us: the pulse for servo angle 0 and 180
+
+
+def arduino_map(x: int, in_min: int, in_max: int, out_min: int, out_max: int) -> int:
+    """Arduino's ``map()``: integer arithmetic, the division truncated toward zero."""
+    num = (x - in_min) * (out_max - out_min)
+    den = in_max - in_min
+    quotient = abs(num) // abs(den)
+    return (quotient if (num < 0) == (den < 0) else -quotient) + out_min
+
+
+def pulse_us(angle: int) -> int:
+    """The pulse width (us) for a servo angle 0..180, as the Servo library computes it."""
+    return arduino_map(angle, 0, MAX_VALUE, PULSE_MIN, PULSE_MAX)
+
 
 @dataclass(frozen=True)
 class BoardServo:
@@ -31,10 +50,16 @@ class BoardServo:
     default: int = 0
 
     def angle(self, value: int) -> int:
-        """The servo angle for a command value, as Arduino's integer map() computes it."""
+        """The servo angle for a command value, as the original firmware computes it:
+        ``map(v, 0, 180, lo, hi)``, or ``map(v, 180, 0, lo, hi)`` when reversed."""
         lo, hi = self.calibration
-        step = value * (hi - lo) // MAX_VALUE
-        return hi - step if self.reversed else lo + step
+        if self.reversed:
+            return arduino_map(value, MAX_VALUE, 0, lo, hi)
+        return arduino_map(value, 0, MAX_VALUE, lo, hi)
+
+    def pulse(self, value: int) -> int:
+        """The pulse width (us) on this servo's pin for a command value."""
+        return pulse_us(self.angle(value))
 
 
 @dataclass(frozen=True)
@@ -55,6 +80,7 @@ class BoardCore:
         self._index = {s.id: i for i, s in enumerate(self.servos)}
         self.values = [s.default for s in self.servos]  #: last value written, unscaled
         self.pending: int | None = None  #: a servo ID waiting for its value
+        self.relaxed = False  #: RELAX came: no pulses until the next servo write
 
     @classmethod
     def from_profile(cls, profile: Profile, board: Board) -> BoardCore:
@@ -64,12 +90,12 @@ class BoardCore:
 
     def feed(self, byte: int) -> tuple[Write | None, bytes]:
         """Read one byte: the servo write it completes, if any, and the bytes to reply."""
-        if byte == Signal.CANCEL:
+        if byte in (Signal.CANCEL, Signal.DUMP, Signal.RELAX):
             self.pending = None
-        elif byte == Signal.DUMP:
-            return None, self.dump()
-        elif byte >= min(Signal):
-            pass  # a signal this board does not act on
+            if byte == Signal.DUMP:
+                return None, self.dump()
+            if byte == Signal.RELAX:
+                self.relaxed = True
         elif self.pending is None:
             self.pending = byte
         else:
@@ -78,8 +104,15 @@ class BoardCore:
             if index is not None:
                 value = min(byte, MAX_VALUE)
                 self.values[index] = value
+                self.relaxed = False
                 return Write(sid, value, self.servos[index].angle(value)), b""
         return None, b""
+
+    def restore(self, values: Sequence[int]) -> None:
+        """Reset: every servo at ``values`` (the pose kept in EEPROM), nothing pending."""
+        self.values = list(values)
+        self.pending = None
+        self.relaxed = False
 
     def dump(self) -> bytes:
         body = [b for s, v in zip(self.servos, self.values, strict=True) for b in (s.id, v)]

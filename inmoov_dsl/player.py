@@ -20,6 +20,7 @@ from .compiled import Compiled
 from .protocol import Signal
 
 READY_TIMEOUT = 2.0  #: s; the longest we wait for a board to boot (its first WAIT)
+PROBE = 0.1  #: s; while waiting for a board, send it a CANCEL this often
 DUMP_TIMEOUT = 0.5  #: s; the longest we wait for a DUMP reply
 SPIN = 0.0005  #: s; sleep until this close to a deadline, then spin on the clock
 POLL = 0.2  #: s; in a long pause, look at the links this often (a pulled cable)
@@ -50,9 +51,16 @@ def drain(port: Port) -> bytes:
 
 def wait_ready(port: Port, now: Clock = time.monotonic, sleep: Sleep = time.sleep,
                timeout: float = READY_TIMEOUT) -> bool:
-    """Wait for the board's first WAIT (it has booted); False after ``timeout``."""
+    """Wait until the board is ready: the WAIT it sends when it has booted (opening the
+    port reset it) or the WAIT it answers a CANCEL with (the port kept DTR up, so it did
+    not reset). A CANCEL goes out every PROBE s; a bootloader still running swallows it.
+    False after ``timeout``."""
     deadline = now() + timeout
+    probe = now()
     while now() < deadline:
+        if now() >= probe:
+            port.write(bytes([Signal.CANCEL]))
+            probe = now() + PROBE
         if Signal.WAIT in drain(port):
             return True
         sleep(0.01)
@@ -125,6 +133,20 @@ def play(compiled: Compiled, links: Sequence[Link], speed: float = 1.0,
 
 def cancel_all(links: Sequence[Link]) -> None:
     """Send CANCEL everywhere we still can: no half command is left pending."""
+    _send_all(links, bytes([Signal.CANCEL]))
+
+
+def relax_all(links: Sequence[Link]) -> None:
+    """Every board we can reach stops driving its servos (they go limp) until its next
+    command: CANCEL RELAX CANCEL, which the original firmware reads as a pair for a
+    servo it does not have, and ignores."""
+    _send_all(links, RELAX)
+
+
+RELAX = bytes([Signal.CANCEL, Signal.RELAX, Signal.CANCEL])  #: the bytes that relax a board
+
+
+def _send_all(links: Sequence[Link], data: bytes) -> None:
     for link in links:
-        with contextlib.suppress(OSError):  # a dead link cannot be cancelled; go on
-            link.port.write(bytes([Signal.CANCEL]))
+        with contextlib.suppress(OSError):  # a dead link cannot be reached; go on
+            link.port.write(data)

@@ -34,13 +34,38 @@ def open_port(name: str, baud: int, timeout: float = 0) -> serial.SerialBase:
     """Open ``name`` at ``baud``; any failure is a GestError saying what to do.
 
     Reads do not block by default (``timeout=0``): the player polls, and a read on a
-    link that has gone away raises at once."""
+    link that has gone away raises at once. DTR stays up when the port closes, where
+    the OS allows it (``leave_dtr_up``)."""
     try:
-        return serial.serial_for_url(name, baudrate=baud, timeout=timeout, write_timeout=2)
+        port = serial.serial_for_url(name, baudrate=baud, timeout=timeout, write_timeout=2)
     except serial.SerialException as exc:
         raise GestError(_explain(name, exc)) from None
     except (ValueError, OSError) as exc:
         raise GestError(Diagnostic("error", f"cannot open {name}: {exc}")) from None
+    leave_dtr_up(port)
+    return port
+
+
+def leave_dtr_up(port: serial.SerialBase) -> bool:
+    """Keep DTR raised after ``port`` closes, so that the next open makes no DTR edge
+    and does not reset an Uno or a Nano: on POSIX, clear HUPCL (``stty -hupcl``); the
+    virtual board (``sim://``) models the same flag. False where the OS cannot
+    (Windows drops DTR on closing) or the port is no terminal (``socket://``...)."""
+    if hasattr(port, "hupcl"):
+        port.hupcl = False
+        return True
+    try:
+        import termios
+    except ImportError:  # Windows
+        return False
+    try:
+        fd = port.fileno()
+        attrs = termios.tcgetattr(fd)
+        attrs[2] &= ~termios.HUPCL
+        termios.tcsetattr(fd, termios.TCSANOW, attrs)
+    except (AttributeError, OSError, ValueError, termios.error, serial.SerialException):
+        return False
+    return True
 
 
 def _explain(name: str, exc: serial.SerialException) -> Diagnostic:

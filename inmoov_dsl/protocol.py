@@ -21,11 +21,13 @@ class Signal(IntEnum):
     END = 251  #: board -> host: a reply ends
     MIN = 250  #: host -> glove: capture the lower calibration bound
     MAX = 249  #: host -> glove: capture the upper calibration bound
+    RELAX = 248  #: host -> servo board: stop driving the servos until the next command
 
 
 MAX_VALUE = 180  #: largest servo value; a board clamps larger non-signal values to it
 MAX_SERVO_ID = 180  #: servo IDs are values too: 0..180 (181 of them)
 FIRST_BOARD_ID = 181  #: board IDs start here (right hand 181, right glove 182)
+POSE_SETTLE = 1.0  #: s without a servo command before a board stores its pose (EEPROM)
 
 BITS_PER_BYTE = 10  #: 8N1: start bit, 8 data bits, stop bit
 SERVO_FRAME = 0.020  #: s; a hobby servo takes one new position per 20 ms PWM frame

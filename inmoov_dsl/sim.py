@@ -1,11 +1,12 @@
-"""The virtual board: BoardCore on a simulated serial link.
+"""The virtual board: BoardCore on a simulated serial link, with the firmware's memory.
 
 Bytes written by the host reach the board one byte-time apart at the board's baud;
-bytes the bootloader would swallow (the board resets when its port is opened) are
-lost; the board answers DUMP and sends WAIT whenever it is about to read a command
-and nothing is left to read, as the firmware does. Every servo write is recorded with
-the time it happened. Time is passed in, so the same board runs in real time behind
-``sim://`` or on a test's fake clock.
+bytes the bootloader would swallow (after a reset) are lost; the board answers DUMP and
+sends WAIT whenever it is about to read a command and nothing is left to read, as the
+firmware does. Every servo write is recorded with the time it happened. Like the
+firmware, it keeps its pose once the pose has settled (no servo write for
+POSE_SETTLE s: the EEPROM record) and starts from that pose after a reset. Time is
+passed in, so the same board runs in real time behind ``sim://`` or on a test's clock.
 """
 
 from __future__ import annotations
@@ -14,7 +15,7 @@ from collections import deque
 from dataclasses import dataclass, field
 
 from .board import BoardCore, Write
-from .protocol import Signal, byte_time
+from .protocol import POSE_SETTLE, Signal, byte_time
 
 
 @dataclass
@@ -24,6 +25,9 @@ class VirtualBoard:
     ready_at: float = 0.0  #: s; when the bootloader hands over to the sketch
     log: list[tuple[float, Write]] = field(default_factory=list)  #: (time, write)
     swallowed: int = 0  #: bytes lost while the board was booting
+    stored: list[int] | None = None  #: the pose kept in EEPROM (None: never written)
+    records: int = 0  #: poses stored (EEPROM records written)
+    resets: int = 0
 
     def __post_init__(self) -> None:
         self.tau = byte_time(self.baud)
@@ -33,6 +37,9 @@ class VirtualBoard:
         self._out_free = 0.0  # when the board -> host line is next free
         self._clock = 0.0
         self._booted = False
+        self._last_write: float | None = None  # a servo write not yet stored
+        if self.stored is not None:
+            self.core.restore(self.stored)
 
     def write(self, data: bytes, now: float) -> None:
         """The host sends ``data`` at ``now``; each byte arrives a byte-time later."""
@@ -50,6 +57,20 @@ class VirtualBoard:
             out.append(self._outbox.popleft()[1])
         return bytes(out)
 
+    def reset(self, now: float, boot: float) -> None:
+        """DTR rose: the board restarts at ``now`` from its stored pose (its rest pose if
+        none), the bootloader swallowing bytes for ``boot`` s; what is on the wire is
+        lost, and so is a pose that had not settled yet."""
+        self.advance(now)
+        self._inbox.clear()
+        self._outbox.clear()
+        self._last_write = None
+        self.core.restore(self.stored if self.stored is not None else
+                          [s.default for s in self.core.servos])
+        self.ready_at = now + boot
+        self._booted = False
+        self.resets += 1
+
     def advance(self, now: float) -> None:
         """Let the board run until ``now``."""
         if not self._booted and now >= self.ready_at:
@@ -61,14 +82,26 @@ class VirtualBoard:
             if arrival < self.ready_at:
                 self.swallowed += 1
                 continue
+            self._settle(arrival)
             self._clock = arrival
             write, reply = self.core.feed(byte)
             if write is not None:
                 self.log.append((arrival, write))
+                self._last_write = arrival
             self._send(arrival, reply)
             idle = not self._inbox or self._inbox[0][0] > arrival
             if idle and self.core.pending is None:
                 self._send(arrival, bytes([Signal.WAIT]))
+        self._settle(now)
+
+    def _settle(self, now: float) -> None:
+        """Store the pose if it has settled by ``now`` and differs from the stored one."""
+        if self._last_write is None or now - self._last_write < POSE_SETTLE:
+            return
+        self._last_write = None
+        if self.core.values != self.stored:
+            self.stored = list(self.core.values)
+            self.records += 1
 
     def _send(self, at: float, data: bytes) -> None:
         for b in data:

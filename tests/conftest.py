@@ -11,6 +11,15 @@ from inmoov_dsl.profile import parse_profile  # noqa: E402
 ROOT = Path(__file__).resolve().parent.parent
 
 
+@pytest.fixture(autouse=True)
+def _fresh_virtual_boards():
+    """Each test finds new virtual boards on the desk (sim:// keeps a board's state for
+    the life of the process, as a real board keeps it between programs)."""
+    from inmoov_dsl.urlhandler.protocol_sim import power_off
+
+    power_off()
+
+
 @pytest.fixture(scope="session")
 def rhand():
     return load_profile("rhand")

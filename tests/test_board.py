@@ -30,6 +30,7 @@ def test_conformance_vectors(case):
         out += reply
     assert writes == case["writes"]
     assert list(out) == case["out"]
+    assert board.relaxed == case.get("relaxed", False)
 
 
 def test_the_right_hand_profile_is_the_vectors_board(rhand):

@@ -72,11 +72,12 @@ def test_arrow_keys_find_the_ends_and_enter_writes_them(tmp_path):
     code, out = calibrate(tmp_path, [RIGHT] * 5 + [UP, "s"] + [UP] * 8 + ["c", "\r"],
                           "--servo", "index", "--profile", str(mine))
     assert code == 0, out
-    # index maps 0..180 onto 155..55 (reversed): value 15 is angle 147, 95 is 103
-    assert "index: value  15  angle 147" in out
-    assert "index: value  95  angle 103  |  straight 147  curled 103" in out
+    # index maps 0..180 onto 155..55 (reversed, the original firmware's map(v, 180, 0,
+    # 55, 155)): value 15 is angle 146, 95 is 102
+    assert "index: value  15  angle 146" in out
+    assert "index: value  95  angle 102  |  straight 146  curled 102" in out
     index = load_profile(str(mine)).servos[2]
-    assert index.calibration == (103, 147) and index.reversed
+    assert index.calibration == (102, 146) and index.reversed
 
 
 @POSIX
@@ -86,7 +87,7 @@ def test_a_built_in_profile_is_copied_and_q_writes_nothing(tmp_path):
     assert not (tmp_path / "rhand.toml").exists()
     code, out = calibrate(tmp_path, ["s", UP, "c", "\r"], "--servo", "ring")
     assert code == 0, out
-    assert load_profile(str(tmp_path / "rhand.toml")).servos[4].calibration == (140, 145)
+    assert load_profile(str(tmp_path / "rhand.toml")).servos[4].calibration == (139, 145)
     assert find_profile("rhand").read_text(encoding="utf-8") == RHAND_TEXT
 
 

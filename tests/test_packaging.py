@@ -32,7 +32,7 @@ def test_the_wheel_carries_grammar_profiles_and_library(wheel):
                     *(ROOT / "gestures" / "profiles").glob("*.toml")):
         assert f"inmoov_dsl/_data/{shipped.relative_to(ROOT).as_posix()}" in names
     for part in ("libraries/InmoovDsl/src/servo_core.cpp", "libraries/InmoovDsl/library.properties",
-                 "stub/Servo/Servo.h", "harness/simboard.c", "Makefile"):
+                 "libraries/InmoovDsl/src/servo_pulses.cpp", "harness/simboard.c", "Makefile"):
         assert f"inmoov_dsl/_data/firmware/{part}" in names
     entry_points = next(n for n in names if n.endswith("entry_points.txt"))
     text = zipfile.ZipFile(wheel).read(entry_points).decode()

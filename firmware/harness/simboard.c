@@ -1,21 +1,36 @@
 /* simboard: a built board image (ATmega328P, 16 MHz) running in simavr, fed bytes on
- * its serial port (UART0) at a real link's pace.
+ * its serial port (UART0) at a real link's pace, its pins watched as a servo sees them.
  *
- *   simboard FIRMWARE.elf [--baud B] < timed
- *       Waits for the board's first WAIT, then sends each "<seconds> <byte>" line of the
- *       input (gestc compile --format timed) at its time, counted from that WAIT, one
- *       byte-time apart at least; then asks for a DUMP. Prints, one per line:
+ *   simboard FIRMWARE.elf [options] < timed
+ *       Powers the board up, waits for its first WAIT, then sends each "<seconds> <byte>"
+ *       line of the input (gestc compile --format timed) at its time, counted from that
+ *       WAIT, one byte-time apart at least; then asks for a DUMP. Prints, one per line:
  *         ready S                  when the first WAIT came (s of simulated time)
  *         out S BYTE               every byte the board sent (s after ready)
  *         sent N / read N          bytes sent to the board / bytes its sketch read
- *         jumps N                  servos attached before a value was written to them
  *         dump BOARD N ID V ...    the board's answer to the final DUMP
- *   simboard FIRMWARE.elf --pty [--baud B]
- *       Serves the board on a pseudo-terminal in real time and prints its path; like an
- *       Uno or a Nano, the board resets when a program opens the port.
+ *         pin P pulses N first W last W period MIN MAX
+ *                                  every pin that pulsed: how many pulses, the width of
+ *                                  the first and the last (us), the shortest and longest
+ *                                  time from one pulse's start to the next (ms)
+ *         pulse P S W              with --pulses: every pulse (pin, start s after ready,
+ *                                  width us)
+ *         eeprom S ADDRESS BYTE    every EEPROM byte the board changed (s after ready)
+ *         cut S                    with --cut: when the power failed
+ *       --run-on S       keep running S seconds after the DUMP reply (the board may
+ *                        store its pose meanwhile)
+ *       --eeprom FILE    the EEPROM's contents at power-up (a missing FILE: a new chip,
+ *                        every byte 0xFF), written back to FILE at the end
+ *       --cut N          the power fails just after the N-th EEPROM byte written: the run
+ *                        ends there, nothing more is sent or asked
+ *   simboard FIRMWARE.elf --pty [--baud B] [--eeprom FILE]
+ *       Serves the board on a pseudo-terminal in real time and prints its path. Like an
+ *       Uno or a Nano, the board resets when a program opening the port raises DTR: at
+ *       the first open, and at any open after a close that dropped DTR (the closing
+ *       program left HUPCL set; a program that clears it leaves DTR up). FILE is written
+ *       whenever the EEPROM changes.
  *
- * Bytes the board reads are counted by the sketch (inmoov_rx_count), and the Servo
- * stand-in counts jumps (servo_stub_jumps); both are read from the image's RAM.
+ * Bytes the board reads are counted by the sketch (inmoov_rx_count), read from RAM.
  */
 #define _GNU_SOURCE
 #include <errno.h>
@@ -30,6 +45,9 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <simavr/avr_eeprom.h>
+#include <simavr/avr_extint.h>
+#include <simavr/avr_ioport.h>
 #include <simavr/avr_uart.h>
 #include <simavr/sim_avr.h>
 #include <simavr/sim_elf.h>
@@ -48,8 +66,40 @@ static struct {
 static long out_count;
 static avr_cycle_count_t byte_cycles;  /* one byte on the wire: 10 bits */
 static avr_cycle_count_t wire_free;    /* when the host -> board line is free again */
-static uint32_t rx_addr, jumps_addr;   /* RAM addresses of the two counters, 0 if absent */
+static uint32_t rx_addr;               /* RAM address of the bytes-read counter, 0 if absent */
 static int xoff;                       /* simavr's UART cannot take another byte yet */
+
+/* -- the pins, as a servo sees them ------------------------------------------------ */
+#define PINS 20 /* Arduino pins 0..19: PORTD 0..7, PORTB 8..13, PORTC 14..19 (A0..A5) */
+static struct {
+  int high;
+  avr_cycle_count_t rose, last_rise;
+  long pulses;
+  double first_us, last_us, min_period, max_period; /* us, ms */
+} pins[PINS];
+static int print_pulses;
+#define MAX_PULSES 2000000
+static struct {
+  uint8_t pin;
+  avr_cycle_count_t rose;
+  float us;
+} pulse_log[MAX_PULSES];
+static long pulse_count;
+
+/* -- the EEPROM ------------------------------------------------------------------------ */
+#define MAX_EEPROM_LOG 100000
+#define EEPROM_SIZE 1024 /* ATmega328P */
+static uint8_t *eeprom;      /* simavr's own bytes */
+static uint16_t eeprom_size;
+static uint8_t shadow[4096]; /* what they were at the last look */
+static const char *eeprom_path;
+static long eeprom_writes, cut_after = -1;
+static avr_cycle_count_t cut_at;
+static struct {
+  avr_cycle_count_t cycle;
+  uint16_t address;
+  uint8_t byte;
+} eeprom_log[MAX_EEPROM_LOG];
 
 /* simavr's own messages: errors to stderr, the rest (loading, tracing) dropped, so that
  * stdout carries only what this harness prints. */
@@ -59,6 +109,69 @@ static void logger(avr_t *a, const int level, const char *format, va_list ap) {
 }
 
 static double seconds(avr_cycle_count_t c) { return (double)c / F_CPU; }
+
+/* Seconds from the first WAIT to cycle `c` (negative before it). */
+static double since_ready(avr_cycle_count_t c) { return ((double)c - (double)ready_at) / F_CPU; }
+
+static void on_pin(struct avr_irq_t *irq, uint32_t value, void *param) {
+  (void)irq;
+  int pin = (int)(intptr_t)param;
+  if (pin < 0 || pin >= PINS || (int)(value & 1) == pins[pin].high) return;
+  pins[pin].high = value & 1;
+  avr_cycle_count_t now = avr->cycle;
+  if (pins[pin].high) {
+    if (pins[pin].pulses) {
+      double period = (double)(now - pins[pin].last_rise) * 1000.0 / F_CPU;
+      if (pins[pin].pulses == 1 || period < pins[pin].min_period) pins[pin].min_period = period;
+      if (pins[pin].pulses == 1 || period > pins[pin].max_period) pins[pin].max_period = period;
+    }
+    pins[pin].rose = pins[pin].last_rise = now;
+    return;
+  }
+  double us = (double)(now - pins[pin].rose) * 1e6 / F_CPU;
+  if (pins[pin].pulses++ == 0) pins[pin].first_us = us;
+  pins[pin].last_us = us;
+  if (print_pulses && pulse_count < MAX_PULSES) {
+    pulse_log[pulse_count].pin = (uint8_t)pin;
+    pulse_log[pulse_count].rose = pins[pin].rose;
+    pulse_log[pulse_count].us = (float)us;
+    pulse_count++;
+  }
+}
+
+static void save_eeprom(void) {
+  if (!eeprom_path) return;
+  FILE *f = fopen(eeprom_path, "wb");
+  if (!f || fwrite(eeprom, 1, eeprom_size, f) != eeprom_size) perror("simboard: eeprom");
+  if (f) fclose(f);
+}
+
+/* Every EEPROM_LOOK cycles: which EEPROM bytes changed since the last look, in address
+ * order (simavr writes a byte at once, where a real one takes 3.3 ms). With --cut, the
+ * bytes after the N-th are put back: the power failed before they were written. */
+#define EEPROM_LOOK 1600 /* cycles: 100 us */
+static avr_cycle_count_t look_at_eeprom(avr_t *a, avr_cycle_count_t when, void *param) {
+  (void)a, (void)param;
+  if (memcmp(eeprom, shadow, eeprom_size) == 0) return when + EEPROM_LOOK;
+  int changed = 0;
+  for (uint16_t k = 0; k < eeprom_size; k++) {
+    if (eeprom[k] == shadow[k]) continue;
+    if (cut_at) { /* written after the power failed: it never was */
+      eeprom[k] = shadow[k];
+      continue;
+    }
+    shadow[k] = eeprom[k];
+    changed = 1;
+    if (eeprom_writes < MAX_EEPROM_LOG) {
+      eeprom_log[eeprom_writes].cycle = when;
+      eeprom_log[eeprom_writes].address = k;
+      eeprom_log[eeprom_writes].byte = eeprom[k];
+    }
+    if (++eeprom_writes == cut_after) cut_at = when;
+  }
+  if (changed && pty_fd >= 0) save_eeprom();
+  return when + EEPROM_LOOK;
+}
 
 static void on_output(struct avr_irq_t *irq, uint32_t value, void *param) {
   (void)irq;
@@ -84,9 +197,11 @@ static void on_xon(struct avr_irq_t *irq, uint32_t value, void *param) {
   xoff = 0;
 }
 
-/* Run the board until `cycle`. */
+/* Run the board until `cycle`: 0, or CUT when the power failed (--cut), -1 if it crashed. */
+#define CUT 1
 static int run_until(avr_cycle_count_t cycle) {
   while (avr->cycle < cycle) {
+    if (cut_at) return CUT;
     int state = avr_run(avr);
     if (state == cpu_Done || state == cpu_Crashed) {
       fprintf(stderr, "simboard: the board stopped (%s)\n",
@@ -103,10 +218,9 @@ static int run_until(avr_cycle_count_t cycle) {
  * than the nominal one). What the board's sketch does with them is what is tested. */
 static int send_byte(uint8_t byte, avr_cycle_count_t at) {
   if (at < wire_free) at = wire_free;
-  if (run_until(at) < 0) return -1;
-  while (xoff) {
-    if (run_until(avr->cycle + 100) < 0) return -1;
-  }
+  int r = run_until(at);
+  while (!r && xoff) r = run_until(avr->cycle + 100);
+  if (r) return r;
   avr_raise_irq(uart_in, byte);
   wire_free = at + byte_cycles;
   return 0;
@@ -126,6 +240,15 @@ static uint32_t find_symbol(elf_firmware_t *fw, const char *name) {
   return 0;
 }
 
+/* A reset (power-up, or DTR): the board starts again; RAM and registers do not survive,
+ * the EEPROM does. simavr forgets its cycle timers, so the EEPROM watch starts again. */
+static void reset_board(void) {
+  avr_reset(avr);
+  ready_at = 0;
+  for (int pin = 0; pin < PINS; pin++) pins[pin].high = 0;
+  avr_cycle_timer_register(avr, EEPROM_LOOK, look_at_eeprom, NULL);
+}
+
 static int load(const char *path, elf_firmware_t *fw) {
   avr_global_logger_set(logger);
   memset(fw, 0, sizeof *fw);
@@ -139,6 +262,11 @@ static int load(const char *path, elf_firmware_t *fw) {
   avr->log = 0;
   avr_load_firmware(avr, fw);
   avr->frequency = F_CPU;
+  /* INT0 and INT1 sit on pins 2 and 3, which drive servos: held low between pulses, a
+   * "strict" level trigger has simavr poll them on every cycle (6x slower). The images
+   * use no external interrupt. */
+  avr_extint_set_strict_lvl_trig(avr, 0, 0);
+  avr_extint_set_strict_lvl_trig(avr, 1, 0);
   uint32_t flags = 0;
   avr_ioctl(avr, AVR_IOCTL_UART_GET_FLAGS('0'), &flags);
   flags &= ~AVR_UART_FLAG_STDIO;
@@ -151,7 +279,29 @@ static int load(const char *path, elf_firmware_t *fw) {
   avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUT_XON),
                           on_xon, NULL);
   rx_addr = find_symbol(fw, "inmoov_rx_count");
-  jumps_addr = find_symbol(fw, "servo_stub_jumps");
+  for (int pin = 0; pin < PINS; pin++) {
+    char port = pin < 8 ? 'D' : pin < 14 ? 'B' : 'C';
+    int bit = pin < 8 ? pin : pin < 14 ? pin - 8 : pin - 14;
+    avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(port), bit), on_pin,
+                            (void *)(intptr_t)pin);
+  }
+  avr_eeprom_desc_t desc = {.ee = NULL, .offset = 0, .size = 0};
+  avr_ioctl(avr, AVR_IOCTL_EEPROM_GET, &desc);
+  eeprom = desc.ee;
+  eeprom_size = EEPROM_SIZE;
+  memset(eeprom, 0xFF, eeprom_size); /* a new chip */
+  FILE *f = eeprom_path ? fopen(eeprom_path, "rb") : NULL;
+  if (f) {
+    size_t n = fread(eeprom, 1, eeprom_size, f);
+    fclose(f);
+    if (n != eeprom_size) {
+      fprintf(stderr, "simboard: %s: expected %u bytes of EEPROM, got %zu\n", eeprom_path,
+              eeprom_size, n);
+      return -1;
+    }
+  }
+  memcpy(shadow, eeprom, eeprom_size);
+  avr_cycle_timer_register(avr, EEPROM_LOOK, look_at_eeprom, NULL);
   return 0;
 }
 
@@ -167,38 +317,12 @@ static int wait_ready(void) {
   return 0;
 }
 
-static int script(void) {
-  if (wait_ready() < 0) return 1;
-  long sent = 0;
-  double t;
-  int byte;
-  avr_cycle_count_t last = ready_at;
-  while (scanf("%lf %d", &t, &byte) == 2) {
-    if (byte < 0 || byte > 255 || t < 0) {
-      fprintf(stderr, "simboard: bad line: %f %d\n", t, byte);
-      return 1;
-    }
-    last = ready_at + (avr_cycle_count_t)(t * F_CPU + 0.5);
-    if (send_byte((uint8_t)byte, last) < 0) return 1;
-    sent++;
-  }
-  /* the stream is over: let it settle, then ask for the board's values */
-  long before_dump = out_count;
-  if (send_byte(253, last + F_CPU / 20) < 0) return 1;
-  sent++;
-  avr_cycle_count_t limit = avr->cycle + F_CPU / 5;
-  int ended = 0;
-  while (!ended && avr->cycle < limit) {
-    if (run_until(avr->cycle + 1000) < 0) return 1;
-    for (long k = before_dump; k < out_count && !ended; k++) ended = out[k].byte == 251;
-  }
-  if (run_until(avr->cycle + byte_cycles * 4) < 0) return 1;
+static void report(long sent, long before_dump, int cut) {
   printf("ready %.6f\n", seconds(ready_at));
   for (long k = 0; k < out_count; k++)
-    printf("out %.6f %d\n", seconds(out[k].cycle - ready_at), out[k].byte);
-  printf("sent %ld\nread %u\njumps %u\n", sent, read_u16(rx_addr),
-         jumps_addr ? avr->data[jumps_addr] : 0);
-  for (long k = before_dump; k < out_count; k++) {
+    printf("out %.6f %d\n", since_ready(out[k].cycle), out[k].byte);
+  printf("sent %ld\nread %u\n", sent, read_u16(rx_addr));
+  for (long k = before_dump; k < out_count && !cut; k++) {
     if (out[k].byte != 252 || k + 2 >= out_count) continue;
     int n = out[k + 2].byte;
     if (k + 3 + 2 * n >= out_count || out[k + 3 + 2 * n].byte != 251) continue;
@@ -207,6 +331,51 @@ static int script(void) {
     printf("\n");
     break;
   }
+  for (int pin = 0; pin < PINS; pin++) {
+    if (!pins[pin].pulses) continue;
+    printf("pin %d pulses %ld first %.2f last %.2f period %.4f %.4f\n", pin, pins[pin].pulses,
+           pins[pin].first_us, pins[pin].last_us, pins[pin].min_period,
+           pins[pin].max_period);
+  }
+  for (long k = 0; k < pulse_count; k++)
+    printf("pulse %d %.6f %.2f\n", pulse_log[k].pin, since_ready(pulse_log[k].rose),
+           pulse_log[k].us);
+  for (long k = 0; k < eeprom_writes && k < MAX_EEPROM_LOG; k++)
+    printf("eeprom %.6f %u %u\n", since_ready(eeprom_log[k].cycle), eeprom_log[k].address,
+           eeprom_log[k].byte);
+  if (cut) printf("cut %.6f\n", since_ready(cut_at));
+}
+
+static int script(double run_on) {
+  if (wait_ready() < 0) return 1;
+  long sent = 0, before_dump = out_count;
+  double t;
+  int byte, r = 0;
+  avr_cycle_count_t last = ready_at;
+  while (!r && scanf("%lf %d", &t, &byte) == 2) {
+    if (byte < 0 || byte > 255 || t < 0) {
+      fprintf(stderr, "simboard: bad line: %f %d\n", t, byte);
+      return 1;
+    }
+    last = ready_at + (avr_cycle_count_t)(t * F_CPU + 0.5);
+    r = send_byte((uint8_t)byte, last);
+    sent += !r;
+  }
+  if (!r) { /* the stream is over: let it settle, then ask for the board's values */
+    before_dump = out_count;
+    r = send_byte(253, last + F_CPU / 20);
+    sent += !r;
+  }
+  avr_cycle_count_t limit = avr->cycle + F_CPU / 5;
+  for (int ended = 0; !r && !ended && avr->cycle < limit;) {
+    r = run_until(avr->cycle + 1000);
+    for (long k = before_dump; k < out_count && !ended; k++) ended = out[k].byte == 251;
+  }
+  if (!r) r = run_until(avr->cycle + byte_cycles * 4);
+  if (!r) r = run_until(avr->cycle + (avr_cycle_count_t)(run_on * F_CPU));
+  if (r < 0) return 1;
+  report(sent, before_dump, r == CUT);
+  save_eeprom();
   return 0;
 }
 
@@ -214,6 +383,13 @@ static double wall(void) {
   struct timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return ts.tv_sec + ts.tv_nsec / 1e9;
+}
+
+/* Does the program that has the pty open want DTR dropped when it closes (HUPCL)? The
+ * pty's settings are the ones the program set on its side. */
+static int hupcl(int master) {
+  struct termios tio;
+  return tcgetattr(master, &tio) == 0 ? (tio.c_cflag & HUPCL) != 0 : 1;
 }
 
 static int serve(void) {
@@ -231,7 +407,7 @@ static int serve(void) {
   close(slave);
   fcntl(master, F_SETFL, O_NONBLOCK);
   pty_fd = master;
-  int hung_up = 1;
+  int hung_up = 1, dtr = 0, drop_dtr = 1; /* nothing has the port open; DTR is down */
   double start = wall();
   avr_cycle_count_t origin = avr->cycle;
   for (;;) {
@@ -241,17 +417,21 @@ static int serve(void) {
     uint8_t buf[256];
     ssize_t n = (p.revents & POLLIN) ? read(master, buf, sizeof buf) : 0;
     if (n <= 0 && (p.revents & POLLHUP)) {
+      if (!hung_up) dtr = !drop_dtr; /* the program closed the port */
       hung_up = 1;
       if (run_until(now) < 0) return 1;
       usleep(10000);
       continue;
     }
-    if (hung_up) { /* a program opened the port: the board resets, as an Uno does */
+    if (hung_up) { /* a program opened the port: DTR rises, and an Uno resets on that edge */
       hung_up = 0;
-      avr_reset(avr);
-      ready_at = 0;
-      wire_free = now;
+      if (!dtr) {
+        reset_board();
+        wire_free = now;
+      }
+      dtr = 1;
     }
+    drop_dtr = hupcl(master);
     for (ssize_t k = 0; k < n; k++) {
       if (send_byte(buf[k], now) < 0) return 1;
     }
@@ -261,25 +441,36 @@ static int serve(void) {
 
 int main(int argc, char **argv) {
   const char *path = NULL;
-  int pty = 0;
+  int pty = 0, bad = 0;
   long baud = 9600;
+  double run_on = 0;
   for (int i = 1; i < argc; i++) {
+    int more = i + 1 < argc;
     if (strcmp(argv[i], "--pty") == 0)
       pty = 1;
-    else if (strcmp(argv[i], "--baud") == 0 && i + 1 < argc)
+    else if (strcmp(argv[i], "--pulses") == 0)
+      print_pulses = 1;
+    else if (strcmp(argv[i], "--baud") == 0 && more)
       baud = atol(argv[++i]);
-    else if (!path)
+    else if (strcmp(argv[i], "--run-on") == 0 && more)
+      run_on = atof(argv[++i]);
+    else if (strcmp(argv[i], "--eeprom") == 0 && more)
+      eeprom_path = argv[++i];
+    else if (strcmp(argv[i], "--cut") == 0 && more)
+      cut_after = atol(argv[++i]);
+    else if (!path && argv[i][0] != '-')
       path = argv[i];
     else
-      path = NULL, i = argc;
+      bad = 1;
   }
-  if (!path || baud <= 0) {
-    fprintf(stderr, "usage: simboard FIRMWARE.elf [--baud B] < timed\n"
-                    "       simboard FIRMWARE.elf --pty [--baud B]\n");
+  if (!path || bad || baud <= 0 || run_on < 0) {
+    fprintf(stderr, "usage: simboard FIRMWARE.elf [--baud B] [--run-on S] [--eeprom FILE] "
+                    "[--cut N] [--pulses] < timed\n"
+                    "       simboard FIRMWARE.elf --pty [--baud B] [--eeprom FILE]\n");
     return 2;
   }
   elf_firmware_t fw;
   if (load(path, &fw) < 0) return 1;
   byte_cycles = (avr_cycle_count_t)(10 * F_CPU / baud);
-  return pty ? serve() : script();
+  return pty ? serve() : script(run_on);
 }

@@ -1,11 +1,22 @@
 // The protocol cores on this computer, driven by the tests (tests/test_firmware.py).
 //
 //   core_driver servo < script     a servo board: "board ID", "servo ID PIN LO HI REV REST"
-//                                  lines, then "begin", or "case B B B ..." lines: each case
+//                                  lines, then "begin [V V ...]" (from the rest values or
+//                                  this pose: prints each servo's index, angle and pulse
+//                                  in us), or "case B B B ..." lines: each case
 //                                  starts from the boot state and prints
-//                                  "writes ID VALUE ANGLE ... | out B B ..."
+//                                  "writes ID VALUE ANGLE ... | out B B ... | relaxed R"
 //   core_driver fuzz N SEED < script   N random bytes into that board: every write in
 //                                  range and owned, back in step after CANCEL; "ok"
+//   core_driver store < script     a servo board's stored pose on an EEPROM array: "board"
+//                                  and "servo" lines as above, then "eeprom SIZE" (a fresh
+//                                  one, all 0xFF), "fill B", "boot" (a reset: prints "boot
+//                                  none" or "boot V V ... seq Q"), "write MS V V ..." (the
+//                                  servos are written these values), "run MS" (the loop
+//                                  runs every ms until then; a byte written keeps the
+//                                  EEPROM busy 4 ms), "cut N" (the power fails after N
+//                                  more bytes are written), "wear" (prints "wear BYTES MAX":
+//                                  bytes written, the most writes of one cell)
 //   core_driver glove < script     a glove: "deadband D", "sensor ID PIN LO HI REV" lines,
 //                                  then "read R R ..." (sensor readings: prints the bytes
 //                                  sent) and "host B" (a byte from the computer) lines
@@ -15,10 +26,12 @@
 #include <string.h>
 
 #include "glove_core.h"
+#include "pose_store.h"
 #include "servo_core.h"
 
 using inmoov::FlexSettings;
 using inmoov::GloveCore;
+using inmoov::PoseStore;
 using inmoov::ServoCore;
 using inmoov::ServoSettings;
 
@@ -41,6 +54,9 @@ static void on_write(uint8_t index, uint8_t angle) {
 }
 
 static void on_send(uint8_t byte) { append(out, byte); }
+
+static int driving = 1;
+static void on_drive(bool on) { driving = on; }
 
 static int next_int(char** p) { return static_cast<int>(strtol(*p, p, 10)); }
 
@@ -66,13 +82,27 @@ static int servo(bool fuzz, long count, unsigned seed) {
       servos[n++] = s;
     } else if (strncmp(line, "begin", 5) == 0 || strncmp(line, "case", 4) == 0) {
       ServoCore core(static_cast<uint8_t>(board), servos, static_cast<uint8_t>(n), values,
-                     on_write, on_send);
+                     on_write, on_send, on_drive);
       writes[0] = out[0] = 0;
-      core.begin();
-      if (line[0] == 'b') {
-        printf("begin%s\n", writes);
+      driving = 1;
+      if (line[0] == 'b') {  // "begin [V V ...]": from the rest values, or from this pose
+        p += 5;
+        uint8_t pose[64];
+        int k = 0;
+        for (char* end; k < n; k++, p = end) {
+          pose[k] = static_cast<uint8_t>(strtol(p, &end, 10));
+          if (end == p) break;
+        }
+        core.begin(k == n && n > 0 ? pose : 0);
+        printf("begin");
+        for (int i = 0; i < n; i++) {
+          uint8_t angle = core.angle(static_cast<uint8_t>(i), core.value(static_cast<uint8_t>(i)));
+          printf(" %d %d %d", i, angle, inmoov::pulse_us(angle));
+        }
+        printf("\n");
         continue;
       }
+      core.begin();
       writes[0] = 0;
       p += 4;
       // a write is reported as ID VALUE ANGLE: the core gives the index and the angle
@@ -90,12 +120,16 @@ static int servo(bool fuzz, long count, unsigned seed) {
                    core.value(last_index), last_angle);
         }
       }
-      printf("writes%s | out%s\n", report, out);
+      if (driving == core.relaxed()) {
+        printf("relaxed %d but the pulses are %s\n", core.relaxed(), driving ? "on" : "off");
+        return 1;
+      }
+      printf("writes%s | out%s | relaxed %d\n", report, out, core.relaxed());
     }
   }
   if (!fuzz) return 0;
   ServoCore core(static_cast<uint8_t>(board), servos, static_cast<uint8_t>(n), values,
-                 on_write, on_send);
+                 on_write, on_send, on_drive);
   core.begin();
   srand(seed);
   for (long k = 0; k < count; k++) {
@@ -123,6 +157,100 @@ static int servo(bool fuzz, long count, unsigned seed) {
     }
   }
   printf("ok %ld bytes\n", count);
+  return 0;
+}
+
+// -- the stored pose ------------------------------------------------------------------
+static uint8_t eeprom[4096];
+static long cell_writes[4096];
+static long eeprom_size = 1024, busy_until = 0, clock_ms = 0, cut_left = -1;
+
+static uint8_t eeprom_read(uint16_t address) {
+  if (address >= eeprom_size) {
+    printf("read outside the EEPROM: %u\n", address);
+    exit(1);
+  }
+  return eeprom[address];
+}
+
+static bool eeprom_write(uint16_t address, uint8_t byte) {
+  if (address >= eeprom_size) {
+    printf("write outside the EEPROM: %u\n", address);
+    exit(1);
+  }
+  if (clock_ms < busy_until) return false;
+  if (cut_left == 0 || eeprom[address] == byte) return true;  // powered off / unchanged
+  eeprom[address] = byte;
+  cell_writes[address]++;
+  busy_until = clock_ms + 4;
+  if (cut_left > 0) cut_left--;
+  return true;
+}
+
+static int store() {
+  ServoSettings servos[64];
+  uint8_t values[64], record[64 + PoseStore::OVERHEAD];
+  int board = 181, n = 0;
+  PoseStore* store = 0;
+  memset(eeprom, 0xFF, sizeof eeprom);
+  char line[8192];
+  while (fgets(line, sizeof line, stdin)) {
+    char* p = line;
+    if (strncmp(line, "board", 5) == 0) {
+      p += 5;
+      board = next_int(&p);
+    } else if (strncmp(line, "servo", 5) == 0) {
+      p += 5;
+      ServoSettings& s = servos[n++];
+      s.id = static_cast<uint8_t>(next_int(&p));
+      s.pin = static_cast<uint8_t>(next_int(&p));
+      s.lo = static_cast<uint8_t>(next_int(&p));
+      s.hi = static_cast<uint8_t>(next_int(&p));
+      s.reversed = static_cast<uint8_t>(next_int(&p));
+      s.rest = static_cast<uint8_t>(next_int(&p));
+    } else if (strncmp(line, "eeprom", 6) == 0) {
+      p += 6;
+      eeprom_size = next_int(&p);
+      memset(eeprom, 0xFF, sizeof eeprom);
+      memset(cell_writes, 0, sizeof cell_writes);
+    } else if (strncmp(line, "fill", 4) == 0) {
+      p += 4;
+      memset(eeprom, next_int(&p), sizeof eeprom);
+    } else if (strncmp(line, "boot", 4) == 0) {
+      delete store;
+      store = new PoseStore(static_cast<uint16_t>(eeprom_size), static_cast<uint8_t>(board),
+                            servos, static_cast<uint8_t>(n), record, eeprom_read, eeprom_write);
+      cut_left = -1;
+      if (!store->load(values)) {
+        printf("boot none\n");
+        continue;
+      }
+      printf("boot");
+      for (int i = 0; i < n; i++) printf(" %d", values[i]);
+      printf(" seq %u\n", store->seq());
+    } else if (strncmp(line, "write", 5) == 0) {
+      p += 5;
+      clock_ms = next_int(&p);
+      for (int i = 0; i < n; i++) values[i] = static_cast<uint8_t>(next_int(&p));
+      store->changed(static_cast<uint16_t>(clock_ms));
+    } else if (strncmp(line, "run", 3) == 0) {
+      p += 3;
+      long until = next_int(&p);
+      for (; clock_ms <= until; clock_ms++) store->poll(static_cast<uint16_t>(clock_ms), values);
+      clock_ms = until;
+    } else if (strncmp(line, "cut", 3) == 0) {
+      p += 3;
+      cut_left = next_int(&p);
+    } else if (strncmp(line, "wear", 4) == 0) {
+      long total = 0, most = 0;
+      for (long a = 0; a < eeprom_size; a++) {
+        total += cell_writes[a];
+        if (cell_writes[a] > most) most = cell_writes[a];
+      }
+      printf("wear %ld %ld\n", total, most);
+    }
+  }
+  delete store;
   return 0;
 }
 
@@ -174,6 +302,7 @@ int main(int argc, char** argv) {
   if (argc >= 4 && strcmp(argv[1], "fuzz") == 0)
     return servo(true, atol(argv[2]), static_cast<unsigned>(atol(argv[3])));
   if (argc >= 2 && strcmp(argv[1], "glove") == 0) return glove();
-  fprintf(stderr, "usage: core_driver servo | fuzz N SEED | glove  (script on stdin)\n");
+  if (argc >= 2 && strcmp(argv[1], "store") == 0) return store();
+  fprintf(stderr, "usage: core_driver servo | fuzz N SEED | glove | store  (script on stdin)\n");
   return 2;
 }

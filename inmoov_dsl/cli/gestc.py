@@ -191,7 +191,7 @@ def cmd_firmware(args: argparse.Namespace) -> int:
     library = out / "libraries" / "InmoovDsl"
     if not library.exists():  # a sketchbook of its own: the library and the build beside
         shipped = data_dir("firmware")
-        for part in ("libraries", "stub", "harness", "host", "Makefile", "size.awk"):
+        for part in ("libraries", "harness", "host", "Makefile", "size.awk"):
             source = shipped / part
             if source.is_dir():
                 shutil.copytree(source, out / part, dirs_exist_ok=True)

@@ -1,9 +1,12 @@
 """gestsim: the virtual board on a pseudo-terminal, for any program that talks serial.
 
 It prints the device path, then serves until stopped. Like an Uno or a Nano, the board
-resets when a program opens the port: its servos go back to their defaults and it
-ignores bytes for the boot time, then sends WAIT. With a terminal, it shows every
-servo's value live. POSIX only (Linux, macOS).
+resets when a program opening the port raises DTR: at the first open, and at any open
+after a program closed the port with HUPCL set (the default; gestplay clears it, so
+DTR stays up and the board does not reset). After a reset it starts from the pose it
+had stored (the last pose that held for a second), ignores bytes for the boot time,
+then sends WAIT. With a terminal, it shows every servo's value live. POSIX only
+(Linux, macOS).
 """
 
 from __future__ import annotations
@@ -57,6 +60,8 @@ def serve(args: argparse.Namespace) -> int:
     poller.register(master, select.POLLIN)
     board: VirtualBoard | VirtualGlove | None = None
     hung_up = True  # no program has the port open
+    dtr_up = False  # the line that resets the board when it rises
+    drop_dtr = True  # the program with the port open wants DTR dropped on closing (HUPCL)
     try:
         while True:
             flags = dict(poller.poll(5)).get(master, 0)
@@ -71,6 +76,8 @@ def serve(args: argparse.Namespace) -> int:
                 log.write("".join(f"{now:.6f} {b}\n" for b in data))
                 log.flush()
             if flags & select.POLLHUP and not data:
+                if not hung_up:  # the program closed the port
+                    dtr_up = not drop_dtr
                 hung_up = True  # the bytes already on the wire still arrive
                 if board is not None:
                     board.read(now)
@@ -78,11 +85,17 @@ def serve(args: argparse.Namespace) -> int:
                         view.draw(board, now)
                 time.sleep(0.01)
                 continue
-            if hung_up:  # a program opened the port: the board resets
+            if hung_up:  # a program opened the port: if DTR rises, the board resets
                 hung_up = False
-                board = VirtualGlove(glove, now + args.boot) if glove is not None else \
-                    VirtualBoard(BoardCore.from_profile(profile, board_cfg), board_cfg.baud,
-                                 ready_at=now + args.boot)
+                if glove is not None:
+                    board = VirtualGlove(glove, now + args.boot)
+                elif board is None:
+                    board = VirtualBoard(BoardCore.from_profile(profile, board_cfg),
+                                         board_cfg.baud, ready_at=now + args.boot)
+                elif not dtr_up:
+                    board.reset(now, args.boot)
+                dtr_up = True
+            drop_dtr = _hupcl(master)
             if data:
                 board.write(data, now)
             out = board.read(now)
@@ -99,6 +112,17 @@ def serve(args: argparse.Namespace) -> int:
         os.close(master)
         if log is not None:
             log.close()
+
+
+def _hupcl(master: int) -> bool:
+    """Does the program that has the pty open leave HUPCL set (DTR drops when it
+    closes)? A pty's settings are the ones the program set on its side."""
+    import termios  # POSIX only, as gestsim is
+
+    try:
+        return bool(termios.tcgetattr(master)[2] & termios.HUPCL)
+    except termios.error:
+        return True
 
 
 def _glove(args: argparse.Namespace, profile) -> list[tuple[float, bytes]]:
@@ -175,7 +199,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("-p", "--profile", default="rhand", help="robot profile (default rhand)")
     ap.add_argument("--board", type=int, help="which board of the profile (default the first)")
     ap.add_argument("--boot", type=float, default=0.5,
-                    help="seconds the board ignores bytes after the port opens (default 0.5)")
+                    help="seconds the board ignores bytes after a reset (default 0.5)")
     ap.add_argument("--log", help="write every byte received to this file, as it "
                     "arrives: '<seconds> <byte>' per line (monotonic clock)")
     ap.add_argument("--quiet", action="store_true", help="no live view")

@@ -1,10 +1,16 @@
 """``sim://[PROFILE][?board=ID&boot=SECONDS]``: the virtual board as a pyserial port.
 
 PROFILE defaults to ``rhand``, the board to the profile's first, ``boot`` (the time
-the bootloader swallows bytes after the port opens, as an Uno or Nano does) to 0.2 s.
+the bootloader swallows bytes after a reset, as an Uno or Nano does) to 0.2 s.
 The player completes a bare ``sim://`` with the profile and board it plays for.
 The board runs in real time on this process's clock: what the host writes arrives at
 the board's baud, and replies come back the same way.
+
+A board stays on the desk for the life of the process: opening the same URL again
+finds it as it was left. Like an Uno, it resets when an open raises DTR: the first
+open, and any open after a close that dropped DTR. A port drops DTR on closing unless
+its ``hupcl`` was cleared, as ``ports.leave_dtr_up`` does (the termios flag of a real
+port on POSIX).
 """
 
 from __future__ import annotations
@@ -21,6 +27,19 @@ from ..profile import Profile, builtin_profiles, find_profile, load_profile
 from ..sim import VirtualBoard
 
 DEFAULT_BOOT = 0.2  #: s
+
+
+class _Desk:
+    """The virtual boards of this process, by URL, and whether DTR is up on each."""
+
+    boards: dict[str, VirtualBoard] = {}
+    dtr_up: dict[str, bool] = {}
+
+
+def power_off() -> None:
+    """Take every virtual board off the desk: the next open powers up a new one."""
+    _Desk.boards.clear()
+    _Desk.dtr_up.clear()
 
 
 def bare(url: str) -> bool:
@@ -46,14 +65,33 @@ class Serial(SerialBase):
     """A pyserial port with the virtual board on the other end."""
 
     board: VirtualBoard | None = None
+    hupcl = True  #: drop DTR on closing (the POSIX default)
 
     def open(self) -> None:
         if self.is_open:
             raise SerialException("Port is already open.")
         if self._port is None:
             raise SerialException("Port must be configured before it can be used.")
-        self.board = self._board_from_url(self.portstr)
+        url = self.portstr
+        board = _Desk.boards.get(url)
+        boot = self._boot(url)
+        if board is None:  # powered up: the board boots
+            board = self._board_from_url(url)
+            board.ready_at = time.monotonic() + boot
+            _Desk.boards[url] = board
+        elif not _Desk.dtr_up.get(url):  # DTR rises: an Uno resets
+            board.reset(time.monotonic(), boot)
+        _Desk.dtr_up[url] = True
+        self.board = board
         self.is_open = True
+
+    @staticmethod
+    def _boot(url: str) -> float:
+        options = urllib.parse.parse_qs(urllib.parse.urlsplit(url).query)
+        try:
+            return float(options.get("boot", [DEFAULT_BOOT])[0])
+        except ValueError as exc:
+            raise SerialException(f"sim://: bad option ({exc})") from None
 
     def _board_from_url(self, url: str) -> VirtualBoard:
         parts = urllib.parse.urlsplit(url)
@@ -66,16 +104,16 @@ class Serial(SerialBase):
             raise SerialException(f"sim://: {exc.first.message}") from None
         try:
             board_id = int(options.get("board", [profile.boards[0].id])[0])
-            boot = float(options.get("boot", [DEFAULT_BOOT])[0])
         except ValueError as exc:
             raise SerialException(f"sim://: bad option ({exc})") from None
         board = next((b for b in profile.boards if b.id == board_id), None)
         if board is None:
             raise SerialException(f"sim://: profile '{profile.name}' has no board {board_id}")
-        return VirtualBoard(BoardCore.from_profile(profile, board), board.baud,
-                            ready_at=time.monotonic() + boot)
+        return VirtualBoard(BoardCore.from_profile(profile, board), board.baud)
 
     def close(self) -> None:
+        if self.is_open:
+            _Desk.dtr_up[self.portstr] = not self.hupcl
         self.is_open = False
 
     def _reconfigure_port(self) -> None:

@@ -4,6 +4,7 @@
 
 #include "glove_core.h"
 #include "inmoov_protocol.h"
+#include "pose_store.h"
 #include "servo_core.h"
 
 #endif

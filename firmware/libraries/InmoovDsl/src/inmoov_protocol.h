@@ -17,12 +17,13 @@ enum Signal : uint8_t {
   END = 251,     // board -> host: a reply ends
   MIN = 250,     // host -> glove: capture the lower calibration bound
   MAX = 249,     // host -> glove: capture the upper calibration bound
+  RELAX = 248,   // host -> servo board: stop driving the servos until the next command
 };
 
-const uint8_t LOWEST_SIGNAL = MAX;   // bytes from here up are signals
 const uint8_t MAX_VALUE = 180;       // largest servo value; larger values are clamped
 const uint8_t MAX_SERVO_ID = 180;    // servo IDs are values too
 const uint8_t FIRST_BOARD_ID = 181;  // board IDs start here
+const uint16_t POSE_SETTLE_MS = 1000;  // ms without a servo command before the pose is stored
 
 }  // namespace inmoov
 

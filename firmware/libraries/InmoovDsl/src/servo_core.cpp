@@ -2,36 +2,41 @@
 
 namespace inmoov {
 
-ServoCore::ServoCore(uint8_t board_id, const ServoSettings* servos, uint8_t count,
-                     uint8_t* values, WriteServo write, SendByte send)
-    : board_id_(board_id), servos_(servos), count_(count), values_(values), write_(write),
-      send_(send), pending_(NONE) {}
-
-void ServoCore::begin() {
+void ServoCore::begin(const uint8_t* pose) {
   pending_ = NONE;
-  for (uint8_t i = 0; i < count_; i++) set(i, servos_[i].rest);
+  relaxed_ = false;
+  for (uint8_t i = 0; i < count_; i++) set(i, pose ? pose[i] : servos_[i].rest);
 }
 
+// As the original firmware reads bytes: CANCEL and DUMP (and our RELAX) act wherever
+// they arrive and drop a half-read command; any other byte is a servo ID where an ID
+// is expected, and a value (clamped to 180) where a value is.
 void ServoCore::feed(uint8_t byte) {
-  if (byte == CANCEL) {
+  if (byte == CANCEL || byte == DUMP || byte == RELAX) {
     pending_ = NONE;
-  } else if (byte == DUMP) {
-    dump();  // a half-read command stays half-read
-  } else if (byte >= LOWEST_SIGNAL) {
-    // a signal this board does not act on: skipped wherever it arrives
+    if (byte == DUMP) dump();
+    if (byte == RELAX && drive_ && !relaxed_) {
+      relaxed_ = true;
+      drive_(false);
+    }
   } else if (pending_ == NONE) {
     pending_ = byte;
   } else {
     int8_t index = index_of(static_cast<uint8_t>(pending_));
     pending_ = NONE;
-    if (index >= 0) set(static_cast<uint8_t>(index), byte > MAX_VALUE ? MAX_VALUE : byte);
+    if (index < 0) return;
+    set(static_cast<uint8_t>(index), byte > MAX_VALUE ? MAX_VALUE : byte);
+    if (relaxed_) {
+      relaxed_ = false;
+      drive_(true);
+    }
   }
 }
 
 uint8_t ServoCore::angle(uint8_t index, uint8_t value) const {
   const ServoSettings& s = servos_[index];
-  uint8_t step = static_cast<uint8_t>(static_cast<uint16_t>(value) * (s.hi - s.lo) / MAX_VALUE);
-  return s.reversed ? s.hi - step : s.lo + step;
+  uint8_t from = s.reversed ? MAX_VALUE - value : value;  // map(v, 180, 0, ...) reversed
+  return s.lo + static_cast<uint16_t>(from) * (s.hi - s.lo) / MAX_VALUE;
 }
 
 int8_t ServoCore::index_of(uint8_t id) const {
