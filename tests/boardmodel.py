@@ -1,5 +1,6 @@
-"""A servo board as facts.md describes it, written for the tests from the protocol
-alone (not from the encoder): bytes in, (arrival time, servo ID, value) out."""
+"""The original firmware's servo board as facts.md describes it (measured in simavr),
+written for the tests from the protocol alone (not from the encoder, nor from our
+board): bytes in, (arrival time, servo ID, value) out."""
 
 from __future__ import annotations
 
@@ -7,21 +8,19 @@ CANCEL, DUMP = 255, 253
 
 
 def read_stream(times, data, baud, owned=None):
-    """Decode a timed byte stream the way a board reads it.
+    """Decode a timed byte stream the way the original board reads it.
 
     Each byte is complete one byte-time (10 bits at ``baud``) after it starts. A
-    pair is (ID, value); CANCEL drops a half-read pair; DUMP is answered, not a
-    command; a value above 180 is clamped; a pair for an ID the board does not own
-    is read and ignored.
+    pair is (ID, value); CANCEL and DUMP drop a half-read pair (DUMP is answered);
+    any other byte is an ID where an ID is expected and a value where a value is,
+    clamped to 180; a pair for an ID the board does not own is read and ignored.
     """
     tau = 10 / baud
     out = []
     pending = None
     for t, b in zip(times, data, strict=True):
-        if b == CANCEL:
+        if b in (CANCEL, DUMP):
             pending = None
-        elif b == DUMP:
-            pass
         elif pending is None:
             pending = b
         else:

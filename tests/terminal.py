@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import os
 import subprocess
+import termios
 import time
+
+import serial
 
 
 class AtTerminal:
@@ -35,3 +38,15 @@ class AtTerminal:
         self.read_until(b"\xff never")
         os.close(self.master)
         return self.proc.wait(timeout=20), self.out.decode(errors="replace")
+
+
+def listen_as_a_plain_program(path: str, hold: float = 0.55) -> tuple[serial.Serial, bytes]:
+    """Open ``path`` as a program opens a real serial port (HUPCL set: DTR drops when it
+    closes; a pty does not set it by itself) and listen ``hold`` s without a word: a
+    board that reset says WAIT when it has booted, one that did not says nothing."""
+    port = serial.Serial(path, 9600, timeout=0)
+    attrs = termios.tcgetattr(port.fileno())
+    attrs[2] |= termios.HUPCL
+    termios.tcsetattr(port.fileno(), termios.TCSANOW, attrs)
+    time.sleep(hold)
+    return port, port.read(100)

@@ -54,6 +54,21 @@ def test_random_bytes_never_write_above_180_or_a_servo_it_lacks(data):
     assert (write.id, write.value) == (2, 77)
 
 
+def test_the_original_firmware_ignores_the_relax_bytes_and_stays_in_step():
+    """RELAX goes out as CANCEL RELAX CANCEL: the original board reads RELAX as a servo
+    it does not have, and the CANCEL drops it before any value."""
+    from boardmodel import read_stream
+
+    from inmoov_dsl.player import RELAX
+
+    data = [255, 2, 90, *RELAX, 3, 60, *RELAX, *RELAX, 4, 30]
+    events = read_stream(range(len(data)), data, 9600, owned={0, 1, 2, 3, 4, 5})
+    assert [(sid, v) for _, sid, v in events] == [(2, 90), (3, 60), (4, 30)]
+    ours = vector_board()
+    writes = [w for w in (ours.feed(b)[0] for b in data) if w]
+    assert [(w.id, w.value) for w in writes] == [(2, 90), (3, 60), (4, 30)]
+
+
 def test_a_dump_is_found_among_wait_bytes_and_noise():
     reply = bytes([252, 181, 2, 0, 10, 1, 20, 251])
     assert parse_dump(bytes([254, 254, 7]) + reply + bytes([254])) == (181, {0: 10, 1: 20})

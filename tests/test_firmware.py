@@ -394,14 +394,15 @@ def pulses_of(pose: dict[int, int]) -> dict[int, int]:
     return {pin: s.pulse(pose[s.id]) for pin, s in RHAND_PINS.items()}
 
 
-def assert_pins(pins, expected: dict[int, int], which="last"):
+def assert_pins(pins, expected: dict[int, int], which="last", periods=True):
     """Each servo pin's (first or last) pulse is the expected width and no other pin
     pulses. A frame is 20 ms: the first servo's pulse starts every 20 ms, the others
-    follow the pulses before them, so theirs move by as much as those pulses change."""
+    follow the pulses before them, so theirs move by as much as those pulses change
+    (``periods=False``: the pulses stopped for a while, RELAX)."""
     assert set(pins) == set(expected)
     for pin, width in expected.items():
         assert abs(pins[pin][which] - width) <= JITTER, (pin, pins[pin], width)
-        if pins[pin]["pulses"] > 1:
+        if periods and pins[pin]["pulses"] > 1:
             shortest, longest = pins[pin]["period"]
             slack = 0.01 if pin == min(expected) else 2.5  # ms
             assert 20 - slack <= shortest and longest <= 20 + slack, (pin, pins[pin])
@@ -467,6 +468,100 @@ def test_the_head_of_the_whole_robot_nods(simboard, build):
     assert result["read"] == result["sent"]
 
 
+def timed_bytes(data, start=0.0, gap=0.01) -> str:
+    return "".join(f"{start + k * gap:.6f} {b}\n" for k, b in enumerate(data))
+
+
+REST = {s.id: s.rest for s in RHAND.servos}
+RHAND_IDS = [s.id for s in RHAND.servos]
+
+
+def test_the_image_reads_bytes_as_the_original_firmware_does(simboard, build):
+    """The conformance vectors on the built image: what it answers, the pose its DUMP
+    reports, and what each servo pin then carries (nothing, once relaxed)."""
+    def one(case):
+        return case, simulate(simboard, build / "servo_rhand.elf", timed_bytes(case["in"]),
+                              "--pulses")
+
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        for case, result in pool.map(one, VECTORS["cases"]):
+            pose = dict(REST)
+            pose.update({sid: value for sid, value, _ in case["writes"]})
+            assert result["dump"] == (181, pose), case["name"]
+            replies = [b for _, b in result["out"] if b != Signal.WAIT]
+            assert replies[:len(case["out"])] == case["out"], case["name"]
+            assert replies[len(case["out"]):] == [252, 181, 6, *[b for sid in sorted(pose)
+                                                               for b in (sid, pose[sid])], 251]
+            last = max(t for _, t, _ in result["pulses"])
+            if case.get("relaxed"):  # no pulse once RELAX was read (its index, 10 ms apart)
+                relaxed_at = case["in"].index(Signal.RELAX) * 0.01 + 0.002
+                assert last < relaxed_at + 0.003, case["name"]
+            else:
+                assert_pins(result["pins"], pulses_of(pose), periods=Signal.RELAX not in
+                            case["in"])
+                assert last > len(case["in"]) * 0.01 + 0.05, case["name"]  # still pulsing
+
+
+def test_relaxed_servos_get_no_pulse_until_the_next_command(simboard, build):
+    data = [255, 2, 90, 255, 248, 255]  # gestplay relax: CANCEL RELAX CANCEL
+    timed = timed_bytes(data) + timed_bytes([253, 3, 60], start=0.5)  # DUMP, then a command
+    result = simulate(simboard, build / "servo_rhand.elf", timed, "--pulses")
+    starts = sorted(t for _, t, _ in result["pulses"])
+    quiet = [t for t in starts if 0.07 < t < 0.52]
+    assert quiet == []  # limp from RELAX (0.04 s) until the command at 0.52 s
+    replies = [b for _, b in result["out"] if b != Signal.WAIT]
+    assert replies[:3] == [252, 181, 6]  # DUMP answered while relaxed
+    pose = {**REST, 2: 90, 3: 60}
+    assert result["dump"] == (181, pose)
+    after = {pin for pin, t, _ in result["pulses"] if t > 0.53}
+    assert after == set(RHAND_PINS)  # every servo driven again, from the pose it holds
+    assert_pins(result["pins"], pulses_of(pose), periods=False)
+
+
+def test_the_pose_survives_a_power_cut_and_a_new_board_starts_at_rest(simboard, build,
+                                                                       tmp_path):
+    """The first power-up (an EEPROM never written) pulses the rest pose from the first
+    pulse; a pose that held a second is stored, and the next power-up pulses it from
+    the first pulse and reports it; a pose cut off before it settled is not."""
+    elf, eeprom = build / "servo_rhand.elf", tmp_path / "eeprom.bin"
+    rockon, _ = compile_program(load(str(LIBRARY["rockon"].path)), "rockon", RHAND)
+    first = simulate(simboard, elf, to_timed(rockon.stream()), "--eeprom", eeprom,
+                     "--run-on", 1.2)
+    assert_pins(first["pins"], pulses_of(REST), "first")  # a new board: rest, no 1500 us
+    final = dict(zip(RHAND_IDS, rockon.final, strict=True))
+    assert len(first["eeprom"]) == 10  # one record: seq, six values, CRC (2 + 6 + 2 bytes)
+    settled = rockon.stream().times[-1] + POSE_SETTLE  # a second after the last command
+    assert all(settled < t < settled + 0.05 for t, _, _ in first["eeprom"])
+    again = simulate(simboard, elf, "", "--eeprom", eeprom)
+    assert again["dump"] == (181, final)
+    assert_pins(again["pins"], pulses_of(final), "first")
+    peace, _ = compile_program(load(str(LIBRARY["peace"].path)), "peace", RHAND, {
+        s.name: final[s.id] for s in RHAND.servos})
+    simulate(simboard, elf, to_timed(peace.stream()), "--eeprom", eeprom)  # cut at once
+    after = simulate(simboard, elf, "", "--eeprom", eeprom)
+    assert after["dump"] == (181, final)  # peace never settled: rockon it is
+    assert after["eeprom"] == []  # and a power-up writes nothing
+
+
+def test_a_record_torn_by_a_power_cut_is_not_read_back_by_the_image(simboard, build,
+                                                                    tmp_path):
+    elf, eeprom = build / "servo_rhand.elf", tmp_path / "eeprom.bin"
+    ok, _ = compile_program(load(str(LIBRARY["ok"].path)), "ok", RHAND)
+    simulate(simboard, elf, to_timed(ok.stream()), "--eeprom", eeprom, "--run-on", 1.2)
+    fist, _ = compile_program(load(str(LIBRARY["fist"].path)), "fist", RHAND, {
+        s.name: v for s, v in zip(RHAND.servos, ok.final, strict=True)})
+    for written in (1, 5, 9):  # the power fails after this many bytes of the new record
+        torn = tmp_path / f"torn{written}.bin"
+        torn.write_bytes(eeprom.read_bytes())
+        cut = simulate(simboard, elf, to_timed(fist.stream()), "--eeprom", torn,
+                       "--run-on", 1.2, "--cut", written)
+        assert "cut" in cut and len(cut["eeprom"]) == written
+        after = simulate(simboard, elf, "", "--eeprom", torn)
+        ok_pose = dict(zip(RHAND_IDS, ok.final, strict=True))
+        assert after["dump"] == (181, ok_pose), written
+        assert_pins(after["pins"], pulses_of(ok_pose), "first")
+
+
 @pytest.fixture
 def firmware_pty(simboard, build):
     proc = subprocess.Popen([str(simboard), str(build / "servo_rhand.elf"), "--pty"],
@@ -499,3 +594,28 @@ def test_the_firmware_image_ends_in_the_pose_played(firmware_pty):
         assert ask_dump(port, 181) == dict(zip(range(6), compiled.final, strict=True))
     finally:
         port.close()
+
+
+def test_the_image_resets_only_when_dtr_rises_and_keeps_its_pose(firmware_pty):
+    """What tells a reset is the pose: a reset board holds the pose it stored, not one
+    that had no second to settle. (simavr's UART takes 11 bits a byte, so the image
+    runs a little behind a stream sent at the wire's pace: its answers take longer.)"""
+    from terminal import listen_as_a_plain_program
+
+    done = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "peace",
+                           "--port", firmware_pty], capture_output=True, text=True,
+                          timeout=60)
+    assert done.returncode == 0, done.stderr
+    peace = {0: 0, 1: 180, 2: 0, 3: 0, 4: 180, 5: 180}
+    port, _ = listen_as_a_plain_program(firmware_pty, hold=0)
+    # gestplay left DTR up: no reset, and peace (not settled yet) is what the board holds
+    assert ask_dump(port, 181, timeout=3) == peace
+    time.sleep(POSE_SETTLE + 0.5)  # held for a second: stored in EEPROM
+    port.write(bytes([Signal.CANCEL, 0, 90]))  # the wrist moves; no time to settle...
+    assert ask_dump(port, 181, timeout=3) == {**peace, 0: 90}
+    port.close()  # ...as DTR drops
+    time.sleep(0.1)
+    port, _ = listen_as_a_plain_program(firmware_pty, hold=0)
+    assert wait_ready(port)  # DTR rose: it reset, and booted into the pose it stored
+    assert ask_dump(port, 181, timeout=3) == peace
+    port.close()

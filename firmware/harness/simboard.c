@@ -240,10 +240,19 @@ static uint32_t find_symbol(elf_firmware_t *fw, const char *name) {
   return 0;
 }
 
+/* INT0 and INT1 sit on pins 2 and 3, which drive servos: held low between pulses, a
+ * "strict" level trigger has simavr poll them on every cycle (6x slower). The images use
+ * no external interrupt. (A reset sets them strict again.) */
+static void relax_level_triggers(void) {
+  avr_extint_set_strict_lvl_trig(avr, 0, 0);
+  avr_extint_set_strict_lvl_trig(avr, 1, 0);
+}
+
 /* A reset (power-up, or DTR): the board starts again; RAM and registers do not survive,
  * the EEPROM does. simavr forgets its cycle timers, so the EEPROM watch starts again. */
 static void reset_board(void) {
   avr_reset(avr);
+  relax_level_triggers();
   ready_at = 0;
   for (int pin = 0; pin < PINS; pin++) pins[pin].high = 0;
   avr_cycle_timer_register(avr, EEPROM_LOOK, look_at_eeprom, NULL);
@@ -262,11 +271,7 @@ static int load(const char *path, elf_firmware_t *fw) {
   avr->log = 0;
   avr_load_firmware(avr, fw);
   avr->frequency = F_CPU;
-  /* INT0 and INT1 sit on pins 2 and 3, which drive servos: held low between pulses, a
-   * "strict" level trigger has simavr poll them on every cycle (6x slower). The images
-   * use no external interrupt. */
-  avr_extint_set_strict_lvl_trig(avr, 0, 0);
-  avr_extint_set_strict_lvl_trig(avr, 1, 0);
+  relax_level_triggers();
   uint32_t flags = 0;
   avr_ioctl(avr, AVR_IOCTL_UART_GET_FLAGS('0'), &flags);
   flags &= ~AVR_UART_FLAG_STDIO;
@@ -361,9 +366,10 @@ static int script(double run_on) {
     r = send_byte((uint8_t)byte, last);
     sent += !r;
   }
-  if (!r) { /* the stream is over: let it settle, then ask for the board's values */
+  if (!r) { /* the stream is over: let it settle (replies end), then ask for the values */
+    r = run_until(last + F_CPU / 20);
     before_dump = out_count;
-    r = send_byte(253, last + F_CPU / 20);
+    if (!r) r = send_byte(253, last + F_CPU / 20);
     sent += !r;
   }
   avr_cycle_count_t limit = avr->cycle + F_CPU / 5;

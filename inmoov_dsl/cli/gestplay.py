@@ -14,7 +14,7 @@ from ..compiled import Compiled, from_json, to_timed
 from ..compiler import compile_program, load
 from ..errors import Diagnostic, GestError
 from ..library import find_gesture, library_dirs
-from ..player import Link, ask_dump, cancel_all, drain, play, wait_ready
+from ..player import Link, ask_dump, cancel_all, drain, play, relax_all, wait_ready
 from ..ports import available, open_port
 from ..profile import Profile, load_profile
 from ..protocol import Signal
@@ -23,7 +23,8 @@ from . import calibrate, repl, teach
 from .common import EXIT_INTERRUPTED, EXIT_OK, add_lib, report, run
 
 PROG = "gestplay"
-TOOLS = ("dump", "ports", "send", "calibrate", "repl", "teach")
+TOOLS = ("dump", "ports", "send", "relax", "calibrate", "repl", "teach")
+RELAX_WINDOW = 1.5  #: s after a Ctrl-C at a terminal in which a second one relaxes the hand
 
 
 # -- playing -------------------------------------------------------------------------
@@ -165,12 +166,24 @@ def _play_loop(args: argparse.Namespace, target: Target, links: list[Link]) -> i
 def on_the_hand(prog: str, links: list[Link], body: Callable[[], int]) -> int:
     """Run ``body`` with the boards' links open, and close them after. Ctrl-C stops it,
     sends CANCEL so that no half command is pending and exits 130 with the hand holding
-    its pose; a lost link sends CANCEL where it still can and is one line of error."""
+    its pose; at a terminal, a second Ctrl-C soon after relaxes the hand (its servos go
+    limp). A lost link sends CANCEL where it still can and is one line of error."""
     try:
         return body()
     except KeyboardInterrupt:
         cancel_all(links)
-        print(f"\n{prog}: interrupted: CANCEL sent, the hand holds its pose", file=sys.stderr)
+        if not sys.stdin.isatty():
+            print(f"\n{prog}: interrupted: CANCEL sent, the hand holds its pose",
+                  file=sys.stderr)
+            return EXIT_INTERRUPTED
+        print(f"\n{prog}: interrupted: CANCEL sent, the hand holds its pose (Ctrl-C again "
+              f"to relax it)", file=sys.stderr, flush=True)
+        try:
+            time.sleep(RELAX_WINDOW)
+        except KeyboardInterrupt:
+            relax_all(links)
+            print(f"{prog}: relaxed: the servos are limp until the next command",
+                  file=sys.stderr)
         return EXIT_INTERRUPTED
     except serial.SerialException as exc:
         cancel_all(links)
@@ -227,6 +240,25 @@ def _open_first(spec: str, profile: Profile):
     return open_port(protocol_sim.complete(spec, profile, first.id), first.baud)
 
 
+def cmd_relax(args: argparse.Namespace) -> int:
+    """Every board of the profile stops driving its servos until its next command."""
+    profile = load_profile(args.profile or "rhand")
+    links = connect(parse_ports(args.port, profile), profile)
+
+    def relax() -> int:
+        for link in links:
+            if not wait_ready(link.port):
+                _warn(f"board {link.board} on {link.name} sent no WAIT: relaxing it anyway")
+        relax_all(links)
+        for link in links:
+            drain(link.port)  # a pulled cable says so here
+            print(f"board {link.board} on {link.name}: relaxed, its servos are limp until "
+                  f"the next command")
+        return EXIT_OK
+
+    return on_the_hand(PROG, links, relax)
+
+
 SIGNAL_NAMES = {int(s): s.name for s in Signal}
 SIGNAL_BYTES = {s.name.lower(): int(s) for s in Signal}
 
@@ -261,7 +293,7 @@ def cmd_send(args: argparse.Namespace) -> int:
 def play_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(
         prog=PROG, description="Play a gesture on the InMoov hand. Bench tools: "
-        "gestplay dump|ports|send|calibrate|repl|teach --help.")
+        "gestplay dump|ports|send|relax|calibrate|repl|teach --help.")
     ap.add_argument("target", metavar="GESTURE",
                     help="a library gesture, a .gest file or a compiled .gestc file")
     ap.add_argument("--port", action="append", default=[], metavar="PORT",
@@ -296,8 +328,15 @@ def tools_parser() -> argparse.ArgumentParser:
     p.add_argument("-p", "--profile", help="for the baud (default rhand)")
     p.add_argument("--listen", type=float, default=0.3, help="seconds to wait for a reply")
     p.add_argument("bytes", nargs="+", metavar="BYTE",
-                   help="0..255, or a signal name: cancel, dump")
+                   help="0..255, or a signal name: cancel, dump, relax")
     p.set_defaults(func=cmd_send)
+    p = sub.add_parser("relax", help="the servos stop holding (they go limp) until the "
+                       "next command")
+    p.add_argument("--port", action="append", required=True, metavar="PORT",
+                   help="the board's port; BOARD=PORT for each board of a profile with "
+                   "several")
+    p.add_argument("-p", "--profile", help="robot profile (default rhand)")
+    p.set_defaults(func=cmd_relax)
     calibrate.add_parser(sub)
     repl.add_parser(sub)
     teach.add_parser(sub)

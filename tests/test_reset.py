@@ -1,0 +1,192 @@
+"""Opening a port without moving the hand: the virtual boards keep their pose across a
+reset as the firmware does (EEPROM), reset only when DTR rises, the player leaves DTR
+up; and RELAX, from `gestplay relax` and from a second Ctrl-C."""
+
+import os
+import signal
+import subprocess
+import sys
+import termios
+import time
+
+import pytest
+import serial
+from terminal import AtTerminal, listen_as_a_plain_program
+
+from inmoov_dsl import load_profile
+from inmoov_dsl.board import BoardCore
+from inmoov_dsl.cli import gestplay
+from inmoov_dsl.ports import leave_dtr_up, open_port
+from inmoov_dsl.protocol import POSE_SETTLE
+from inmoov_dsl.sim import VirtualBoard
+
+POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
+REST = [0, 0, 0, 0, 0, 0]
+
+
+def board(stored=None):
+    rhand = load_profile("rhand")
+    return VirtualBoard(BoardCore.from_profile(rhand, rhand.boards[0]), 9600, stored=stored)
+
+
+def send(b, data, at):
+    b.write(bytes(data), at)
+    b.read(at + 0.1)
+
+
+# -- the virtual board's memory ------------------------------------------------------------
+def test_a_pose_is_stored_once_it_has_held_for_a_second():
+    b = board()
+    send(b, [255, 2, 90, 3, 45], 1.0)
+    b.advance(1.0 + POSE_SETTLE * 0.9)
+    assert b.stored is None  # not settled yet
+    b.advance(1.2 + POSE_SETTLE)
+    assert b.stored == [0, 0, 90, 45, 0, 0] and b.records == 1
+    send(b, [255, 2, 90], 5.0)  # the same pose again: nothing written
+    b.advance(10.0)
+    assert b.records == 1
+
+
+def test_a_reset_starts_from_the_stored_pose_and_loses_an_unsettled_one():
+    b = board()
+    send(b, [255, 2, 90], 1.0)
+    b.advance(3.0)  # settled
+    send(b, [255, 2, 10, 4, 20], 4.0)  # moved, and reset 0.2 s later: not stored
+    b.reset(4.3, boot=0.5)
+    assert b.core.values == [0, 0, 90, 0, 0, 0] and b.resets == 1
+    send(b, [255, 5, 5], 4.4)  # the bootloader swallows it
+    assert b.swallowed == 3 and b.core.values == [0, 0, 90, 0, 0, 0]
+    assert b.read(4.9) == bytes([254])  # booted: WAIT
+
+
+def test_a_new_board_and_one_without_a_stored_pose_start_at_rest():
+    b = board()
+    send(b, [255, 2, 90], 1.0)
+    b.reset(1.2, boot=0.1)
+    assert b.core.values == REST
+    assert board(stored=[1, 2, 3, 4, 5, 6]).core.values == [1, 2, 3, 4, 5, 6]
+
+
+# -- sim:// and DTR ----------------------------------------------------------------------
+def test_sim_resets_only_when_an_open_raises_dtr():
+    url = "sim://rhand?boot=0.05"
+    raw = serial.serial_for_url(url, 9600, timeout=0)  # HUPCL set: DTR drops on close
+    first = raw.board
+    assert first.resets == 0  # powered up
+    gestplay.wait_ready(raw)
+    raw.write(bytes([255, 2, 90]))
+    time.sleep(0.05)
+    raw.close()
+    port = open_port(url, 9600)  # DTR rose: a reset, from the rest pose (90 never settled)
+    assert port.board is first and first.resets == 1
+    assert gestplay.ask_dump(port, 181) is None  # the bootloader is still running...
+    assert gestplay.wait_ready(port)
+    assert gestplay.ask_dump(port, 181) == dict.fromkeys(range(6), 0)
+    port.write(bytes([255, 3, 120]))
+    time.sleep(0.05)
+    port.close()  # HUPCL cleared by open_port: DTR stays up
+    again = open_port(url, 9600)
+    assert again.board.resets == 1  # no reset
+    assert gestplay.ask_dump(again, 181)[3] == 120  # at once: no boot to wait for
+    again.close()
+
+
+def test_a_posix_port_is_left_with_dtr_up():
+    master, slave = os.openpty()
+    try:
+        port = serial.Serial(os.ttyname(slave), 9600, timeout=0)
+        attrs = termios.tcgetattr(port.fileno())
+        attrs[2] |= termios.HUPCL  # a serial device's default
+        termios.tcsetattr(port.fileno(), termios.TCSANOW, attrs)
+        assert leave_dtr_up(port)
+        assert not termios.tcgetattr(port.fileno())[2] & termios.HUPCL
+        port.close()
+        assert not leave_dtr_up(serial.serial_for_url("loop://"))  # no terminal: nothing
+    finally:
+        os.close(master)
+        os.close(slave)
+
+
+# -- gestsim on a pty -------------------------------------------------------------------
+@pytest.fixture
+def gestsim(tmp_path):
+    log = tmp_path / "received.log"
+    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim", "--quiet",
+                             "--boot", "0.3", "--log", str(log)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    path = proc.stdout.readline().strip()
+    assert path.startswith("/dev/"), proc.stderr.read()
+    yield path, log
+    proc.kill()
+    proc.wait()
+
+
+def gestplay_run(*argv, timeout=60):
+    return subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", *argv],
+                          capture_output=True, text=True, timeout=timeout)
+
+
+@POSIX
+def test_gestplay_leaves_the_board_running_and_in_its_pose(gestsim):
+    path, _ = gestsim
+    done = gestplay_run("rockon", "--port", path)
+    assert done.returncode == 0, done.stderr
+    # the next program finds the board as gestplay left it: no reset, the rockon pose
+    port, heard = listen_as_a_plain_program(path)
+    assert heard == b""
+    assert gestplay.ask_dump(port, 181) == {0: 0, 1: 0, 2: 0, 3: 180, 4: 180, 5: 0}
+    time.sleep(POSE_SETTLE)  # the pose has held for a second: the board stores it
+    port.close()  # this one drops DTR: the next open resets, from the pose stored
+    time.sleep(0.1)
+    port, heard = listen_as_a_plain_program(path)
+    assert heard == bytes([254])
+    assert gestplay.ask_dump(port, 181) == {0: 0, 1: 0, 2: 0, 3: 180, 4: 180, 5: 0}
+    port.close()
+
+
+# -- relax ------------------------------------------------------------------------------
+def test_gestplay_relax_stops_the_pulses_until_the_next_command(capsys):
+    url = "sim://rhand?boot=0.05"
+    assert gestplay.main(["relax", "--port", url]) == 0
+    assert capsys.readouterr().out == (f"board 181 on {url}: relaxed, its servos are limp "
+                                       "until the next command\n")
+    port = open_port(url, 9600)
+    assert gestplay.ask_dump(port, 181) == dict.fromkeys(range(6), 0)  # it still answers
+    assert port.board.core.relaxed and port.board.resets == 0
+    port.write(bytes([255, 2, 90]))
+    time.sleep(0.05)
+    port.read(100)  # the board has read the command
+    assert not port.board.core.relaxed  # driving again
+    port.close()
+
+
+@POSIX
+def test_a_second_ctrl_c_relaxes_the_hand(gestsim):
+    path, log = gestsim
+    term = AtTerminal([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "count", "--port",
+                       path])
+    term.read_until(b"step", timeout=30)  # playing
+    term.proc.send_signal(signal.SIGINT)
+    term.read_until(b"Ctrl-C again")
+    term.proc.send_signal(signal.SIGINT)
+    code, out = term.finish()
+    assert code == 130, out
+    assert "CANCEL sent, the hand holds its pose (Ctrl-C again to relax it)" in out
+    assert "gestplay: relaxed: the servos are limp until the next command" in out
+    assert "Traceback" not in out
+    time.sleep(0.1)
+    data = [int(line.split()[1]) for line in log.read_text().splitlines()]
+    assert data[-4:] == [255, 255, 248, 255]  # CANCEL, then CANCEL RELAX CANCEL
+
+
+@POSIX
+def test_one_ctrl_c_at_a_terminal_holds_the_pose(gestsim):
+    path, log = gestsim
+    term = AtTerminal([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "count", "--port",
+                       path])
+    term.read_until(b"step", timeout=30)
+    term.proc.send_signal(signal.SIGINT)
+    code, out = term.finish()
+    assert code == 130 and "relaxed" not in out
+    data = [int(line.split()[1]) for line in log.read_text().splitlines()]
+    assert data[-1] == 255 and 248 not in data
