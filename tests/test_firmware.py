@@ -334,12 +334,20 @@ def test_the_python_glove_answers_like_the_firmware_glove(driver):
 
 
 # -- the build ----------------------------------------------------------------------
+ORIGINAL_FLASH = 3872  # bytes: the original servo firmware with the real Servo library
+
+
 def test_every_board_builds_and_says_what_it_uses(build, boards):
     names = sorted(folder for name in SHIPPED for folder in sketches(load_profile(name)))
     for name in names:
         assert (build / f"{name}.elf").is_file() and (build / f"{name}.hex").is_file()
         assert re.search(rf"^{name}: flash \d+ of 30720 bytes \(\d+%\), RAM \d+ of 2048 "
                          rf"bytes \(\d+%\)$", boards, re.M), (name, boards)
+    # the right hand's board, servo driver and stored pose included, is smaller than the
+    # original firmware was with the Arduino Servo library, and leaves RAM to spare
+    flash, ram = map(int, re.search(r"^servo_rhand: flash (\d+) of \d+ bytes \(\d+%\), "
+                                    r"RAM (\d+)", boards, re.M).groups())
+    assert flash < ORIGINAL_FLASH and ram <= 400, (flash, ram)
 
 
 def test_a_board_that_does_not_fit_fails_the_build(boards, tmp_path):

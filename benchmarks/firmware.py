@@ -1,0 +1,94 @@
+"""The firmware: flash and RAM of every board beside the original servo firmware's
+3,872 bytes, and the EEPROM writes that the library's gestures cost the right hand's
+board (each gesture played on the built image in simavr, from rest, then a second and a
+half of stillness), with the lifetime that gives.
+
+    python benchmarks/firmware.py [--per-day 1000]
+
+Needs make, gcc-avr, avr-libc, arduino-core-avr, simavr, libsimavr-dev (.ci/run's list).
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import subprocess
+import tempfile
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+from common import ROOT, library_gestures
+
+from inmoov_dsl import load_profile, to_timed
+from inmoov_dsl.compiler import compile_program
+
+ORIGINAL_FLASH = 3872  #: bytes: the original servo firmware, real Servo library
+CELL_WRITES = 100_000  #: erase/write cycles an ATmega328P EEPROM cell is rated for
+EEPROM = 1024  #: bytes
+
+
+def build(where: Path) -> str:
+    done = subprocess.run(["make", "-C", str(ROOT / "firmware"), "-j2", f"BUILD={where}",
+                           "all", "harness"], capture_output=True, text=True, check=True)
+    return done.stdout
+
+
+def records(writes: list[float]) -> int:
+    """EEPROM byte writes (their times) grouped into records: a record's bytes go out
+    one after another, a record comes at least a second after the one before."""
+    times = sorted(writes)
+    return sum(1 for k, t in enumerate(times) if k == 0 or t - times[k - 1] > 0.5)
+
+
+def play(simboard: Path, elf: Path, name: str, timed: str) -> tuple[str, int, int]:
+    with tempfile.TemporaryDirectory() as tmp:
+        done = subprocess.run([str(simboard), str(elf), "--run-on", "1.5", "--eeprom",
+                               str(Path(tmp) / "eeprom.bin")], input=timed,
+                              capture_output=True, text=True, check=True)
+    writes = [float(line.split()[1]) for line in done.stdout.splitlines()
+              if line.startswith("eeprom ")]
+    return name, len(writes), records(writes)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--per-day", type=int, default=1000, help="gestures a day")
+    args = ap.parse_args()
+    with tempfile.TemporaryDirectory() as tmp:
+        where = Path(tmp)
+        sizes = build(where)
+        print(f"| board | flash (bytes) | beside the original's {ORIGINAL_FLASH:,} | RAM "
+              f"(bytes) |")
+        print("|---|---:|---:|---:|")
+        for name, flash, ram in re.findall(r"^(\w+): flash (\d+) of \d+ bytes \(\d+%\), "
+                                           r"RAM (\d+)", sizes, re.M):
+            ratio = f"{100 * int(flash) / ORIGINAL_FLASH:.0f}%" if name.startswith("servo") \
+                else "(a glove)"
+            print(f"| `{name}` | {int(flash):,} | {ratio} | {int(ram):,} |")
+        print()
+        rhand = load_profile("rhand")
+        record = len(rhand.boards[0].servos) + 4
+        slots = EEPROM // record
+        jobs = []
+        for name, program, profile in library_gestures(("rhand",)):
+            compiled, _ = compile_program(program, name, profile)
+            jobs.append((name, to_timed(compiled.stream())))
+        simboard, elf = where / "harness" / "simboard", where / "servo_rhand.elf"
+        with ThreadPoolExecutor(max_workers=2) as pool:
+            rows = list(pool.map(lambda job: play(simboard, elf, *job), jobs))
+    print("| gesture | EEPROM bytes written | records |")
+    print("|---|---:|---:|")
+    for name, written, count in rows:
+        print(f"| {name} | {written} | {count} |")
+    mean = sum(count for *_, count in rows) / len(rows)
+    per_cell = args.per_day * mean / slots  # each record writes each cell of its slot once
+    years = CELL_WRITES / per_cell / 365.25
+    print()
+    print(f"{len(rows)} gestures: {mean:.2f} records a gesture on average; a record is "
+          f"{record} bytes, {slots} records go round the {EEPROM:,}-byte EEPROM. "
+          f"{args.per_day:,} gestures a day write each cell {per_cell:.1f} times a day: "
+          f"{CELL_WRITES:,} writes last {years:.0f} years.")
+
+
+if __name__ == "__main__":
+    main()
