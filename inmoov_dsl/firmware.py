@@ -84,23 +84,35 @@ def _ino(name: str, what: str, include: str | None, glue: str, prefix: str,
             f"void setup() {{ {prefix}_setup(); }}\n\nvoid loop() {{ {prefix}_loop(); }}\n")
 
 
+def sketch_names(profile: Profile) -> dict[str, int]:
+    """Sketch folder name -> the ID of the board or glove of ``profile`` it is for."""
+    several = len(profile.boards) > 1
+    names = {sketch_name(profile, "servo", b.name, several): b.id for b in profile.boards}
+    gloves = len(profile.gloves) > 1
+    names.update({sketch_name(profile, "glove", g.name, gloves): g.id for g in profile.gloves})
+    return names
+
+
 def sketches(profile: Profile, baud: int | None = None) -> dict[str, dict[str, str]]:
     """Sketch folder name -> {file name: text} for every board and glove of ``profile``;
     ``baud`` overrides the profile's link speed (9600 by default, 115200 as an option)."""
     out: dict[str, dict[str, str]] = {}
-    several = len(profile.boards) > 1
-    for board in profile.boards:
-        name = sketch_name(profile, "servo", board.name, several)
-        out[name] = {
-            f"{name}.ino": _ino(name, f"the servo board {board.id} ({board.name})",
-                                None, "InmoovServoBoard", "inmoov_servo", profile),
-            "settings.h": servo_settings(profile, board, baud),
-        }
-    for glove in profile.gloves:
-        name = sketch_name(profile, "glove", glove.name, len(profile.gloves) > 1)
-        out[name] = {
-            f"{name}.ino": _ino(name, f"the flex glove {glove.id} ({glove.name})",
-                                "SoftwareSerial.h", "InmoovGlove", "inmoov_glove", profile),
-            "settings.h": glove_settings(profile, glove, baud),
-        }
+    boards = {b.id: b for b in profile.boards}
+    gloves = {g.id: g for g in profile.gloves}
+    for name, ident in sketch_names(profile).items():
+        if ident in boards:
+            board = boards[ident]
+            out[name] = {
+                f"{name}.ino": _ino(name, f"the servo board {board.id} ({board.name})",
+                                    None, "InmoovServoBoard", "inmoov_servo", profile),
+                "settings.h": servo_settings(profile, board, baud),
+            }
+        else:
+            glove = gloves[ident]
+            out[name] = {
+                f"{name}.ino": _ino(name, f"the flex glove {glove.id} ({glove.name})",
+                                    "SoftwareSerial.h", "InmoovGlove", "inmoov_glove",
+                                    profile),
+                "settings.h": glove_settings(profile, glove, baud),
+            }
     return out

@@ -8,9 +8,7 @@ toolchain is a failure.
 """
 
 import json
-import os
 import re
-import shutil
 import subprocess
 import sys
 import time
@@ -19,6 +17,7 @@ from pathlib import Path
 
 import pytest
 import serial
+from toolchain import need
 
 from inmoov_dsl import load_profile, to_timed
 from inmoov_dsl.board import PULSE_MAX, PULSE_MIN, BoardCore, BoardServo, pulse_us
@@ -35,17 +34,6 @@ CORE = FIRMWARE / "libraries" / "InmoovDsl" / "src"
 VECTORS = json.loads((ROOT / "tests" / "vectors" / "board.json").read_text())
 LIBRARY = scan_library([ROOT / "gestures"])
 SHIPPED = ("rhand", "lhand", "inmoov")
-
-
-def need(*tools):
-    missing = [t for t in tools if shutil.which(t) is None and not Path(t).exists()]
-    if not missing:
-        return
-    message = f"needs {', '.join(missing)} (apt-get install gcc-avr avr-libc " \
-              "arduino-core-avr simavr libsimavr-dev libelf-dev g++ make)"
-    if os.environ.get("CI") == "true":
-        pytest.fail(f"CI: {message}")
-    pytest.skip(message)
 
 
 def make(build, *targets, **variables):

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import shutil
 import sys
 from pathlib import Path
 
@@ -15,7 +14,6 @@ from ..library import find_gesture, library_dirs, scan_library
 from ..metrics import LinkReport, measure
 from ..plan import Plan
 from ..profile import load_profile
-from ..resources import data_dir
 from . import record
 from .common import EXIT_ERROR, EXIT_OK, add_lib, report, run
 
@@ -169,39 +167,90 @@ def cmd_fmt(args: argparse.Namespace) -> int:
 
 def cmd_firmware(args: argparse.Namespace) -> int:
     """Write (or, with --check, compare) the sketch folders of a profile's boards."""
-    from ..firmware import sketches
+    from ..upload import stale_files, write_sketchbook
 
     profile = load_profile(args.profile_name)
     out = Path(args.output)
-    stale = []
-    for folder, files in sketches(profile, args.baud).items():
-        for name, text in files.items():
-            path = out / folder / name
-            current = path.read_text(encoding="utf-8") if path.is_file() else None
-            if current == text:
-                continue
-            stale.append(path)
-            if not args.check:
-                path.parent.mkdir(parents=True, exist_ok=True)
-                path.write_text(text, encoding="utf-8")
     if args.check:
+        stale = stale_files(profile, out, args.baud)
         for path in stale:
             print(f"{path}: out of date (gestc firmware {args.profile_name} -o {out})")
         return EXIT_ERROR if stale else EXIT_OK
-    library = out / "libraries" / "InmoovDsl"
-    if not library.exists():  # a sketchbook of its own: the library and the build beside
-        shipped = data_dir("firmware")
-        for part in ("libraries", "harness", "host", "Makefile", "size.awk"):
-            source = shipped / part
-            if source.is_dir():
-                shutil.copytree(source, out / part, dirs_exist_ok=True)
-            else:
-                shutil.copy2(source, out / part)
-    for path in stale:
+    for path in write_sketchbook(profile, out, args.baud):
         print(f"wrote {path}", file=sys.stderr)
     print(f"{out}: {profile.name}'s sketches are up to date; build them with make -C {out}",
           file=sys.stderr)
     return EXIT_OK
+
+
+def cmd_upload(args: argparse.Namespace) -> int:
+    """Build boards' firmware from their profile and flash it through the bootloader."""
+    import tempfile
+
+    from ..firmware import sketch_names
+    from ..upload import OLD_NANO_BAUD, UNO_BAUD, build, find_sketch, flash, read_hex
+    from ..upload import avrdude_command as command
+
+    if args.profile:
+        profile = load_profile(args.profile)
+        names = sketch_names(profile)
+        if args.board and args.board not in names:
+            raise GestError(Diagnostic("error", f"profile '{profile.name}' has no board "
+                                       f"'{args.board}'", hint=f"its boards: "
+                                       f"{', '.join(names)}"))
+    elif args.board:
+        profile = find_sketch(args.board)
+        names = sketch_names(profile)
+    else:
+        raise GestError(Diagnostic("error", "which board?", hint="name one (gestc upload "
+                                   "servo_rhand --port COM3), or give --profile for all "
+                                   "of a profile's"))
+    targets = [args.board] if args.board else list(names)
+    ports = _upload_ports(args.port, targets, names)
+    if args.hex and len(targets) > 1:
+        raise GestError(Diagnostic("error", "--hex is one board's firmware",
+                                   hint="name the board: gestc upload BOARD --hex FILE"))
+    baud = OLD_NANO_BAUD if args.old_bootloader else UNO_BAUD
+    with tempfile.TemporaryDirectory(prefix="inmoov-upload-") as tmp:
+        if args.hex:
+            hexes = {targets[0]: Path(args.hex)}
+        elif args.dry_run:
+            hexes = {name: Path(tmp) / "build" / f"{name}.hex" for name in targets}
+            print(f"make -C {tmp} {' '.join(targets)}")
+        else:
+            hexes = build(profile, targets, Path(tmp), args.baud)
+        for name in targets:
+            if args.dry_run:
+                print(" ".join(command(hexes[name], ports[name], baud, args.avrdude,
+                                       args.avrdude_option)))
+                continue
+            size = len(read_hex(hexes[name]))
+            print(f"{PROG}: flashing {name} ({size:,} bytes) through the bootloader on "
+                  f"{ports[name]} at {baud} baud", file=sys.stderr, flush=True)
+            flash(hexes[name], ports[name], baud, args.avrdude, args.avrdude_option)
+            print(f"{PROG}: uploaded {name} to {ports[name]}", file=sys.stderr)
+    return EXIT_OK
+
+
+def _upload_ports(specs: list[str], targets: list[str], names: dict[str, int]
+                  ) -> dict[str, str]:
+    """``--port COM3`` for one board; ``--port NAME=PORT`` or ``--port ID=PORT`` each."""
+    by_key = {**{n: n for n in names}, **{str(i): n for n, i in names.items()}}
+    ports: dict[str, str] = {}
+    for spec in specs:
+        key, sep, port = spec.partition("=")
+        if sep and key in by_key:
+            ports[by_key[key]] = port
+        elif len(targets) == 1 and len(specs) == 1:
+            ports[targets[0]] = spec
+        else:
+            raise GestError(Diagnostic("error", f"--port {spec}: which board?",
+                                       hint=" ".join(f"--port {n}=PORT" for n in targets)))
+    missing = [n for n in targets if n not in ports]
+    if missing:
+        raise GestError(Diagnostic("error", f"no port for {', '.join(missing)}",
+                                   hint=f"add --port {missing[0]}=PORT"))
+    return ports
 
 
 def cmd_list(args: argparse.Namespace) -> int:
@@ -291,6 +340,29 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--check", action="store_true",
                    help="change nothing; list the files that are out of date, exit 1 if any")
     p.set_defaults(func=cmd_firmware)
+
+    p = sub.add_parser("upload", help="build a board's firmware and flash it (avrdude)")
+    p.add_argument("board", nargs="?", metavar="BOARD",
+                   help="a sketch name: servo_rhand, glove_rhand, servo_inmoov_head... "
+                   "(default with --profile: every board of the profile)")
+    p.add_argument("--port", action="append", required=True, metavar="PORT",
+                   help="the board's port; with several boards BOARD=PORT each (the "
+                   "sketch name or the board's ID)")
+    p.add_argument("-p", "--profile", help="the profile the boards are built from (a "
+                   "built-in name or a .toml path; default: the one with BOARD)")
+    p.add_argument("--old-bootloader", action="store_true",
+                   help="a Nano with the old bootloader (57600 baud instead of 115200)")
+    p.add_argument("--baud", type=int, choices=(9600, 19200, 38400, 57600, 115200),
+                   help="the link speed the firmware will use (default: the profile's)")
+    p.add_argument("--hex", metavar="FILE",
+                   help="flash this .hex (built in the Arduino IDE, say) instead of building")
+    p.add_argument("--dry-run", action="store_true",
+                   help="print the commands, build and flash nothing")
+    p.add_argument("--avrdude", default="avrdude", metavar="PATH",
+                   help="the avrdude to run (default: avrdude on the PATH)")
+    p.add_argument("--avrdude-option", action="append", default=[], metavar="ARG",
+                   help="pass ARG to avrdude (e.g. -v, or -x attempts=1); may be repeated")
+    p.set_defaults(func=cmd_upload)
 
     record.add_parser(sub)
 

@@ -1,0 +1,189 @@
+"""gestc upload: a board's firmware built from its profile and flashed by the real
+avrdude through a simulated Arduino bootloader on a pseudo-terminal; its options and
+its messages."""
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from stk500 import Bootloader
+from toolchain import need
+
+from inmoov_dsl import load_profile
+from inmoov_dsl.cli import gestc
+from inmoov_dsl.errors import GestError
+from inmoov_dsl.upload import build, explain, read_hex
+
+POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
+TINY_HEX = ":020000000C945E\n:00000001FF\n"  # two bytes at 0 (a jmp's first word)
+
+
+def gestc_run(*argv, timeout=300, **env):
+    return subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestc", *argv],
+                          capture_output=True, text=True, timeout=timeout,
+                          env={**os.environ, **env})
+
+
+@POSIX
+def test_the_flash_the_bootloader_receives_is_the_hex_built(tmp_path):
+    need("make", "avr-gcc", "avrdude", "/usr/share/arduino/hardware/arduino/avr/cores")
+    bootloader = Bootloader()
+    try:
+        done = gestc_run("upload", "servo_rhand", "--port", bootloader.path)
+    finally:
+        bootloader.close()
+    assert done.returncode == 0, done.stderr
+    assert "gestc: flashing servo_rhand (3," in done.stderr
+    assert "Writing | ####" in done.stderr  # avrdude's progress, as it came
+    assert done.stderr.rstrip().endswith(f"gestc: uploaded servo_rhand to {bootloader.path}")
+    # the same sketch built here: every byte of its .hex is in the flash, the rest erased
+    hex_file = build(load_profile("rhand"), ["servo_rhand"], tmp_path)["servo_rhand"]
+    image = read_hex(hex_file)
+    assert 3000 < len(image) < 3872
+    flash = bytes(bootloader.flash)
+    assert all(flash[address] == byte for address, byte in image.items())
+    assert flash[max(image) + 1:].count(0xFF) == len(flash) - max(image) - 1
+    assert bootloader.commands.count(0x64) == -(-len(image) // 128)  # one write a page
+
+
+@POSIX
+def test_an_old_nano_answers_only_at_57600_baud(tmp_path, capsys):
+    """--old-bootloader talks at the old Nano bootloader's speed; at the Uno's 115200 it
+    hears nothing and says what to try. (--hex: no compiler needed.)"""
+    need("avrdude")
+    hex_file = tmp_path / "blink.hex"
+    image = bytes(range(256)) * 3
+    records = [bytes([16, a >> 8, a & 0xFF, 0]) + image[a:a + 16] for a in range(0, 768, 16)]
+    hex_file.write_text("".join(f":{r.hex()}{-sum(r) & 0xFF:02x}\n" for r in records) +
+                        ":00000001FF\n")
+    with Bootloader(baud=57600) as nano:
+        assert gestc.main(["upload", "servo_rhand", "--port", nano.path, "--hex",
+                           str(hex_file), "--old-bootloader"]) == 0
+        assert bytes(nano.flash[:768]) == image and nano.flash[768:].count(0xFF) == 32000
+        assert gestc.main(["upload", "servo_rhand", "--port", nano.path, "--hex",
+                           str(hex_file), "--avrdude-option=-xattempts=1"]) == 1
+    assert capsys.readouterr().err.endswith("an old Nano needs 57600 baud "
+                                            "(--old-bootloader); a board without the "
+                                            "Arduino bootloader needs an ISP programmer\n")
+
+
+@POSIX
+def test_a_port_where_no_bootloader_answers(tmp_path, capsys):
+    need("avrdude")
+    hex_file = tmp_path / "tiny.hex"
+    hex_file.write_text(TINY_HEX)
+    master, slave = os.openpty()  # a port nothing answers on
+    try:
+        path = os.ttyname(slave)
+        code = gestc.main(["upload", "servo_rhand", "--port", path, "--hex", str(hex_file),
+                           "--avrdude-option=-xattempts=1"])
+    finally:
+        os.close(master)
+        os.close(slave)
+    assert code == 1
+    err = capsys.readouterr().err
+    assert err.endswith(f"gestc: error: no bootloader answered on {path} at 115200 baud\n"
+                        "  hint: is it the board's port ('gestplay ports')? an old Nano "
+                        "needs 57600 baud (--old-bootloader); a board without the Arduino "
+                        "bootloader needs an ISP programmer\n")
+
+
+def test_no_answer_says_what_to_try(capsys):
+    said = ("avrdude warning: attempt 1 of 1: not in sync: resp=0x00\n"
+            "avrdude error: unable to open programmer arduino on port /dev/ttyUSB0\n")
+    d = explain(said, "/dev/ttyUSB0", 115200)
+    assert d.message == "no bootloader answered on /dev/ttyUSB0 at 115200 baud"
+    assert d.hint == ("is it the board's port ('gestplay ports')? an old Nano needs 57600 "
+                      "baud (--old-bootloader); a board without the Arduino bootloader "
+                      "needs an ISP programmer")
+    assert "115200 baud (no --old-bootloader)" in explain(said, "COM3", 57600).hint
+
+
+def test_avrdudes_other_failures_are_ours():
+    d = explain("avrdude OS error: cannot open port /dev/ttyUSB7: No such file or directory\n",
+                "/dev/ttyUSB7", 115200)
+    assert (d.message, d.hint) == ("port /dev/ttyUSB7 not found",
+                                   "'gestplay ports' lists the ports on this machine")
+    d = explain("avrdude OS error: cannot open port /dev/ttyUSB0: Permission denied\n",
+                "/dev/ttyUSB0", 115200)
+    assert d.message == "permission denied on port /dev/ttyUSB0"
+    assert d.hint.startswith("Linux: sudo usermod -a -G dialout $USER")
+    d = explain("avrdude error: verification error, first mismatch at byte 0x0040\n", "COM3",
+                115200)
+    assert d.message == "the flash read back from the board on COM3 is not what was written"
+    d = explain("avrdude: something new\navrdude error: it broke\n", "COM3", 115200)
+    assert d.message == "avrdude failed on COM3: avrdude error: it broke"
+
+
+def test_avrdude_missing_says_how_to_get_it(tmp_path, capsys, monkeypatch):
+    hex_file = tmp_path / "tiny.hex"
+    hex_file.write_text(TINY_HEX)
+    monkeypatch.setenv("PATH", str(tmp_path))  # no avrdude here
+    assert gestc.main(["upload", "servo_rhand", "--port", "COM3", "--hex", str(hex_file)]) == 1
+    err = capsys.readouterr().err
+    assert "gestc: error: avrdude not found\n  hint: on Debian or Ubuntu: sudo apt-get install " \
+           "avrdude; on macOS: brew install avrdude; on Windows: the Arduino IDE has one" in err
+
+
+def test_no_compiler_says_what_to_install(capsys, monkeypatch, tmp_path):
+    monkeypatch.setenv("PATH", str(tmp_path))
+    assert gestc.main(["upload", "servo_rhand", "--port", "COM3"]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("gestc: error: cannot build the firmware: make not found\n"
+                          "  hint: on Debian or Ubuntu: sudo apt-get install make gcc-avr "
+                          "avr-libc arduino-core-avr; elsewhere build the sketch in the "
+                          "Arduino IDE (docs/firmware.md) and give its .hex with --hex")
+
+
+def test_the_commands_for_an_uno_an_old_nano_and_a_whole_profile(capsys):
+    assert gestc.main(["upload", "servo_rhand", "--port", "COM3", "--dry-run"]) == 0
+    make, flash = capsys.readouterr().out.splitlines()
+    assert make.startswith("make -C ") and make.endswith(" servo_rhand")
+    assert flash.startswith("avrdude -p atmega328p -c arduino -P COM3 -b 115200 -D -U "
+                            "flash:w:") and flash.endswith("servo_rhand.hex:i")
+    assert gestc.main(["upload", "servo_rhand", "--port", "COM3", "--old-bootloader",
+                       "--dry-run"]) == 0
+    assert " -b 57600 " in capsys.readouterr().out
+    assert gestc.main(["upload", "--profile", "rhand", "--port", "servo_rhand=COM3",
+                       "--port", "182=COM4", "--dry-run"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].endswith(" servo_rhand glove_rhand")
+    assert " -P COM3 " in out[1] and out[1].endswith("servo_rhand.hex:i")
+    assert " -P COM4 " in out[2] and out[2].endswith("glove_rhand.hex:i")
+
+
+@pytest.mark.parametrize(("argv", "message"), [
+    (["servo_rhnd", "--port", "COM3"],
+     "gestc: error: no board called 'servo_rhnd'\n  hint: did you mean 'servo_rhand'?\n"),
+    (["--port", "COM3"], "gestc: error: which board?\n  hint: name one (gestc upload "
+     "servo_rhand --port COM3), or give --profile for all of a profile's\n"),
+    (["--profile", "rhand", "--port", "COM3"],
+     "gestc: error: --port COM3: which board?\n"
+     "  hint: --port servo_rhand=PORT --port glove_rhand=PORT\n"),
+    (["--profile", "rhand", "--port", "181=COM3"],
+     "gestc: error: no port for glove_rhand\n  hint: add --port glove_rhand=PORT\n"),
+    (["servo_lhand", "--profile", "rhand", "--port", "COM3"],
+     "gestc: error: profile 'rhand' has no board 'servo_lhand'\n"
+     "  hint: its boards: servo_rhand, glove_rhand\n"),
+    (["--profile", "rhand", "--port", "181=COM3", "--port", "182=COM4", "--hex", "x.hex"],
+     "gestc: error: --hex is one board's firmware\n"
+     "  hint: name the board: gestc upload BOARD --hex FILE\n"),
+])
+def test_what_to_upload_where_is_checked_first(argv, message, capsys):
+    assert gestc.main(["upload", *argv]) == 1
+    assert capsys.readouterr().err == message
+
+
+def test_a_file_that_is_not_intel_hex_is_refused(tmp_path, capsys):
+    bad = tmp_path / "sketch.hex"
+    bad.write_text(":020000000C94FF\n")  # a checksum that does not add up
+    assert gestc.main(["upload", "servo_rhand", "--port", "COM3", "--hex", str(bad)]) == 1
+    assert capsys.readouterr().err == (f"gestc: error: {bad}:1: not an Intel HEX record\n"
+                                       "  hint: give the .hex that the build wrote\n")
+    good = tmp_path / "good.hex"
+    good.write_text(TINY_HEX)
+    assert read_hex(good) == {0: 0x0C, 1: 0x94}
+    with pytest.raises(GestError):
+        read_hex(Path(tmp_path / "missing.hex"))

@@ -1,0 +1,24 @@
+"""Tests that need a toolchain (gcc-avr, simavr, avrdude...) skip without it, except
+under CI=true, where a missing toolchain is a failure."""
+
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+
+PACKAGES = ("make g++ gcc-avr avr-libc arduino-core-avr simavr libsimavr-dev libelf-dev "
+            "avrdude")
+
+
+def need(*tools: str) -> None:
+    """Skip (fail under CI=true) unless every tool is on the PATH or is an existing path."""
+    missing = [t for t in tools if shutil.which(t) is None and not Path(t).exists()]
+    if not missing:
+        return
+    message = f"needs {', '.join(missing)} (apt-get install {PACKAGES})"
+    if os.environ.get("CI") == "true":
+        pytest.fail(f"CI: {message}")
+    pytest.skip(message)
