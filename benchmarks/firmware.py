@@ -22,7 +22,7 @@ from common import ROOT, library_gestures
 from inmoov_dsl import load_profile, to_timed
 from inmoov_dsl.compiler import compile_program
 
-ORIGINAL_FLASH = 3872  #: bytes: the original servo firmware, real Servo library
+ORIGINAL_FLASH = 3872  #: bytes: the original servo firmware, real Servo library, no LTO
 CELL_WRITES = 100_000  #: erase/write cycles an ATmega328P EEPROM cell is rated for
 EEPROM = 1024  #: bytes
 
@@ -57,8 +57,8 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         where = Path(tmp)
         sizes = build(where)
-        print(f"| board | flash (bytes) | beside the original's {ORIGINAL_FLASH:,} | RAM "
-              f"(bytes) |")
+        print(f"| board | flash (bytes) | beside the original's {ORIGINAL_FLASH:,} (no LTO) | "
+              f"RAM (bytes) |")
         print("|---|---:|---:|---:|")
         for name, flash, ram in re.findall(r"^(\w+): flash (\d+) of \d+ bytes \(\d+%\), "
                                            r"RAM (\d+)", sizes, re.M):

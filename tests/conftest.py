@@ -1,3 +1,4 @@
+import subprocess
 import sys
 from pathlib import Path
 
@@ -53,3 +54,18 @@ def two_boards():
     """A left and a right hand on two boards (the compiler's one-stream-per-board case)."""
     return make_profile({181: ["r_thumb", "r_index", "r_middle"],
                          183: ["l_thumb", "l_index", "l_middle"]}, name="two")
+
+
+@pytest.fixture
+def gestsim(tmp_path):
+    """gestsim serving the right hand on a pty, logging every byte it receives:
+    (process, the pty's path, the log)."""
+    log = tmp_path / "received.log"
+    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim", "--quiet",
+                             "--boot", "0.2", "--log", str(log)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    path = proc.stdout.readline().strip()
+    assert path.startswith("/dev/"), proc.stderr.read()
+    yield proc, path, log
+    proc.kill()
+    proc.wait()

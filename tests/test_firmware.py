@@ -382,7 +382,8 @@ def simulate(simboard, elf, timed: str, *options, baud=9600):
 RHAND = load_profile("rhand")
 RHAND_PINS = {s.pin: BoardServo(s.id, s.calibration, s.reversed, s.rest)
               for s in RHAND.servos}
-JITTER = 6.0  # us: another interrupt (the serial port's, the clock's) may delay an edge
+JITTER = 8.0  # us: another interrupt (the serial port's, the clock's) may delay an edge;
+# the original firmware's worst is 6.1 us on the library, one physical degree is ~10 us
 
 
 def pulses_of(pose: dict[int, int]) -> dict[int, int]:
@@ -409,13 +410,16 @@ HAND = sorted(n for n, e in LIBRARY.items() if e.path.name != "body.gest")
 
 def test_library_streams_play_on_the_firmware_image(simboard, build):
     """Every hand gesture of the library, fed at its planned times at 9600 baud: the
-    board ends in the gesture's final pose and reads every byte (none lost)."""
-    rhand = load_profile("rhand")
-    ids = [s.id for s in rhand.servos]
+    board ends in the gesture's final pose and reads every byte (none lost), and every
+    pulse on every pin, from the first, is the width the original firmware gives a value
+    the board was sent (the Python board decodes which)."""
+    ids = [s.id for s in RHAND.servos]
+    pin_of = {s.id: s.pin for s in RHAND.servos}
 
     def one(name):
-        compiled, _ = compile_program(load(str(LIBRARY[name].path)), name, rhand)
-        result = simulate(simboard, build / "servo_rhand.elf", to_timed(compiled.stream()))
+        compiled, _ = compile_program(load(str(LIBRARY[name].path)), name, RHAND)
+        result = simulate(simboard, build / "servo_rhand.elf", to_timed(compiled.stream()),
+                          "--pulses")
         return name, compiled, result
 
     with ThreadPoolExecutor(max_workers=2) as pool:
@@ -426,6 +430,14 @@ def test_library_streams_play_on_the_firmware_image(simboard, build):
             assert_pins(result["pins"], pulses_of(final))  # what each servo is told
             # and the first pulse was the rest pose: no pin pulsed before it had a value
             assert_pins(result["pins"], pulses_of(dict.fromkeys(ids, 0)), "first")
+            core = BoardCore.from_profile(RHAND, RHAND.boards[0])
+            widths = {pin: {width} for pin, width in pulses_of(REST).items()}
+            for byte in compiled.stream().data:
+                write, _ = core.feed(byte)
+                if write:
+                    widths[pin_of[write.id]].add(RHAND_PINS[pin_of[write.id]].pulse(write.value))
+            for pin, _, us in result["pulses"]:
+                assert min(abs(us - w) for w in widths[pin]) <= JITTER, (name, pin, us)
 
 
 def test_the_firmware_answers_like_the_virtual_board(simboard, build):

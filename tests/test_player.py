@@ -226,19 +226,6 @@ def test_bench_tools(capsys):
 
 
 # -- real processes over a real pseudo-terminal ------------------------------------------
-@pytest.fixture
-def gestsim(tmp_path):
-    log = tmp_path / "received.log"
-    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim", "--quiet",
-                             "--boot", "0.2", "--log", str(log)],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    path = proc.stdout.readline().strip()
-    assert path.startswith("/dev/"), proc.stderr.read()
-    yield proc, path, log
-    proc.kill()
-    proc.wait()
-
-
 def received(log):
     rows = [line.split() for line in log.read_text().splitlines()]
     return [float(t) for t, _ in rows], [int(b) for _, b in rows]

@@ -108,19 +108,6 @@ def test_a_posix_port_is_left_with_dtr_up():
 
 
 # -- gestsim on a pty -------------------------------------------------------------------
-@pytest.fixture
-def gestsim(tmp_path):
-    log = tmp_path / "received.log"
-    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim", "--quiet",
-                             "--boot", "0.3", "--log", str(log)],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    path = proc.stdout.readline().strip()
-    assert path.startswith("/dev/"), proc.stderr.read()
-    yield path, log
-    proc.kill()
-    proc.wait()
-
-
 def gestplay_run(*argv, timeout=60):
     return subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", *argv],
                           capture_output=True, text=True, timeout=timeout)
@@ -128,7 +115,7 @@ def gestplay_run(*argv, timeout=60):
 
 @POSIX
 def test_gestplay_leaves_the_board_running_and_in_its_pose(gestsim):
-    path, _ = gestsim
+    _, path, _ = gestsim
     done = gestplay_run("rockon", "--port", path)
     assert done.returncode == 0, done.stderr
     # the next program finds the board as gestplay left it: no reset, the rockon pose
@@ -162,7 +149,7 @@ def test_gestplay_relax_stops_the_pulses_until_the_next_command(capsys):
 
 @POSIX
 def test_a_second_ctrl_c_relaxes_the_hand(gestsim):
-    path, log = gestsim
+    _, path, log = gestsim
     term = AtTerminal([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "count", "--port",
                        path])
     term.read_until(b"step", timeout=30)  # playing
@@ -181,7 +168,7 @@ def test_a_second_ctrl_c_relaxes_the_hand(gestsim):
 
 @POSIX
 def test_one_ctrl_c_at_a_terminal_holds_the_pose(gestsim):
-    path, log = gestsim
+    _, path, log = gestsim
     term = AtTerminal([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "count", "--port",
                        path])
     term.read_until(b"step", timeout=30)

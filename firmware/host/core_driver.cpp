@@ -60,6 +60,25 @@ static void on_drive(bool on) { driving = on; }
 
 static int next_int(char** p) { return static_cast<int>(strtol(*p, p, 10)); }
 
+// A "board ID" or "servo ID PIN LO HI REV REST" line: read into `board` or `servos[*n]`.
+static bool board_line(const char* line, int* board, ServoSettings* servos, int* n) {
+  char* p = const_cast<char*>(line) + 5;
+  if (strncmp(line, "board", 5) == 0) {
+    *board = next_int(&p);
+  } else if (strncmp(line, "servo", 5) == 0) {
+    ServoSettings& s = servos[(*n)++];
+    s.id = static_cast<uint8_t>(next_int(&p));
+    s.pin = static_cast<uint8_t>(next_int(&p));
+    s.lo = static_cast<uint8_t>(next_int(&p));
+    s.hi = static_cast<uint8_t>(next_int(&p));
+    s.reversed = static_cast<uint8_t>(next_int(&p));
+    s.rest = static_cast<uint8_t>(next_int(&p));
+  } else {
+    return false;
+  }
+  return true;
+}
+
 static int servo(bool fuzz, long count, unsigned seed) {
   ServoSettings servos[64];
   uint8_t values[64];
@@ -67,20 +86,8 @@ static int servo(bool fuzz, long count, unsigned seed) {
   char line[8192];
   while (fgets(line, sizeof line, stdin)) {
     char* p = line;
-    if (strncmp(line, "board", 5) == 0) {
-      p += 5;
-      board = next_int(&p);
-    } else if (strncmp(line, "servo", 5) == 0) {
-      p += 5;
-      ServoSettings s;
-      s.id = static_cast<uint8_t>(next_int(&p));
-      s.pin = static_cast<uint8_t>(next_int(&p));
-      s.lo = static_cast<uint8_t>(next_int(&p));
-      s.hi = static_cast<uint8_t>(next_int(&p));
-      s.reversed = static_cast<uint8_t>(next_int(&p));
-      s.rest = static_cast<uint8_t>(next_int(&p));
-      servos[n++] = s;
-    } else if (strncmp(line, "begin", 5) == 0 || strncmp(line, "case", 4) == 0) {
+    if (board_line(line, &board, servos, &n)) continue;
+    if (strncmp(line, "begin", 5) == 0 || strncmp(line, "case", 4) == 0) {
       ServoCore core(static_cast<uint8_t>(board), servos, static_cast<uint8_t>(n), values,
                      on_write, on_send, on_drive);
       writes[0] = out[0] = 0;
@@ -196,19 +203,8 @@ static int store() {
   char line[8192];
   while (fgets(line, sizeof line, stdin)) {
     char* p = line;
-    if (strncmp(line, "board", 5) == 0) {
-      p += 5;
-      board = next_int(&p);
-    } else if (strncmp(line, "servo", 5) == 0) {
-      p += 5;
-      ServoSettings& s = servos[n++];
-      s.id = static_cast<uint8_t>(next_int(&p));
-      s.pin = static_cast<uint8_t>(next_int(&p));
-      s.lo = static_cast<uint8_t>(next_int(&p));
-      s.hi = static_cast<uint8_t>(next_int(&p));
-      s.reversed = static_cast<uint8_t>(next_int(&p));
-      s.rest = static_cast<uint8_t>(next_int(&p));
-    } else if (strncmp(line, "eeprom", 6) == 0) {
+    if (board_line(line, &board, servos, &n)) continue;
+    if (strncmp(line, "eeprom", 6) == 0) {
       p += 6;
       eeprom_size = next_int(&p);
       memset(eeprom, 0xFF, sizeof eeprom);

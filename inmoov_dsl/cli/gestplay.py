@@ -176,9 +176,9 @@ def on_the_hand(prog: str, links: list[Link], body: Callable[[], int]) -> int:
             print(f"\n{prog}: interrupted: CANCEL sent, the hand holds its pose",
                   file=sys.stderr)
             return EXIT_INTERRUPTED
-        print(f"\n{prog}: interrupted: CANCEL sent, the hand holds its pose (Ctrl-C again "
-              f"to relax it)", file=sys.stderr, flush=True)
-        try:
+        try:  # a second Ctrl-C may come as soon as the first one is answered
+            print(f"\n{prog}: interrupted: CANCEL sent, the hand holds its pose (Ctrl-C "
+                  f"again to relax it)", file=sys.stderr, flush=True)
             time.sleep(RELAX_WINDOW)
         except KeyboardInterrupt:
             relax_all(links)

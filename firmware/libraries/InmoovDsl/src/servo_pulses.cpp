@@ -81,9 +81,14 @@ void begin() {
 
 void write(uint8_t channel, uint16_t us) {
   if (channel >= count_ || !channels_[channel].port) return;  // not attached
+  uint16_t ticks = us * 2;
+  // computed before interrupts go off: the compiler may not sink the caller's
+  // arithmetic (pulse_us's division, inlined) into the section below, where it would
+  // hold a servo's edge back by 12 us
+  asm volatile("" : "+r"(ticks));
   uint8_t sreg = SREG;
   cli();  // a 16-bit store is two byte stores: not while the interrupt may read it
-  channels_[channel].ticks = us * 2;
+  channels_[channel].ticks = ticks;
   SREG = sreg;
 }
 
