@@ -182,10 +182,13 @@ def flash(hex_file: Path, port: str, baud: int = UNO_BAUD, avrdude: str = "avrdu
     proc = subprocess.Popen(avrdude_command(hex_file, port, baud, found, options),
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
     said = bytearray()
-    assert proc.stdout is not None
+    raw = getattr(sys.stderr, "buffer", None)  # a text-only stderr gets decoded text
     while chunk := proc.stdout.read1(4096):  # progress bars come a character at a time
         said += chunk
-        sys.stderr.buffer.write(chunk)
+        if raw is not None:
+            raw.write(chunk)
+        else:
+            sys.stderr.write(chunk.decode(errors="replace"))
         sys.stderr.flush()
     if proc.wait() != 0:
         raise GestError(explain(said.decode(errors="replace"), port, baud))
