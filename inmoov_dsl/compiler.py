@@ -31,11 +31,12 @@ def as_profile(profile: str | Profile) -> Profile:
 
 
 def load(path: str, text: str | None = None, read: Reader = read_text,
-         search: Sequence[str] | None = None) -> Program:
-    """Parse a .gest file (or ``text`` under that name) with its imports."""
+         search: Sequence[str] | None = None, first_wins: bool = False) -> Program:
+    """Parse a .gest file (or ``text`` under that name) with its imports
+    (``first_wins``: a name defined again by a later file is shadowed, not an error)."""
     dirs = [str(d) for d in library_dirs()] if search is None else list(search)
     try:
-        return load_program(path, read, dirs, text)
+        return load_program(path, read, dirs, text, first_wins)
     except FileNotFoundError:
         raise GestError(Diagnostic("error", f"cannot find '{path}'")) from None
     except (OSError, UnicodeDecodeError) as exc:

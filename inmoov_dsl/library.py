@@ -1,17 +1,21 @@
 """The gesture library: where gestures are found, which exist, and what each does.
 
-Gestures come from, in this order: ``--lib`` directories, the directories of
-``GEST_PATH`` (separated like ``PATH``), ``./gestures``, and the library shipped with
-the package. A gesture name defined in two of their files is an error naming both.
-A gesture's description is the comment block right above its name; its first line is
-the summary ``gestc list --long`` shows.
+The search path works like ``PATH``: ``--lib`` directories, the directories of
+``GEST_PATH`` (separated like ``PATH``), ``./gestures``, then the library shipped with
+the package; the first directory that defines a name wins, and the same name further on
+is shadowed (``gestc list`` says so). The same directory or file reached twice is read
+once. A name defined in two files of one directory is an error naming both. A file that
+does not parse is skipped with a warning naming it, unless the gesture asked for is in
+it. A gesture's description is the comment block right above its name; its first line
+is the summary ``gestc list --long`` shows.
 """
 
 from __future__ import annotations
 
 import os
-from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+import re
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from . import syntax as ast
@@ -30,6 +34,26 @@ class Entry:
     path: Path
     line: int
     description: str  #: the first line of the comment block above it ("" if none)
+    shadows: tuple[Path, ...] = ()  #: files further down the path that define it too
+
+
+@dataclass(frozen=True)
+class Library:
+    """What the search path holds: the gestures (first definition wins) and the files
+    that do not parse."""
+
+    entries: dict[str, Entry]
+    broken: dict[Path, GestError] = field(default_factory=dict)
+
+    def warnings(self) -> list[Diagnostic]:
+        """One warning per file skipped, at the place it stops parsing."""
+        out = []
+        for path, error in self.broken.items():
+            first = error.first
+            out.append(replace(first, severity="warning",
+                               message=f"skipped {path.name}, it does not parse: "
+                               f"{first.message}"))
+        return out
 
 
 def library_dirs(extra: Iterable[str | os.PathLike] = (),
@@ -58,29 +82,55 @@ def library_dirs(extra: Iterable[str | os.PathLike] = (),
 
 
 def library_files(dirs: Sequence[Path] | None = None) -> list[Path]:
-    """Every .gest file of the library directories."""
-    return [p for d in (dirs if dirs is not None else library_dirs())
-            for p in sorted(Path(d).glob("*.gest"))]
+    """Every .gest file of the library directories, in search order, each file once."""
+    files: dict[str, Path] = {}
+    for d in (dirs if dirs is not None else library_dirs()):
+        for p in sorted(Path(d).glob("*.gest")):
+            files.setdefault(os.path.normcase(os.path.realpath(p)), p)
+    return list(files.values())
 
 
-def scan_library(dirs: Sequence[Path] | None = None) -> dict[str, Entry]:
-    """Gesture name -> its Entry, for every gesture the library files define
-    (imports not counted)."""
+def scan(dirs: Sequence[Path] | None = None) -> Library:
+    """The gestures of the search path (imports not counted): the first directory that
+    defines a name wins; two files of one directory defining it is an error."""
     found: dict[str, Entry] = {}
+    broken: dict[Path, GestError] = {}
+    where: dict[str, tuple[Path, Path]] = {}  # name -> (directory, file) that won
     for path in library_files(dirs):
-        text = path.read_text(encoding="utf-8")
+        try:
+            text = path.read_text(encoding="utf-8")
+            module = parse(text, str(path))
+        except GestError as exc:
+            broken[path] = exc
+            continue
+        except (OSError, UnicodeDecodeError) as exc:
+            broken[path] = GestError(Diagnostic("error", f"cannot read {path}: {exc}"))
+            continue
         lines = text.splitlines()
-        for item in parse(text, str(path)).items:
+        for item in module.items:
             if not isinstance(item, ast.GestureDef):
                 continue
             name = item.name.text
             if name in found:
-                raise GestError(Diagnostic(
-                    "error", f"gesture '{name}' is defined in two library files: "
-                    f"{found[name].path} and {path}", hint="rename one of them"))
+                directory, first = where[name]
+                if directory == path.parent and first != path:
+                    raise GestError(Diagnostic(
+                        "error", f"gesture '{name}' is defined in two library files of "
+                        f"{directory}: {first.name} and {path.name}",
+                        hint="rename one of them"))
+                if first != path:
+                    found[name] = replace(found[name], shadows=(*found[name].shadows, path))
+                continue
             line = item.name.pos.line
             found[name] = Entry(name, path, line, describe(lines, line, name))
-    return found
+            where[name] = (path.parent, path)
+    return Library(found, broken)
+
+
+def scan_library(dirs: Sequence[Path] | None = None) -> dict[str, Entry]:
+    """Gesture name -> its Entry, for every gesture the search path defines (the first
+    definition of each name; imports not counted)."""
+    return scan(dirs).entries
 
 
 def load_library(dirs: Sequence[Path] | None = None) -> dict[str, Path]:
@@ -102,15 +152,28 @@ def describe(lines: Sequence[str], line: int, name: str = "") -> str:
     return first
 
 
-def find_gesture(target: str, gesture: str | None, dirs: Sequence[Path] | None = None
+def find_gesture(target: str, gesture: str | None, dirs: Sequence[Path] | None = None,
+                 warn: Callable[[Diagnostic], None] | None = None
                  ) -> tuple[str, str | None]:
     """What a command line names: a .gest file (and ``gesture`` in it), or a library
-    gesture (its file, and that gesture)."""
+    gesture (its file, and that gesture). Library files that do not parse go to ``warn``,
+    unless the gesture asked for is in one of them: then its error is the answer."""
     if os.path.exists(target) or target.endswith(".gest") or os.sep in target \
             or "/" in target:
         return target, gesture
-    library = scan_library(dirs)
-    if target in library:
-        return str(library[target].path), gesture or target
-    hint = did_you_mean(target, library) or "give a .gest file or a name from 'gestc list'"
+    library = scan(dirs)
+    if target in library.entries:
+        for d in library.warnings():
+            if warn is not None:
+                warn(d)
+        return str(library.entries[target].path), gesture or target
+    defines = re.compile(rf"^{re.escape(target)}\s*:", re.M)
+    for path, error in library.broken.items():
+        try:
+            if defines.search(path.read_text(encoding="utf-8", errors="replace")):
+                raise error
+        except OSError:
+            continue
+    hint = did_you_mean(target, library.entries) or \
+        "give a .gest file or a name from 'gestc list'"
     raise GestError(Diagnostic("error", f"no file or library gesture '{target}'", hint=hint))

@@ -56,11 +56,13 @@ Reader = Callable[[str], str]
 
 
 def load_program(path: str, read: Reader, search: Sequence[str] = (),
-                 text: str | None = None) -> Program:
+                 text: str | None = None, first_wins: bool = False) -> Program:
     """Parse ``path`` (or ``text`` under that name) and every file it ``use``s.
 
     Imports are looked up beside the importing file, then in ``search``; each file is
-    read once. Duplicate definitions are errors naming both places.
+    read once. Duplicate definitions are errors naming both places, unless
+    ``first_wins`` (a library along its search path): then a name already defined by
+    another file is shadowed, and only one file defining it twice is an error.
     """
     program = Program(path)
     seen: set[str] = set()
@@ -80,6 +82,8 @@ def load_program(path: str, read: Reader, search: Sequence[str] = (),
                     visit(found[0], found[1], False)
                 continue
             name = item.name.text
+            if name in defined and first_wins and defined[name].file != file:
+                continue  # shadowed by a file earlier on the search path
             if name in defined:
                 first = defined[name]
                 errors.append(program.sources.error(

@@ -240,5 +240,4 @@ def test_a_name_in_two_library_files_names_both(tmp_path):
     with pytest.raises(GestError) as info:
         load_library([tmp_path])
     assert info.value.first.message == (
-        f"gesture 'wave' is defined in two library files: {tmp_path / 'a.gest'} and "
-        f"{tmp_path / 'b.gest'}")
+        f"gesture 'wave' is defined in two library files of {tmp_path}: a.gest and b.gest")

@@ -1,6 +1,7 @@
 """The gesture library, the profiles it plays on, and where gestures are found."""
 
 import os
+import shutil
 import time
 from pathlib import Path
 
@@ -11,7 +12,7 @@ from boardmodel import final_values, read_stream
 from inmoov_dsl import GestError, load_profile, measure
 from inmoov_dsl.cli import gestc, gestplay
 from inmoov_dsl.compiler import compile_program, load
-from inmoov_dsl.library import library_dirs, scan_library
+from inmoov_dsl.library import find_gesture, library_dirs, scan_library
 from inmoov_dsl.player import play
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -204,13 +205,57 @@ def test_gestures_come_from_lib_gest_path_local_and_builtin(tmp_path, monkeypatc
     assert capsys.readouterr().out.splitlines()[-1].endswith(" 10")
 
 
-def test_a_name_in_two_places_is_an_error_naming_both(tmp_path, capsys):
-    mine = write(tmp_path, "mine.gest", "peace: index 0, middle 0\n")
-    assert gestc.main(["compile", "count", "--lib", str(tmp_path), "-o", "-"]) == 1
-    err = capsys.readouterr().err
+def test_the_first_place_that_defines_a_name_wins(tmp_path, capsys):
+    """Like PATH: a gesture of one's own replaces the library's, and gestc list says
+    where each name comes from and what it shadows."""
+    mine = write(tmp_path, "mine.gest", "# my own\npeace: index 0, middle 0\n")
     builtin = LIBRARY["peace"].path
-    assert err.startswith(f"gestc: error: gesture 'peace' is defined in two library files: "
-                          f"{mine} and {builtin}\n  hint: rename one of them")
+    assert find_gesture("peace", None, library_dirs([tmp_path])) == (str(mine), "peace")
+    assert gestc.main(["list", "--lib", str(tmp_path)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert f"peace\t{mine}  (shadows {builtin})" in lines
+    assert f"count\t{LIBRARY['count'].path}" in lines
+    assert gestc.main(["list", "--long", "--lib", str(tmp_path)]) == 0
+    peace = next(line for line in capsys.readouterr().out.splitlines()
+                 if line.startswith("peace "))
+    assert peace.endswith(f"my own  (mine.gest:2)  (shadows {builtin})")
+    assert gestc.main(["compile", "peace", "--lib", str(tmp_path), "-o", "-",
+                       "-f", "timed"]) == 0
+    assert capsys.readouterr().out.splitlines() == ["0.000000 255"]  # mine: nothing moves
+
+
+def test_a_copy_of_the_library_in_gestures_is_no_conflict(tmp_path, monkeypatch, capsys):
+    """The README's first line, from a clone's root: ./gestures is the library the
+    package carries too; it wins and shadows the installed copy."""
+    shutil.copytree(ROOT / "gestures", tmp_path / "gestures")
+    monkeypatch.chdir(tmp_path)
+    entries = scan_library(library_dirs())
+    assert set(entries) == set(LIBRARY)
+    assert all(e.path.parent == Path("gestures").absolute() or
+               e.path.parent.resolve() == (tmp_path / "gestures").resolve()
+               for e in entries.values())
+
+
+def test_the_same_file_reached_twice_is_one_file(tmp_path):
+    real = tmp_path / "real"
+    write(real, "wave2.gest", "wave2: index 90\n")
+    (tmp_path / "link").symlink_to(real)
+    entries = scan_library([real, tmp_path / "link"])
+    assert entries["wave2"].shadows == ()
+
+
+def test_a_file_that_does_not_parse_is_a_warning_unless_it_is_asked_for(tmp_path, capsys):
+    bad = write(tmp_path, "bad.gest", "oops: index 90 over\n")
+    assert gestc.main(["list", "--lib", str(tmp_path)]) == 0
+    out, err = capsys.readouterr()
+    assert "count\t" in out  # the rest of the library is there
+    assert err.startswith(f"{bad}:1:") and "warning: skipped bad.gest, it does not parse: " \
+        in err
+    assert gestc.main(["compile", "count", "--lib", str(tmp_path), "-o", "-"]) == 0
+    assert "warning: skipped bad.gest" in capsys.readouterr().err
+    assert gestc.main(["compile", "oops", "--lib", str(tmp_path), "-o", "-"]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith(f"{bad}:1:") and ": error: " in err and "skipped" not in err
 
 
 def test_a_missing_lib_directory_is_an_error(capsys):
@@ -227,3 +272,13 @@ def test_list_long_shows_what_each_gesture_does(capsys):
     peace = next(line for line in lines if line.startswith("peace "))
     assert peace.split()[1:4] == ["the", "V", "sign,"]
     assert peace.endswith("(peace.gest:3)")
+
+
+def test_the_repl_knows_the_first_definition_of_each_name(tmp_path):
+    from inmoov_dsl.cli.repl import library_program
+
+    write(tmp_path, "mine.gest", "peace: index 0, middle 0\npose open2: fingers 0\n")
+    write(tmp_path, "bad.gest", "oops: index 90 over\n")
+    program = library_program(library_dirs([tmp_path]))
+    assert program.gestures["peace"].name.pos.file == str((tmp_path / "mine.gest").resolve())
+    assert "count" in program.gestures and "open2" in program.poses

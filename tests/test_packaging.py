@@ -55,3 +55,20 @@ def test_the_installed_layout_compiles_the_library(wheel, tmp_path):
     assert lines[0].startswith(str(site))
     assert lines[1] == str(site / "inmoov_dsl" / "_data" / "grammar" / "gest.lark")
     assert lines[2] == "0.000000 255"
+
+
+@pytest.mark.parametrize("where", ["the clone's root", "elsewhere"])
+def test_the_readme_first_line_plays_from_the_root_and_from_elsewhere(wheel, tmp_path, where):
+    """``pip install . && gestplay peace --port sim://``: the installed package, run
+    from the clone's root (where ./gestures is the library the package carries too) and
+    from any other directory."""
+    site = tmp_path / "site"
+    zipfile.ZipFile(wheel).extractall(site)
+    code = "import sys; from inmoov_dsl.cli.gestplay import main; " \
+           "sys.exit(main(['peace', '--port', 'sim://']))"
+    done = subprocess.run([sys.executable, "-c", code],
+                          cwd=ROOT if where == "the clone's root" else tmp_path,
+                          capture_output=True, text=True, timeout=120,
+                          env={**os.environ, "PYTHONPATH": str(site)})
+    assert done.returncode == 0, done.stderr
+    assert done.stderr.startswith("played peace: 0.70 s, ")

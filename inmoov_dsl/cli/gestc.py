@@ -10,7 +10,7 @@ from ..compiled import Compiled, to_json, to_timed
 from ..compiler import compile_program, load
 from ..errors import Diagnostic, GestError
 from ..fmt import format_source
-from ..library import find_gesture, library_dirs, scan_library
+from ..library import find_gesture, library_dirs, scan
 from ..metrics import LinkReport, measure
 from ..plan import Plan
 from ..profile import load_profile
@@ -22,7 +22,7 @@ PROG = "gestc"
 
 def _compile(args: argparse.Namespace) -> tuple[Compiled, Plan]:
     dirs = library_dirs(args.lib)
-    path, gesture = find_gesture(args.target, args.gesture, dirs)
+    path, gesture = find_gesture(args.target, args.gesture, dirs, _warn)
     compiled, plan = compile_program(load(path, search=dirs), gesture, args.profile,
                                      args.start, args.strict)
     report(compiled.warnings, PROG)
@@ -253,15 +253,22 @@ def _upload_ports(specs: list[str], targets: list[str], names: dict[str, int]
     return ports
 
 
+def _warn(diagnostic: Diagnostic) -> None:
+    report([diagnostic], PROG)
+
+
 def cmd_list(args: argparse.Namespace) -> int:
-    entries = sorted(scan_library(library_dirs(args.lib)).values(), key=lambda e: e.name)
-    if not args.long:
-        for e in entries:
-            print(f"{e.name}\t{e.path}")
-        return EXIT_OK
+    library = scan(library_dirs(args.lib))
+    report(library.warnings(), PROG)
+    entries = sorted(library.entries.values(), key=lambda e: e.name)
     width = max((len(e.name) for e in entries), default=0)
     for e in entries:
-        print(f"{e.name:<{width}}  {e.description or '-'}  ({e.path.name}:{e.line})")
+        shadows = "".join(f"  (shadows {p})" for p in e.shadows)
+        if args.long:
+            print(f"{e.name:<{width}}  {e.description or '-'}  ({e.path.name}:{e.line})"
+                  f"{shadows}")
+        else:
+            print(f"{e.name}\t{e.path}{shadows}")
     return EXIT_OK
 
 

@@ -41,7 +41,8 @@ class Target:
             self.profile = load_profile(args.profile or self.compiled.profile)
             return
         dirs = library_dirs(args.lib)
-        path, self.gesture = find_gesture(name, args.gesture, dirs)
+        path, self.gesture = find_gesture(name, args.gesture, dirs,
+                                          lambda d: report([d], PROG))
         self.program = load(path, search=dirs)
         self.profile = load_profile(args.profile or "rhand")
 

@@ -22,7 +22,7 @@ from ..errors import Diagnostic, GestError
 from ..glove import VirtualGlove
 from ..profile import load_profile
 from ..sim import VirtualBoard
-from .common import EXIT_OK, run
+from .common import EXIT_OK, report, run
 
 PROG = "gestsim"
 FRAME = 0.05  #: s between redraws of the live view
@@ -134,7 +134,7 @@ def _glove(args: argparse.Namespace, profile) -> list[tuple[float, bytes]]:
     if not profile.gloves:
         raise GestError(Diagnostic("error", f"profile '{profile.name}' has no glove",
                                    hint="a [[glove]] table describes one (rhand has it)"))
-    path, gesture = find_gesture(args.glove, None)
+    path, gesture = find_gesture(args.glove, None, warn=lambda d: report([d], PROG))
     _, plan = compile_program(load(path), gesture, profile)
     gaps = []
     for spec in args.gap:

@@ -17,7 +17,7 @@ from pathlib import Path
 from ..board import BoardCore
 from ..compiler import load
 from ..errors import GestError
-from ..library import library_dirs, library_files
+from ..library import library_dirs, library_files, scan
 from ..live import Segment, Session, line_steps
 from ..player import POLL, SPIN, Link, drain
 from ..profile import Profile, load_profile
@@ -36,10 +36,13 @@ A step typed while the hand moves takes over from there, without stopping.
 
 
 def library_program(dirs: list[Path] | None = None):
-    """Every library gesture, pose and group, for names typed at the prompt."""
+    """Every library gesture, pose and group, for names typed at the prompt: the first
+    definition of a name along the search path, as for gestures named on the command
+    line (files that do not parse are left out; ``gestplay repl`` warned of them)."""
     dirs = library_dirs() if dirs is None else dirs
-    uses = "".join(f'use "{f.resolve()}"\n' for f in library_files(dirs))
-    return load("<library>", uses, search=[str(d) for d in dirs])
+    broken = scan(dirs).broken
+    uses = "".join(f'use "{f.resolve()}"\n' for f in library_files(dirs) if f not in broken)
+    return load("<library>", uses, search=[str(d) for d in dirs], first_wins=True)
 
 
 class Mirror:
