@@ -78,9 +78,10 @@ class BoardCore:
         self.board_id = board_id
         self.servos = tuple(servos)
         self._index = {s.id: i for i, s in enumerate(self.servos)}
-        self.values = [s.default for s in self.servos]  #: last value written, unscaled
+        self.values: list[int] = []  #: last value written, unscaled
         self.pending: int | None = None  #: a servo ID waiting for its value
         self.relaxed = False  #: RELAX came: no pulses until the next servo write
+        self.restore(None)
 
     @classmethod
     def from_profile(cls, profile: Profile, board: Board) -> BoardCore:
@@ -108,9 +109,11 @@ class BoardCore:
                 return Write(sid, value, self.servos[index].angle(value)), b""
         return None, b""
 
-    def restore(self, values: Sequence[int]) -> None:
-        """Reset: every servo at ``values`` (the pose kept in EEPROM), nothing pending."""
-        self.values = list(values)
+    def restore(self, values: Sequence[int] | None) -> None:
+        """Reset: every servo at ``values`` (the pose kept in EEPROM) or, if None, at
+        its rest value; nothing pending."""
+        self.values = list(values) if values is not None else [s.default for s in
+                                                                self.servos]
         self.pending = None
         self.relaxed = False
 

@@ -95,7 +95,6 @@ def scan(dirs: Sequence[Path] | None = None) -> Library:
     defines a name wins; two files of one directory defining it is an error."""
     found: dict[str, Entry] = {}
     broken: dict[Path, GestError] = {}
-    where: dict[str, tuple[Path, Path]] = {}  # name -> (directory, file) that won
     for path in library_files(dirs):
         try:
             text = path.read_text(encoding="utf-8")
@@ -112,18 +111,17 @@ def scan(dirs: Sequence[Path] | None = None) -> Library:
                 continue
             name = item.name.text
             if name in found:
-                directory, first = where[name]
-                if directory == path.parent and first != path:
+                first = found[name].path
+                if first.parent == path.parent and first != path:
                     raise GestError(Diagnostic(
                         "error", f"gesture '{name}' is defined in two library files of "
-                        f"{directory}: {first.name} and {path.name}",
+                        f"{first.parent}: {first.name} and {path.name}",
                         hint="rename one of them"))
                 if first != path:
                     found[name] = replace(found[name], shadows=(*found[name].shadows, path))
                 continue
             line = item.name.pos.line
             found[name] = Entry(name, path, line, describe(lines, line, name))
-            where[name] = (path.parent, path)
     return Library(found, broken)
 
 

@@ -19,6 +19,29 @@ from .protocol import POSE_SETTLE, Signal, byte_time
 
 
 @dataclass
+class DtrLine:
+    """The DTR line from a host's port to a board: an Uno or a Nano resets when it
+    rises. Opening the port raises it unless it is up already; closing drops it unless
+    the program cleared HUPCL (``hupcl``, what the program with the port open asks)."""
+
+    up: bool = False
+    is_open: bool = False  #: a program has the port open
+    hupcl: bool = True
+
+    def opened(self) -> bool:
+        """A program opened the port: True if DTR rose (the board resets)."""
+        rose = not self.up
+        self.up = self.is_open = True
+        return rose
+
+    def closed(self) -> None:
+        """The program closed the port (once is enough; again changes nothing)."""
+        if self.is_open:
+            self.up = not self.hupcl
+        self.is_open = False
+
+
+@dataclass
 class VirtualBoard:
     core: BoardCore
     baud: int = 9600
@@ -65,8 +88,7 @@ class VirtualBoard:
         self._inbox.clear()
         self._outbox.clear()
         self._last_write = None
-        self.core.restore(self.stored if self.stored is not None else
-                          [s.default for s in self.core.servos])
+        self.core.restore(self.stored)
         self.ready_at = now + boot
         self._booted = False
         self.resets += 1

@@ -15,7 +15,6 @@ import shutil
 import subprocess
 import sys
 from collections.abc import Sequence
-from dataclasses import dataclass
 from pathlib import Path
 
 from .errors import Diagnostic, GestError, did_you_mean
@@ -35,14 +34,6 @@ INSTALL_AVRDUDE = ("on Debian or Ubuntu: sudo apt-get install avrdude; on macOS:
                    "install avrdude; on Windows: the Arduino IDE has one "
                    "(hardware\\tools\\avr\\bin\\avrdude.exe), or get a release from "
                    "github.com/avrdudes/avrdude; or give its path with --avrdude")
-
-
-@dataclass(frozen=True)
-class Upload:
-    """One board's firmware going to one port."""
-
-    sketch: str  #: the sketch folder's name, e.g. ``servo_rhand``
-    port: str
 
 
 def read_hex(path: Path) -> dict[int, int]:

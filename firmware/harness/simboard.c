@@ -73,7 +73,7 @@ static int xoff;                       /* simavr's UART cannot take another byte
 #define PINS 20 /* Arduino pins 0..19: PORTD 0..7, PORTB 8..13, PORTC 14..19 (A0..A5) */
 static struct {
   int high;
-  avr_cycle_count_t rose, last_rise;
+  avr_cycle_count_t rose; /* the last rising edge */
   long pulses;
   double first_us, last_us, min_period, max_period; /* us, ms */
 } pins[PINS];
@@ -121,11 +121,11 @@ static void on_pin(struct avr_irq_t *irq, uint32_t value, void *param) {
   avr_cycle_count_t now = avr->cycle;
   if (pins[pin].high) {
     if (pins[pin].pulses) {
-      double period = (double)(now - pins[pin].last_rise) * 1000.0 / F_CPU;
+      double period = (double)(now - pins[pin].rose) * 1000.0 / F_CPU;
       if (pins[pin].pulses == 1 || period < pins[pin].min_period) pins[pin].min_period = period;
       if (pins[pin].pulses == 1 || period > pins[pin].max_period) pins[pin].max_period = period;
     }
-    pins[pin].rose = pins[pin].last_rise = now;
+    pins[pin].rose = now;
     return;
   }
   double us = (double)(now - pins[pin].rose) * 1e6 / F_CPU;

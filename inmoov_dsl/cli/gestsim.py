@@ -21,7 +21,7 @@ from ..board import BoardCore
 from ..errors import Diagnostic, GestError
 from ..glove import VirtualGlove
 from ..profile import load_profile
-from ..sim import VirtualBoard
+from ..sim import DtrLine, VirtualBoard
 from .common import EXIT_OK, report, run
 
 PROG = "gestsim"
@@ -59,9 +59,7 @@ def serve(args: argparse.Namespace) -> int:
     poller = select.poll()
     poller.register(master, select.POLLIN)
     board: VirtualBoard | VirtualGlove | None = None
-    hung_up = True  # no program has the port open
-    dtr_up = False  # the line that resets the board when it rises
-    drop_dtr = True  # the program with the port open wants DTR dropped on closing (HUPCL)
+    line = DtrLine()  # no program has the port open yet
     try:
         while True:
             flags = dict(poller.poll(5)).get(master, 0)
@@ -76,26 +74,23 @@ def serve(args: argparse.Namespace) -> int:
                 log.write("".join(f"{now:.6f} {b}\n" for b in data))
                 log.flush()
             if flags & select.POLLHUP and not data:
-                if not hung_up:  # the program closed the port
-                    dtr_up = not drop_dtr
-                hung_up = True  # the bytes already on the wire still arrive
+                line.closed()  # the bytes already on the wire still arrive
                 if board is not None:
                     board.read(now)
                     if view is not None:
                         view.draw(board, now)
                 time.sleep(0.01)
                 continue
-            if hung_up:  # a program opened the port: if DTR rises, the board resets
-                hung_up = False
+            if not line.is_open:  # a program opened the port: if DTR rises, a reset
+                rose = line.opened()
                 if glove is not None:
                     board = VirtualGlove(glove, now + args.boot)
                 elif board is None:
                     board = VirtualBoard(BoardCore.from_profile(profile, board_cfg),
                                          board_cfg.baud, ready_at=now + args.boot)
-                elif not dtr_up:
+                elif rose:
                     board.reset(now, args.boot)
-                dtr_up = True
-            drop_dtr = _hupcl(master)
+            line.hupcl = _hupcl(master)
             if data:
                 board.write(data, now)
             out = board.read(now)
@@ -103,7 +98,7 @@ def serve(args: argparse.Namespace) -> int:
                 try:
                     os.write(master, out)
                 except OSError:  # the other side closed meanwhile
-                    hung_up = True
+                    line.closed()
             if view is not None:
                 view.draw(board, now)
     except KeyboardInterrupt:

@@ -24,22 +24,22 @@ from serial.serialutil import PortNotOpenError, SerialBase, SerialException
 from ..board import BoardCore
 from ..errors import GestError
 from ..profile import Profile, builtin_profiles, find_profile, load_profile
-from ..sim import VirtualBoard
+from ..sim import DtrLine, VirtualBoard
 
 DEFAULT_BOOT = 0.2  #: s
 
 
 class _Desk:
-    """The virtual boards of this process, by URL, and whether DTR is up on each."""
+    """The virtual boards of this process, by URL, and the DTR line to each."""
 
     boards: dict[str, VirtualBoard] = {}
-    dtr_up: dict[str, bool] = {}
+    lines: dict[str, DtrLine] = {}
 
 
 def power_off() -> None:
     """Take every virtual board off the desk: the next open powers up a new one."""
     _Desk.boards.clear()
-    _Desk.dtr_up.clear()
+    _Desk.lines.clear()
 
 
 def bare(url: str) -> bool:
@@ -73,15 +73,15 @@ class Serial(SerialBase):
         if self._port is None:
             raise SerialException("Port must be configured before it can be used.")
         url = self.portstr
-        board = _Desk.boards.get(url)
         boot = self._boot(url)
-        if board is None:  # powered up: the board boots
-            board = self._board_from_url(url)
+        board = _Desk.boards.get(url)
+        if board is None:  # powered up: the board boots, with DTR rising
+            board = _Desk.boards[url] = self._board_from_url(url)
             board.ready_at = time.monotonic() + boot
-            _Desk.boards[url] = board
-        elif not _Desk.dtr_up.get(url):  # DTR rises: an Uno resets
+            _Desk.lines[url] = DtrLine()
+            _Desk.lines[url].opened()
+        elif _Desk.lines[url].opened():  # DTR rose: an Uno resets
             board.reset(time.monotonic(), boot)
-        _Desk.dtr_up[url] = True
         self.board = board
         self.is_open = True
 
@@ -113,7 +113,9 @@ class Serial(SerialBase):
 
     def close(self) -> None:
         if self.is_open:
-            _Desk.dtr_up[self.portstr] = not self.hupcl
+            line = _Desk.lines[self.portstr]
+            line.hupcl = self.hupcl
+            line.closed()
         self.is_open = False
 
     def _reconfigure_port(self) -> None:
