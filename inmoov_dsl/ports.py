@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import errno
 import sys
+from dataclasses import dataclass
 
 import serial
 from serial.tools import list_ports
@@ -20,14 +21,61 @@ if HANDLERS not in serial.protocol_handler_packages:
     serial.protocol_handler_packages.append(HANDLERS)
 
 
-def available() -> list[tuple[str, str]]:
-    """(device, description) of the serial ports on this machine."""
-    return sorted((p.device, p.description) for p in list_ports.comports())
+#: USB vendor:product IDs of the boards (and the USB-serial chips of their clones) the
+#: hand runs on: (vendor, product or None for any) -> what it probably is.
+ARDUINO_USB: dict[tuple[int, int | None], str] = {
+    (0x2341, None): "an Arduino",
+    (0x2A03, None): "an Arduino",
+    (0x1A86, 0x7523): "a CH340: most Nano and Uno clones",
+    (0x0403, 0x6001): "an FTDI FT232R: older Nanos and clones",
+    (0x10C4, 0xEA60): "a CP2102: some clones",
+}
+
+
+@dataclass(frozen=True)
+class PortInfo:
+    """A serial port of this machine, as ``gestplay ports`` shows it."""
+
+    device: str
+    description: str
+    vid: int | None = None
+    pid: int | None = None
+
+    @property
+    def usb(self) -> str | None:
+        """``VID:PID`` in hex, for a USB port."""
+        return None if self.vid is None else f"{self.vid:04X}:{self.pid or 0:04X}"
+
+    @property
+    def likely(self) -> str | None:
+        """What board this probably is, when its USB IDs are those of an Arduino."""
+        if self.vid is None:
+            return None
+        return ARDUINO_USB.get((self.vid, self.pid)) or ARDUINO_USB.get((self.vid, None))
+
+
+def available() -> list[PortInfo]:
+    """The serial ports on this machine, likely Arduinos first, then by name."""
+    found = [PortInfo(p.device, p.description, p.vid, p.pid) for p in list_ports.comports()]
+    return sorted(found, key=lambda p: (p.likely is None, p.device))
 
 
 def _names() -> str:
-    ports = [device for device, _ in available()]
+    ports = [p.device for p in available()]
     return ", ".join(ports) if ports else "none"
+
+
+def _wrong_os(name: str) -> str | None:
+    """A hint when ``name`` is another system's kind of port name."""
+    windows = name.upper().startswith("COM") and name[3:].isdigit()
+    if windows and sys.platform != "win32":
+        return ("COM ports are Windows names; here an Arduino is /dev/ttyACM0 (Uno, "
+                "Leonardo) or /dev/ttyUSB0 (Nano, clones)" if sys.platform.startswith("linux")
+                else "COM ports are Windows names; here an Arduino is /dev/cu.usbmodem... or "
+                "/dev/cu.usbserial-...")
+    if name.startswith("/dev/") and sys.platform == "win32":
+        return "/dev/... names are Linux and macOS ones; on Windows a board is COM3, COM4..."
+    return None
 
 
 def open_port(name: str, baud: int, timeout: float = 0) -> serial.SerialBase:
@@ -74,7 +122,8 @@ def _explain(name: str, exc: serial.SerialException) -> Diagnostic:
     if code == errno.ENOENT or "FileNotFoundError" in text or "could not open port" in text \
             and ("No such file" in text or "cannot find" in text.lower()):
         return Diagnostic("error", f"port {name} not found; ports on this machine: {_names()}",
-                          hint="'gestplay ports' lists them; sim:// is the virtual board")
+                          hint=_wrong_os(name) or "'gestplay ports' lists them (and marks "
+                          "the likely Arduinos); sim:// is the virtual board")
     if code in (errno.EACCES, errno.EPERM) or "PermissionError" in text \
             or "Access is denied" in text:
         if sys.platform.startswith("linux"):

@@ -241,3 +241,16 @@ def test_a_name_in_two_library_files_names_both(tmp_path):
         load_library([tmp_path])
     assert info.value.first.message == (
         f"gesture 'wave' is defined in two library files of {tmp_path}: a.gest and b.gest")
+
+
+@pytest.mark.parametrize("tool", ["gestc", "gestplay", "gestsim"])
+def test_every_tool_tells_its_version(capsys, tool):
+    import importlib
+
+    from inmoov_dsl import __version__
+
+    main = importlib.import_module(f"inmoov_dsl.cli.{tool}").main
+    with pytest.raises(SystemExit) as exit_:
+        main(["--version"])
+    assert exit_.value.code == 0
+    assert capsys.readouterr().out == f"{tool} {__version__}\n"

@@ -179,12 +179,42 @@ def test_dry_run_prints_the_schedule(capsys):
                                       .times[-1], abs=1e-5)
 
 
-def test_a_silent_board_warns_and_starts_from_rest(capsys):
-    code, _, err = run(capsys, "peace", "--port", "loop://")
+class SilentPort:
+    """A port with nothing behind it: it keeps what is written and never answers."""
+
+    def __init__(self):
+        self.sent = bytearray()
+
+    def write(self, data):
+        self.sent += data
+
+    def read(self, size=1):
+        return b""
+
+    def close(self):
+        pass
+
+
+@pytest.mark.parametrize("tool", [[], ["repl"], ["teach"]])
+def test_no_board_is_an_error_before_any_gesture_byte(capsys, monkeypatch, tool):
+    port = SilentPort()
+    monkeypatch.setattr(gestplay, "open_port", lambda name, baud: port)
+    code, _, err = run(capsys, *(tool or ["peace"]), "--port", "COM7")
+    assert code == 1
+    assert err.startswith("gestplay: error: no board answered on COM7 (board 181, 9600 baud)")
+    assert "gestc upload servo_rhand --port COM7" in err and "--blind" in err
+    assert set(port.sent) <= {255, 253}  # CANCEL probes and a DUMP: no servo ID, no value
+
+
+def test_blind_plays_on_a_link_that_cannot_answer(capsys, monkeypatch):
+    port = SilentPort()
+    monkeypatch.setattr(gestplay, "open_port", lambda name, baud: port)
+    code, _, err = run(capsys, "peace", "--port", "COM7", "--blind")
     assert code == 0
-    assert "gestplay: warning: board 181 on loop:// sent no WAIT: going ahead anyway" in err
-    assert ("gestplay: warning: board 181 on loop:// did not answer DUMP: starting from the "
-            "profile's rest pose") in err
+    assert ("gestplay: warning: board 181 on COM7 did not answer (--blind): starting from "
+            "the profile's rest pose") in err
+    assert err.splitlines()[-1].startswith("played peace: 0.70 s, 201 bytes")
+    assert port.sent.endswith(bytes(compile_file(load_library()["peace"]).stream().data))
 
 
 @pytest.mark.parametrize(("argv", "message"), [
@@ -222,7 +252,34 @@ def test_bench_tools(capsys):
     assert "START 181 6 0 0 1 0 2 90 3 0 4 0 5 0 END" in out
     code, _, err = run(capsys, "send", "--port", "sim://", "300")
     assert code == 1 and err.startswith("gestplay: error: '300' is not a byte")
-    assert run(capsys, "ports")[0] == 0
+
+
+def test_ports_marks_the_likely_arduinos(capsys, monkeypatch):
+    from serial.tools import list_ports, list_ports_common
+
+    def port(device, description, vid=None, pid=None):
+        info = list_ports_common.ListPortInfo(device, skip_link_detection=True)
+        info.description, info.vid, info.pid = description, vid, pid
+        return info
+
+    monkeypatch.setattr(list_ports, "comports", lambda: [
+        port("/dev/ttyS0", "n/a"), port("/dev/ttyUSB0", "USB2.0-Serial", 0x1A86, 0x7523),
+        port("/dev/ttyACM0", "Arduino Uno", 0x2341, 0x0043)])
+    code, out, _ = run(capsys, "ports")
+    assert code == 0
+    assert out.splitlines() == [
+        "/dev/ttyACM0\tArduino Uno\tUSB 2341:0043\tlikely an Arduino",
+        "/dev/ttyUSB0\tUSB2.0-Serial\tUSB 1A86:7523\tlikely a CH340: most Nano and Uno clones",
+        "/dev/ttyS0\tn/a\t-"]
+    monkeypatch.setattr(list_ports, "comports", lambda: [port("/dev/ttyS0", "n/a")])
+    code, _, err = run(capsys, "ports")
+    assert code == 0 and "none of these looks like an Arduino" in err
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="COM3 is a port name on Windows")
+def test_a_windows_port_name_elsewhere_says_what_names_are_used_here(capsys):
+    code, _, err = run(capsys, "peace", "--port", "COM3")
+    assert code == 1 and "COM ports are Windows names; here an Arduino is /dev/" in err
 
 
 # -- real processes over a real pseudo-terminal ------------------------------------------

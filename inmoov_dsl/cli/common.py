@@ -44,6 +44,18 @@ def add_lib(p: argparse.ArgumentParser) -> None:
                    "the built-in library); may be repeated")
 
 
+def add_blind(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--blind", action="store_true",
+                   help="go on when no board answers (a link that cannot answer); the plan "
+                   "then starts from the profile's rest pose")
+
+
+def add_version(p: argparse.ArgumentParser) -> None:
+    from .. import __version__
+
+    p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+
+
 def status_line(text: str) -> None:
     """One line that redraws itself on a terminal (each one on its own line otherwise)."""
     if sys.stdout.isatty():

@@ -15,7 +15,7 @@ from ..metrics import LinkReport, measure
 from ..plan import Plan
 from ..profile import load_profile
 from . import record
-from .common import EXIT_ERROR, EXIT_OK, add_lib, report, run
+from .common import EXIT_ERROR, EXIT_OK, add_lib, add_version, report, run
 
 PROG = "gestc"
 
@@ -276,6 +276,7 @@ def parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(
         prog=PROG, description="Compile .gest gestures into timed byte streams for the "
         "InMoov servo boards.")
+    add_version(ap)
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     def common(p: argparse.ArgumentParser, target: bool = True) -> None:

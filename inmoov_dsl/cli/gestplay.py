@@ -20,7 +20,7 @@ from ..profile import Profile, load_profile
 from ..protocol import Signal
 from ..urlhandler import protocol_sim
 from . import calibrate, repl, teach
-from .common import EXIT_INTERRUPTED, EXIT_OK, add_lib, report, run
+from .common import EXIT_INTERRUPTED, EXIT_OK, add_blind, add_lib, add_version, report, run
 
 PROG = "gestplay"
 TOOLS = ("dump", "ports", "send", "relax", "calibrate", "repl", "teach")
@@ -101,20 +101,43 @@ def close(links: list[Link]) -> None:
         link.port.close()
 
 
-def board_pose(links: list[Link], profile: Profile) -> dict[str, int]:
-    """Wait for each board to boot, sync it with CANCEL and read its pose with DUMP."""
+def board_pose(links: list[Link], profile: Profile, blind: bool = False) -> dict[str, int]:
+    """Wait for each board to boot, sync it with CANCEL and read its pose with DUMP.
+    A link on which nothing answers is an error before any gesture byte goes out,
+    unless ``blind`` (a link that cannot answer): then the plan starts from rest."""
     names = {s.id: s.name for s in profile.servos}
     pose: dict[str, int] = {}
     for link in links:
-        if not wait_ready(link.port):
-            _warn(f"board {link.board} on {link.name} sent no WAIT: going ahead anyway")
+        ready = wait_ready(link.port)
         values = ask_dump(link.port, link.board)
+        if values is None and not ready:
+            if not blind:
+                raise GestError(no_answer(link, profile))
+            _warn(f"board {link.board} on {link.name} did not answer (--blind): starting "
+                  f"from the profile's rest pose")
+            continue
         if values is None:
             _warn(f"board {link.board} on {link.name} did not answer DUMP: starting from "
                   f"the profile's rest pose")
             continue
+        if not ready:
+            _warn(f"board {link.board} on {link.name} sent no WAIT, but answered DUMP")
         pose.update({names[sid]: v for sid, v in values.items() if sid in names})
     return pose
+
+
+def no_answer(link: Link, profile: Profile) -> Diagnostic:
+    """What to say when nothing answers on a link (no WAIT, no DUMP reply)."""
+    from ..firmware import sketch_names
+
+    board = next(b for b in profile.boards if b.id == link.board)
+    sketch = next(n for n, i in sketch_names(profile).items() if i == board.id)
+    return Diagnostic(
+        "error", f"no board answered on {link.name} (board {link.board}, {board.baud} baud)",
+        hint=f"try another port ('gestplay ports' lists them and marks the likely "
+        f"Arduinos), check that the board's sketch uses {board.baud} baud, or flash it: "
+        f"gestc upload {sketch} --port {link.name}; --blind plays anyway on a link "
+        f"that cannot answer")
 
 
 def _warn(message: str) -> None:
@@ -146,7 +169,7 @@ def cmd_play(args: argparse.Namespace) -> int:
 
 
 def _play_loop(args: argparse.Namespace, target: Target, links: list[Link]) -> int:
-    pose = board_pose(links, target.profile)
+    pose = board_pose(links, target.profile, args.blind)
     for _ in range(args.loop):
         compiled = target.build(pose)
         if target.program is None and pose and pose != dict(zip(compiled.servos,
@@ -209,10 +232,15 @@ def _progress(compiled: Compiled, speed: float):
 # -- bench tools -----------------------------------------------------------------------
 def cmd_ports(args: argparse.Namespace) -> int:
     found = available()
-    for device, description in found:
-        print(f"{device}\t{description}")
+    for port in found:
+        usb = f"USB {port.usb}" if port.usb else "-"
+        likely = f"\tlikely {port.likely}" if port.likely else ""
+        print(f"{port.device}\t{port.description}\t{usb}{likely}")
     if not found:
         print("no serial ports found (sim:// is the virtual board)", file=sys.stderr)
+    elif not any(p.likely for p in found):
+        print("none of these looks like an Arduino: is the board plugged in, with a data "
+              "cable (some USB cables only charge)?", file=sys.stderr)
     return EXIT_OK
 
 
@@ -295,6 +323,7 @@ def play_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(
         prog=PROG, description="Play a gesture on the InMoov hand. Bench tools: "
         "gestplay dump|ports|send|relax|calibrate|repl|teach --help.")
+    add_version(ap)
     ap.add_argument("target", metavar="GESTURE",
                     help="a library gesture, a .gest file or a compiled .gestc file")
     ap.add_argument("--port", action="append", default=[], metavar="PORT",
@@ -310,6 +339,7 @@ def play_parser() -> argparse.ArgumentParser:
     ap.add_argument("--dry-run", action="store_true",
                     help="print the schedule ('<seconds> <byte>') without a port")
     ap.add_argument("--strict", action="store_true", help="stretched moves are errors")
+    add_blind(ap)
     add_lib(ap)
     ap.set_defaults(func=cmd_play)
     return ap
@@ -317,6 +347,7 @@ def play_parser() -> argparse.ArgumentParser:
 
 def tools_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(prog=PROG, description="Bench tools for the boards.")
+    add_version(ap)
     sub = ap.add_subparsers(dest="command", required=True, metavar="TOOL")
     p = sub.add_parser("ports", help="the serial ports on this machine")
     p.set_defaults(func=cmd_ports)

@@ -22,7 +22,7 @@ from ..errors import Diagnostic, GestError
 from ..glove import VirtualGlove
 from ..profile import load_profile
 from ..sim import DtrLine, VirtualBoard
-from .common import EXIT_OK, report, run
+from .common import EXIT_OK, add_version, report, run
 
 PROG = "gestsim"
 FRAME = 0.05  #: s between redraws of the live view
@@ -191,6 +191,7 @@ class _HandView(_View):
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog=PROG, description=__doc__.splitlines()[0])
+    add_version(ap)
     ap.add_argument("-p", "--profile", default="rhand", help="robot profile (default rhand)")
     ap.add_argument("--board", type=int, help="which board of the profile (default the first)")
     ap.add_argument("--boot", type=float, default=0.5,

@@ -21,7 +21,7 @@ from ..library import library_dirs, library_files, scan
 from ..live import Segment, Session, line_steps
 from ..player import POLL, SPIN, Link, drain
 from ..profile import Profile, load_profile
-from .common import EXIT_OK, add_lib, report
+from .common import EXIT_OK, add_blind, add_lib, report
 
 PROG = "gestplay repl"
 HELP = """\
@@ -172,7 +172,7 @@ def cmd_repl(args: argparse.Namespace) -> int:
     links = connect(parse_ports(args.port, profile), profile)
 
     def session() -> int:
-        pose = board_pose(links, profile)
+        pose = board_pose(links, profile, args.blind)
         lines: queue.Queue = queue.Queue()
         interactive = sys.stdin.isatty()
         if interactive:
@@ -191,5 +191,6 @@ def add_parser(sub) -> None:
     p.add_argument("--port", action="append", default=[], required=True,
                    help="as for playing; BOARD=PORT for each board of a profile with several")
     p.add_argument("-p", "--profile", help="robot profile (default rhand)")
+    add_blind(p)
     add_lib(p)
     p.set_defaults(func=cmd_repl)

@@ -11,7 +11,7 @@ from ..compiler import compile_program, load
 from ..player import Link, play
 from ..profile import Profile, load_profile
 from ..teach import HELP, Teach
-from .common import EXIT_OK, gesture_name, report, send_value, status_line
+from .common import EXIT_OK, add_blind, gesture_name, report, send_value, status_line
 from .keys import key_reader
 
 PROG = "gestplay teach"
@@ -24,14 +24,16 @@ def cmd_teach(args: argparse.Namespace) -> int:
     output = Path(args.output or f"{name}.gest")
     profile = load_profile(args.profile or "rhand")
     links = connect(parse_ports(args.port, profile), profile)
-    return on_the_hand(PROG, links, lambda: _teach(profile, links, name, output))
+    return on_the_hand(PROG, links, lambda: _teach(profile, links, name, output,
+                                                          args.blind))
 
 
-def _teach(profile: Profile, links: list[Link], name: str, output: Path) -> int:
+def _teach(profile: Profile, links: list[Link], name: str, output: Path,
+           blind: bool = False) -> int:
     from .gestplay import board_pose
 
     link_of = {link.board: link for link in links}
-    held = board_pose(links, profile)
+    held = board_pose(links, profile, blind)
     teach = Teach(profile, [held.get(s.name, s.rest) for s in profile.servos])
     with key_reader() as keys:
         print(HELP)
@@ -84,4 +86,5 @@ def add_parser(sub) -> None:
     p.add_argument("-o", "--output", help="the .gest file 's' writes (default NAME.gest)")
     p.add_argument("--name", help="the gesture's name (default: the file's name, or taught)")
     p.add_argument("-p", "--profile", help="robot profile (default rhand)")
+    add_blind(p)
     p.set_defaults(func=cmd_teach)
