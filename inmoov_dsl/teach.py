@@ -32,11 +32,14 @@ class Teach:
     over: float = 0.5  #: s from the previous keyframe to the next one
     keys: list[tuple[float, tuple[int, ...]]] = field(default_factory=list)  #: (over, pose)
     saved: bool = True
+    asking: bool = False  #: q was pressed with keyframes not saved: q again quits
 
     def press(self, key: str) -> str | None:
         """Apply a key; returns what the caller must do: 'send' (the chosen servo's new
-        value), 'play', 'save', 'quit', or None (only redraw)."""
+        value), 'play', 'save', 'quit', or None (only redraw). Quitting with keyframes
+        not saved asks first: q again quits, any other key carries on."""
         count = len(self.profile.servos)
+        asked, self.asking = self.asking, False
         if key in STEPS:
             value = max(0, min(MAX_VALUE, self.pose[self.selected] + STEPS[key]))
             servo = self.profile.servos[self.selected]
@@ -64,15 +67,20 @@ class Teach:
         elif key == "s" and self.keys:
             return "save"
         elif key in ("q", "esc"):
-            return "quit"
+            if self.saved or not self.keys or asked:
+                return "quit"
+            self.asking = True
         return None
 
     def line(self) -> str:
         """The state in one line: every servo's value (the chosen one in brackets)."""
+        if self.asking:
+            return (f"{_keyframes(len(self.keys))} not saved: q again quits without them, "
+                    f"s saves them, any other key goes on")
         values = "  ".join(f"[{s.name} {v}]" if i == self.selected else f"{s.name} {v}"
                            for i, (s, v) in enumerate(zip(self.profile.servos, self.pose,
                                                           strict=True)))
-        return f"{values}  | {len(self.keys)} keyframes, next over {self.over:.1f} s"
+        return f"{values}  | {_keyframes(len(self.keys))}, next over {self.over:.1f} s"
 
     def gesture(self, name: str) -> str:
         """The keyframes as a gesture: the first pose, then each change ``over`` its time
@@ -85,3 +93,7 @@ class Teach:
             keyframes.append(Keyframe(at, dict(enumerate(pose))))
         about = [f"{name}: taught with gestplay teach, {len(self.keys)} keyframes"]
         return to_gest(name, Fit(tuple(keyframes), 0.0, ()), self.profile, about)
+
+
+def _keyframes(n: int) -> str:
+    return f"{n} keyframe{'' if n == 1 else 's'}"

@@ -40,6 +40,18 @@ def test_keys_move_the_chosen_servo_within_its_range_and_keep_keyframes():
         "    hold 700ms\n")
     assert teach.press("u") is None and len(teach.keys) == 2
     assert teach.press("p") == "play" and teach.press("s") == "save"
+
+
+def test_quitting_with_keyframes_not_saved_asks_first():
+    teach = Teach(load_profile("rhand"), [0] * 6)
+    assert teach.press("q") == "quit"  # nothing to lose
+    teach.press("enter")
+    teach.saved = False
+    assert teach.press("q") is None
+    assert teach.line().startswith("1 keyframe not saved: q again quits without them")
+    assert teach.press("up") == "send" and teach.press("q") is None  # it asks again
+    assert teach.press("esc") == "quit"
+    teach.saved = True  # as the caller marks it after writing the file
     assert teach.press("q") == "quit"
 
 
@@ -65,6 +77,8 @@ def test_teach_at_a_terminal_poses_plays_back_and_saves(tmp_path):
     term.press("p")
     term.read_until(b"playing 3 keyframes")
     time.sleep(2.2)                                          # the playback: 1.8 s
+    term.press("q")
+    term.read_until(b"3 keyframes not saved: q again quits")  # it asks before losing them
     term.press("s")
     term.read_until(b"saved 3 keyframes")
     term.press("q")

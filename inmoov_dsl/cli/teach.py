@@ -53,7 +53,7 @@ def _teach(profile: Profile, links: list[Link], name: str, output: Path,
                 break
             _show(teach)
     if not teach.saved:
-        _say(f"{len(teach.keys)} keyframes not saved (s saves)")
+        _say(f"left without saving {len(teach.keys)} keyframes")
     print()
     return EXIT_OK
 
