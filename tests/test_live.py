@@ -1,5 +1,6 @@
 """Live motion: typed steps, and a new step taking over a running move."""
 
+import os
 import queue
 import subprocess
 import sys
@@ -8,6 +9,7 @@ import time
 
 import numpy as np
 import pytest
+from terminal import AtTerminal
 
 from inmoov_dsl.cli.repl import library_program, repl
 from inmoov_dsl.errors import GestError
@@ -164,6 +166,23 @@ def test_gestplay_repl_reads_steps_from_a_pipe():
                           capture_output=True, text=True, timeout=60)
     assert done.returncode == 0, done.stderr
     assert done.stdout.startswith("wrist 0  thumb 0  index 0  middle 0  ring 0  pinky 0")
+
+
+@pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
+def test_at_a_terminal_each_reply_comes_before_the_next_prompt():
+    term = AtTerminal([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "repl", "--port",
+                       "sim://?boot=0"])
+    term.read_until(b"gest> ")
+    term.press("indx 3\r")
+    term.read_until(b"did you mean 'index'?")
+    term.press("where\r")
+    term.read_until(b"pinky 0")
+    term.press("\x04")
+    code, screen = term.finish()
+    assert code == 0, screen
+    typed, answer = screen.split("gest> indx 3", 1)[1], screen.split("gest> where", 1)[1]
+    assert typed.index("error: unknown servo or group 'indx'") < typed.index("gest> ")
+    assert answer.index("wrist 0  thumb 0") < answer.index("gest> ")
 
 
 @pytest.mark.parametrize(("take_over", "peak"), [(False, 90), (True, 0)])

@@ -8,10 +8,12 @@ on the line queue, so a typed step starts within a millisecond.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import queue
 import sys
 import threading
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 from ..board import BoardCore
@@ -68,10 +70,60 @@ class Mirror:
         return [self.cores[k].values[j] for k, j in self._where]
 
 
-def read_lines(lines: queue.Queue, prompt: str) -> None:
+class Screen:
+    """The terminal a person types at: the reply to a line comes before the next prompt,
+    and a message that comes while the prompt waits is written above it, the prompt and
+    what is typed so far redrawn below."""
+
+    def __init__(self, prompt: str):
+        self.prompt = prompt
+        self.answered = threading.Event()  #: the last line is dealt with: prompt again
+        self.answered.set()
+        self.prompting = False
+
+    def read_lines(self, lines: queue.Queue) -> None:
+        """The reading thread: one line at a time, each once the last one is answered."""
+        with contextlib.suppress(ImportError):
+            import readline  # noqa: F401  (line editing and history for input())
+        while True:
+            self.answered.wait()
+            self.answered.clear()
+            self.prompting = True
+            try:
+                line = input(self.prompt)
+            except (EOFError, KeyboardInterrupt, OSError, ValueError):
+                line = None
+            self.prompting = False
+            lines.put(line)
+            if line is None:
+                return
+
+    def aside(self, say: Callable[[], None]) -> None:
+        """Run ``say`` (it prints) above the prompt, if one is waiting."""
+        if not self.prompting:
+            say()
+            return
+        sys.stdout.write("\r\x1b[2K")
+        sys.stdout.flush()
+        say()
+        sys.stderr.flush()
+        sys.stdout.write(self.prompt + _typed_so_far())
+        sys.stdout.flush()
+
+
+def _typed_so_far() -> str:
+    try:
+        import readline
+    except ImportError:  # Windows: input() has no line buffer to ask
+        return ""
+    return readline.get_line_buffer()
+
+
+def read_lines(lines: queue.Queue) -> None:
+    """Lines from a program or a file: read ahead, one after another."""
     while True:
         try:
-            lines.put(input(prompt))
+            lines.put(input())
         except (EOFError, KeyboardInterrupt, OSError, ValueError):
             lines.put(None)
             return
@@ -79,9 +131,10 @@ def read_lines(lines: queue.Queue, prompt: str) -> None:
 
 def repl(links: list[Link], profile: Profile, pose: dict[str, int],
          lines: queue.Queue, take_over: bool = True, now=time.perf_counter,
-         dirs: list[Path] | None = None) -> int:
+         dirs: list[Path] | None = None, screen: Screen | None = None) -> int:
     """Run until the input ends and the hand is still. Each line takes over the running
-    move (``take_over``, a person typing), or waits for the steps before it (a script)."""
+    move (``take_over``, a person typing), or waits for the steps before it (a script).
+    With a ``screen``, each line is answered before the next prompt."""
     program = library_program(dirs)
     start = [pose.get(s.name, s.rest) for s in profile.servos]
     mirror = Mirror(profile, links)
@@ -108,15 +161,23 @@ def repl(links: list[Link], profile: Profile, pose: dict[str, int],
             ended = True
         elif line:
             segment = _typed(line, session, t, mirror, profile, program, take_over)
-        if segment is None:
-            segment = session.next(t, mirror.held())
         if segment is not None:
             report(segment.warnings, "gestplay")
+        elif (segment := session.next(t, mirror.held())) is not None and segment.warnings:
+            warnings = segment.warnings
+            (screen.aside if screen else _now)(lambda: report(warnings, "gestplay"))
+        if line is not False and screen is not None:
+            screen.answered.set()
+        if segment is not None:
             events = _events(segment, links)
         while events and events[0][0] <= now():
             _, k, byte = events.pop(0)
             links[k].port.write(bytes([byte]))
             mirror.feed(k, byte)
+
+
+def _now(say: Callable[[], None]) -> None:
+    say()
 
 
 def _wait(events: list, session: Session, t: float, ended: bool) -> float:
@@ -175,12 +236,13 @@ def cmd_repl(args: argparse.Namespace) -> int:
         pose = board_pose(links, profile, args.blind)
         lines: queue.Queue = queue.Queue()
         interactive = sys.stdin.isatty()
+        screen = Screen("gest> ") if interactive else None
         if interactive:
             print("gestplay repl: 'help' for help, Ctrl-D to leave", file=sys.stderr)
-        threading.Thread(target=read_lines, args=(lines, "gest> " if interactive else ""),
+        threading.Thread(target=screen.read_lines if screen else read_lines, args=(lines,),
                          daemon=True).start()
         return repl(links, profile, pose, lines, take_over=interactive,
-                    dirs=library_dirs(args.lib))
+                    dirs=library_dirs(args.lib), screen=screen)
 
     return on_the_hand(PROG, links, session)
 
