@@ -36,6 +36,19 @@ def test_svg_and_the_default_name(tmp_path, monkeypatch, capsys):
     assert (tmp_path / "peace.png").read_bytes().startswith(PNG)
 
 
+def test_output_into_a_directory_or_refused(tmp_path, capsys):
+    assert gestc.main(["plot", "peace", "-o", str(tmp_path)]) == 0
+    assert capsys.readouterr().err == f"wrote {tmp_path / 'peace.png'}\n"
+    assert (tmp_path / "peace.png").read_bytes().startswith(PNG)
+    for out, message in [(tmp_path / "pics", "write a .png, .svg or .pdf file, or into a "
+                                              "directory"),
+                         (tmp_path / "p.jpg", "write a .png, .svg or .pdf file"),
+                         (f"{tmp_path / 'none'}/", "no such directory")]:
+        assert gestc.main(["plot", "peace", "-o", str(out)]) == 1
+        assert f"gestc: error: -o {out}: {message}" in capsys.readouterr().err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["peace.png"]
+
+
 def test_the_plot_shows_what_the_board_is_sent():
     compiled, plan = compile_program(load(str(LIBRARY["count"].path)), "count")
     sent = sent_values(plan, compiled)

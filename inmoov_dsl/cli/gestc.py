@@ -29,14 +29,34 @@ def _compile(args: argparse.Namespace) -> tuple[Compiled, Plan]:
     return compiled, plan
 
 
+def output_path(output: str | None, gesture: str, suffixes: tuple[str, ...],
+                any_suffix: bool = False) -> str:
+    """Where a command writes: ``-o FILE``; into ``-o DIR`` (an existing directory, or a
+    name ending in /) as GESTURE plus the first suffix; GESTURE plus it by default.
+    A file whose suffix is none of ``suffixes`` is refused unless ``any_suffix``."""
+    if output is None or output == "-":
+        return output or f"{gesture}{suffixes[0]}"
+    path = Path(output)
+    if path.is_dir() or output.endswith(("/", "\\")):
+        if not path.is_dir():
+            raise GestError(Diagnostic("error", f"-o {output}: no such directory",
+                                       hint=f"create it first: mkdir {output}"))
+        return str(path / f"{gesture}{suffixes[0]}")
+    if not any_suffix and path.suffix.lower() not in suffixes:
+        kinds = " or ".join(", ".join(suffixes).rsplit(", ", 1))
+        raise GestError(Diagnostic("error", f"-o {output}: write a {kinds} file, or into a "
+                                   f"directory", hint=f"-o {path.with_suffix(suffixes[0])}"))
+    return output
+
+
 def cmd_compile(args: argparse.Namespace) -> int:
     compiled, _ = _compile(args)
     if args.format == "timed":
         text = to_timed(compiled.stream(args.board))
-        out = args.output or f"{compiled.gesture}.timed"
+        out = output_path(args.output, compiled.gesture, (".timed",), True)
     else:
         text = to_json(compiled)
-        out = args.output or f"{compiled.gesture}.gestc"
+        out = output_path(args.output, compiled.gesture, (".gestc",), True)
     if out == "-":
         sys.stdout.write(text)
         sys.stdout.flush()
@@ -108,7 +128,7 @@ def cmd_plot(args: argparse.Namespace) -> int:
     from ..plot import plot
 
     compiled, plan = _compile(args)
-    out = args.output or f"{compiled.gesture}.png"
+    out = output_path(args.output, compiled.gesture, (".png", ".svg", ".pdf"))
     plot(plan, compiled, out)
     print(f"wrote {out}", file=sys.stderr)
     return EXIT_OK
@@ -118,10 +138,7 @@ def cmd_preview(args: argparse.Namespace) -> int:
     from ..preview import write_gif
 
     compiled, plan = _compile(args)
-    out = args.output or f"{compiled.gesture}.gif"
-    if not str(out).lower().endswith(".gif"):
-        raise GestError(Diagnostic("error", f"-o {out}: the preview is an animated GIF",
-                                   hint=f"-o {Path(out).stem}.gif"))
+    out = output_path(args.output, compiled.gesture, (".gif",))
     frames, ms = write_gif(plan, compiled, out)
     print(f"wrote {out}: {frames} frames, {ms / 1000:.2f} s", file=sys.stderr)
     return EXIT_OK
