@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import functools
 import queue
 import sys
 import threading
@@ -164,8 +165,8 @@ def repl(links: list[Link], profile: Profile, pose: dict[str, int],
         if segment is not None:
             report(segment.warnings, "gestplay")
         elif (segment := session.next(t, mirror.held())) is not None and segment.warnings:
-            warnings = segment.warnings
-            (screen.aside if screen else _now)(lambda: report(warnings, "gestplay"))
+            say = functools.partial(report, segment.warnings, "gestplay")
+            screen.aside(say) if screen else say()
         if line is not False and screen is not None:
             screen.answered.set()
         if segment is not None:
@@ -174,10 +175,6 @@ def repl(links: list[Link], profile: Profile, pose: dict[str, int],
             _, k, byte = events.pop(0)
             links[k].port.write(bytes([byte]))
             mirror.feed(k, byte)
-
-
-def _now(say: Callable[[], None]) -> None:
-    say()
 
 
 def _wait(events: list, session: Session, t: float, ended: bool) -> float:
