@@ -171,6 +171,15 @@ def test_the_cli_plays_to_sim(capsys):
     assert err.startswith("played peace: 0.70 s, 201 bytes, worst lateness ")
 
 
+def test_a_loop_reports_the_whole_run(capsys):
+    one = compile_file(load_library()["wiggle"])
+    again = compile_file(load_library()["wiggle"], start=dict(zip(one.servos, one.final)))
+    code, _, err = run(capsys, "wiggle", "--port", "sim://", "--loop", "2")
+    assert code == 0
+    assert err.startswith(f"played wiggle 2 times: {one.duration + again.duration:.2f} s, "
+                          f"{len(one.stream().data) + len(again.stream().data):,} bytes, ")
+
+
 def test_dry_run_prints_the_schedule(capsys):
     code, out, _ = run(capsys, "count", "--dry-run", "--speed", "0.5")
     assert code == 0

@@ -170,6 +170,7 @@ def cmd_play(args: argparse.Namespace) -> int:
 
 def _play_loop(args: argparse.Namespace, target: Target, links: list[Link]) -> int:
     pose = board_pose(links, target.profile, args.blind)
+    seconds, sent, worst = 0.0, 0, 0.0
     for _ in range(args.loop):
         compiled = target.build(pose)
         if target.program is None and pose and pose != dict(zip(compiled.servos,
@@ -177,13 +178,15 @@ def _play_loop(args: argparse.Namespace, target: Target, links: list[Link]) -> i
             _warn("the hand is not in the pose this compiled gesture starts from: it will "
                   "jump to it")
         show = _progress(compiled, args.speed) if sys.stderr.isatty() else None
-        worst = play(compiled, links, args.speed, progress=show)
+        worst = max(worst, play(compiled, links, args.speed, progress=show))
         if show:
             print(file=sys.stderr)
         pose = dict(zip(compiled.servos, compiled.final, strict=True))
-    sent = sum(len(s.data) for s in compiled.streams)
-    print(f"played {compiled.gesture}: {compiled.duration / args.speed:.2f} s, "
-          f"{sent:,} bytes, worst lateness {worst * 1000:.2f} ms", file=sys.stderr)
+        seconds += compiled.duration / args.speed
+        sent += sum(len(s.data) for s in compiled.streams)
+    times = f" {args.loop} times" if args.loop > 1 else ""
+    print(f"played {compiled.gesture}{times}: {seconds:.2f} s, {sent:,} bytes, worst "
+          f"lateness {worst * 1000:.2f} ms", file=sys.stderr)
     return EXIT_OK
 
 
