@@ -112,9 +112,9 @@ def test_show_says_when_the_link_is_the_bottleneck(capsys, tmp_path):
 def test_list_prints_name_tab_file(capsys):
     code, out, _ = run(capsys, "list")
     assert code == 0
-    rows = dict(line.split("\t") for line in out.splitlines())
-    assert Path(rows["count"]).name == "count.gest"
-    assert Path(rows["peace"]).name == "peace.gest"
+    rows = {name: rest for name, *rest in (line.split("\t") for line in out.splitlines())}
+    assert Path(rows["count"][0]).name == "count.gest"
+    assert rows["peace"][1] == "rhand" and rows["hello"][1] == "inmoov"  # the profile it needs
 
 
 def test_from_a_pose(capsys, tmp_path):

@@ -213,12 +213,12 @@ def test_the_first_place_that_defines_a_name_wins(tmp_path, capsys):
     assert find_gesture("peace", None, library_dirs([tmp_path])) == (str(mine), "peace")
     assert gestc.main(["list", "--lib", str(tmp_path)]) == 0
     lines = capsys.readouterr().out.splitlines()
-    assert f"peace\t{mine}  (shadows {builtin})" in lines
-    assert f"count\t{LIBRARY['count'].path}" in lines
+    assert f"peace\t{mine}\trhand  (shadows {builtin})" in lines
+    assert f"count\t{LIBRARY['count'].path}\trhand" in lines
     assert gestc.main(["list", "--long", "--lib", str(tmp_path)]) == 0
     peace = next(line for line in capsys.readouterr().out.splitlines()
                  if line.startswith("peace "))
-    assert peace.endswith(f"my own  (mine.gest:2)  (shadows {builtin})")
+    assert peace.endswith(f"my own  (mine.gest:2, for rhand)  (shadows {builtin})")
     assert gestc.main(["compile", "peace", "--lib", str(tmp_path), "-o", "-",
                        "-f", "timed"]) == 0
     assert capsys.readouterr().out.splitlines() == ["0.000000 255"]  # mine: nothing moves
@@ -271,7 +271,8 @@ def test_list_long_shows_what_each_gesture_does(capsys):
     assert len(lines) == len(LIBRARY)
     peace = next(line for line in lines if line.startswith("peace "))
     assert peace.split()[1:4] == ["the", "V", "sign,"]
-    assert peace.endswith("(peace.gest:3)")
+    assert peace.endswith("(peace.gest:3, for rhand)")
+    assert next(line for line in lines if line.startswith("nod ")).endswith(", for inmoov)")
 
 
 def test_the_repl_knows_the_first_definition_of_each_name(tmp_path):

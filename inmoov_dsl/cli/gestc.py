@@ -10,7 +10,7 @@ from ..compiled import Compiled, to_json, to_timed
 from ..compiler import compile_program, load
 from ..errors import Diagnostic, GestError
 from ..fmt import format_source
-from ..library import find_gesture, library_dirs, scan
+from ..library import Entry, find_gesture, library_dirs, scan
 from ..metrics import LinkReport, measure
 from ..plan import Plan
 from ..profile import load_profile
@@ -275,18 +275,47 @@ def _warn(diagnostic: Diagnostic) -> None:
 
 
 def cmd_list(args: argparse.Namespace) -> int:
-    library = scan(library_dirs(args.lib))
+    dirs = library_dirs(args.lib)
+    library = scan(dirs)
     report(library.warnings(), PROG)
     entries = sorted(library.entries.values(), key=lambda e: e.name)
+    needs = _profiles_needed(entries, dirs)
     width = max((len(e.name) for e in entries), default=0)
     for e in entries:
         shadows = "".join(f"  (shadows {p})" for p in e.shadows)
         if args.long:
-            print(f"{e.name:<{width}}  {e.description or '-'}  ({e.path.name}:{e.line})"
-                  f"{shadows}")
+            print(f"{e.name:<{width}}  {e.description or '-'}  ({e.path.name}:{e.line}, "
+                  f"for {needs[e.name]}){shadows}")
         else:
-            print(f"{e.name}\t{e.path}{shadows}")
+            print(f"{e.name}\t{e.path}\t{needs[e.name]}{shadows}")
     return EXIT_OK
+
+
+def _profiles_needed(entries: list[Entry], dirs: list[Path]) -> dict[str, str]:
+    """Gesture name -> the built-in profile it is for: rhand (the default) if its names
+    are all there, else the first profile that has them all; '-' if none has."""
+    from ..profile import builtin_profiles
+    from ..resolve import Program, Resolver
+
+    names = ["rhand", *(n for n in builtin_profiles() if n != "rhand")]
+    profiles = [load_profile(n) for n in names]
+    programs: dict[Path, Program | None] = {}
+    needs: dict[str, str] = {}
+    for e in entries:
+        if e.path not in programs:
+            try:
+                programs[e.path] = load(str(e.path), search=dirs)
+            except GestError:
+                programs[e.path] = None
+        needs[e.name] = "-"
+        for profile in profiles if programs[e.path] is not None else ():
+            try:
+                Resolver(programs[e.path], profile, lambda _: []).gesture(e.name)
+            except GestError:
+                continue
+            needs[e.name] = profile.name
+            break
+    return needs
 
 
 def parser() -> argparse.ArgumentParser:
