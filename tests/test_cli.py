@@ -66,6 +66,23 @@ def test_the_card_warns_and_strict_fails(capsys, tmp_path):
     assert f"{card}:1:35: error: move stretched: needs 0.60 s, asked 0.40 s" in err
 
 
+def test_strict_fails_where_the_link_cannot_keep_up(capsys, tmp_path):
+    twelve = str(ROOT / "tests" / "data" / "twelve.toml")
+    sweep = write(tmp_path, "sweep.gest", "# all at once\nsweep: " +
+                  ", ".join(f"s{i} 180" for i in range(12)) + "\n")
+    code, out, _ = run(capsys, "check", sweep, "--profile", twelve)
+    assert code == 0 and out == f"{sweep}: ok (1 gesture)\n"
+    for command in (["check"], ["compile", "-o", "-"]):
+        code, out, err = run(capsys, *command, sweep, "--profile", twelve, "--strict")
+        assert code == 1 and out == ""
+        assert err.startswith(f"{sweep}:2:1: error: gesture 'sweep': the link to board 181 "
+                              "carries 83.0% of the values the plan needs (234 of 282 "
+                              "servo-frames at 9600 baud)\n    sweep: s0 180")
+    slow = write(tmp_path, "slow.gest", "slow: " + ", ".join(f"s{i} 180" for i in range(3))
+                 + "\n")
+    assert run(capsys, "check", slow, "--profile", twelve, "--strict")[0] == 0
+
+
 def test_check_reports_every_file(capsys, tmp_path):
     good = write(tmp_path, "good.gest", "a: index 90\nb: index 0\n")
     bad = write(tmp_path, "bad.gest", "a: indx 90\n")

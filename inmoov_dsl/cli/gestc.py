@@ -14,6 +14,7 @@ from ..library import Entry, find_gesture, library_dirs, scan
 from ..metrics import LinkReport, measure
 from ..plan import Plan
 from ..profile import load_profile
+from ..resolve import Program
 from . import record
 from .common import EXIT_ERROR, EXIT_OK, add_lib, add_version, report, run
 
@@ -23,10 +24,27 @@ PROG = "gestc"
 def _compile(args: argparse.Namespace) -> tuple[Compiled, Plan]:
     dirs = library_dirs(args.lib)
     path, gesture = find_gesture(args.target, args.gesture, dirs, _warn)
-    compiled, plan = compile_program(load(path, search=dirs), gesture, args.profile,
-                                     args.start, args.strict)
+    program = load(path, search=dirs)
+    compiled, plan = compile_program(program, gesture, args.profile, args.start, args.strict)
     report(compiled.warnings, PROG)
+    if args.strict:
+        _link_keeps_up(program, compiled, plan)
     return compiled, plan
+
+
+def _link_keeps_up(program: Program, compiled: Compiled, plan: Plan) -> None:
+    """With --strict, a link that cannot send every value the plan needs (frame coverage
+    below 100%) is an error at the gesture's name."""
+    node = program.gestures[compiled.gesture]
+    errors = [program.sources.error(
+        f"gesture '{compiled.gesture}': the link to board {r.board} carries "
+        f"{100 * r.coverage:.1f}% of the values the plan needs ({r.covered:,} of "
+        f"{r.needed:,} servo-frames at {r.baud} baud)", node.name.pos,
+        hint="slow the moves down, stagger them, raise the baud or split the servos over "
+        f"more boards; gestc show {compiled.gesture} gives the figures")
+        for r in measure(plan, compiled.streams) if r.coverage < 1]
+    if errors:
+        raise GestError(errors)
 
 
 def output_path(output: str | None, gesture: str, suffixes: tuple[str, ...],
@@ -75,8 +93,11 @@ def cmd_check(args: argparse.Namespace) -> int:
         try:
             program = load(file, search=dirs)
             for name in program.own:
-                compiled, _ = compile_program(program, name, args.profile, None, args.strict)
+                compiled, plan = compile_program(program, name, args.profile, None,
+                                                 args.strict)
                 report(compiled.warnings, PROG)
+                if args.strict:
+                    _link_keeps_up(program, compiled, plan)
             count = len(program.own)
             print(f"{file}: ok ({count} gesture{'' if count == 1 else 's'})")
         except GestError as exc:
@@ -295,7 +316,7 @@ def _profiles_needed(entries: list[Entry], dirs: list[Path]) -> dict[str, str]:
     """Gesture name -> the built-in profile it is for: rhand (the default) if its names
     are all there, else the first profile that has them all; '-' if none has."""
     from ..profile import builtin_profiles
-    from ..resolve import Program, Resolver
+    from ..resolve import Resolver
 
     names = ["rhand", *(n for n in builtin_profiles() if n != "rhand")]
     profiles = [load_profile(n) for n in names]
@@ -336,7 +357,8 @@ def parser() -> argparse.ArgumentParser:
         p.add_argument("-p", "--profile", default="rhand",
                        help="robot profile: a built-in name or a .toml path (default rhand)")
         p.add_argument("--strict", action="store_true",
-                       help="treat warnings (stretched moves) as errors")
+                       help="treat warnings as errors: a stretched move, and a link that "
+                       "cannot send every value the plan needs (coverage below 100%%)")
         add_lib(p)
 
     p = sub.add_parser("compile", help="write a compiled gesture")
