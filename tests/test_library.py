@@ -86,6 +86,24 @@ def test_every_hand_gesture_plays_within_the_link_and_the_limits(name, hand_prof
         assert all(max(s.data[1:], default=0) <= 180 for s in compiled.streams)
 
 
+def test_wiggle_swings_the_thumb_as_the_original_does():
+    """As the index opens the thumb swings from 40 to 130, straightens to 0, and comes
+    back to 40 as the wave runs back from the index to the pinky."""
+    _, plan = compiled_for("wiggle", "rhand")
+    profile = plan.profile
+    t = np.arange(0, plan.duration, 0.005)
+    thumb, index, pinky = (plan.tracks[profile.index(n)].position(t)
+                           for n in ("thumb", "index", "pinky"))
+    out = int(np.argmax(thumb))
+    straight = out + int(np.argmin(thumb[out:]))
+    assert round(thumb[out]) == 130 and round(thumb[straight]) == 0
+    assert round(thumb[int(0.7 / 0.005)]) == 40 and round(thumb[-1]) == 40  # tucked at 40
+    first_curl = int(np.argmax(index > 89))  # the wave reaches the index
+    assert first_curl < out and index[out] < index[first_curl]  # opening as the thumb swings
+    back = straight + int(np.argmax(index[straight:] > 89))  # the wave runs back
+    assert abs(thumb[back] - 40) < 1 and pinky[back:].max() > 89
+
+
 def test_fist_is_grab():
     grab, _ = compiled_for("grab", "rhand")
     fist, _ = compiled_for("fist", "rhand")
