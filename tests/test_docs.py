@@ -36,9 +36,25 @@ def test_python_examples_run(doc, code, tmp_path, monkeypatch):
 
 
 def test_language_reference_covers_every_construct():
-    text = (ROOT / "docs" / "language.md").read_text()
-    examples = "\n".join(src for _, src in (p.values for p in blocks("gest")))
+    language = ROOT / "docs" / "language.md"
+    examples = "\n".join(src for doc, src in (p.values for p in blocks("gest"))
+                         if doc == language)
     for construct in ("over", "wait", "hold", "pose", "group", "repeat", "stagger", "use",
                       "#"):
-        assert construct in examples, construct
-    assert "peace: index 180, middle 180 over 0.4s" in text
+        assert re.search(rf"(^|\W){re.escape(construct)}(\W|$)", examples, re.M), construct
+    assert "peace: index 180, middle 180 over 0.4s" in language.read_text()
+
+
+def test_the_readme_shows_what_the_card_really_does(tmp_path, capsys):
+    from inmoov_dsl.cli import gestc
+
+    readme = (ROOT / "README.md").read_text()
+    card = tmp_path / "card.gest"
+    card.write_text("peace: index 180, middle 180 over 0.4s\n")
+    assert gestc.main(["check", str(card)]) == 0
+    said = capsys.readouterr().err.replace(str(card), "card.gest")
+    shown = re.search(r"```text\n(card\.gest:.*?)```", readme, re.S)[1]
+    assert said == shown
+    final = compile_source(card.read_text()).final
+    assert dict(zip(("index", "middle"), final[2:4], strict=True)) == {"index": 180,
+                                                                       "middle": 180}
