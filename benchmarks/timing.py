@@ -1,16 +1,20 @@
-"""How close to its schedule does a stream leave the computer? Play a library gesture
+"""How close to its schedule does a stream reach the board? Play a library gesture
 repeated to about a minute, through a real pseudo-terminal opened with pyserial, to a
-separate process that timestamps every byte as it arrives; then send the same stream
-the way the original script did, sleeping after each byte, and compare in one run.
+separate process that timestamps every byte as it arrives, on an idle machine and with
+one core kept busy by another process; beside it, the same stream written one byte at a
+time on the same clock, and (idle only) sent the way the original script did, sleeping
+after each byte.
 
     python benchmarks/timing.py [--gesture count] [--seconds 60]
 
 Errors are arrival time minus planned time, both counted from the stream's first byte
-(so the pty's constant latency is not counted against either sender); "as written"
-is the same measured in the sender, when each write returned, which tells a late
-sender from a late receiver. The relative
-sender sleeps exactly the planned gap after each byte: the most generous version of
-"a fixed sleep after each byte". POSIX only (pseudo-terminals).
+(so the pty's constant latency is not counted against any sender). A pty has no baud
+rate, so the wire is modelled at the receiver: a byte reaches the board when it has
+arrived and the byte before it has been on the wire for a byte-time (what a UART does
+with a write of several bytes). "As written" is measured in the sender, when each write
+returned (the wire modelled likewise), which tells a late sender from a late receiver. The relative sender sleeps
+exactly the planned gap after each byte: the most generous version of "a fixed sleep
+after each byte". POSIX only (pseudo-terminals).
 """
 
 from __future__ import annotations
@@ -27,7 +31,7 @@ import time
 import numpy as np
 
 from inmoov_dsl import compile_source, load_library
-from inmoov_dsl.player import Link, play
+from inmoov_dsl.player import Link, play, schedule, wait_until
 from inmoov_dsl.ports import open_port
 
 
@@ -78,6 +82,25 @@ class Stamped:
         return self.port.read(size)
 
 
+def on_the_wire(stamps: list, tau: float) -> list:
+    """When each byte reaches the board: not before it arrived, and a byte-time after
+    the byte before it (a UART's pace; the pty delivers a write at once)."""
+    out, free = [], -math.inf
+    for t, b in stamps:
+        free = max(t, free + tau)
+        out.append((free, b))
+    return out
+
+
+def per_byte(compiled, link) -> None:
+    """gestplay's clock, one write per byte (as it played before writes were runs)."""
+    events = schedule(compiled, [link])
+    start = time.perf_counter()
+    for t, _, byte in events:
+        wait_until(start + t, [link], time.perf_counter, time.sleep)
+        link.port.write(bytes([byte]))
+
+
 def errors(stamps: list, times: np.ndarray, data: bytes) -> np.ndarray:
     arrived = np.array([t for t, _ in stamps])
     assert bytes(b for _, b in stamps) == data, "bytes lost or changed on the way"
@@ -114,22 +137,36 @@ def main() -> None:
     port = open_port(device, stream.baud)
     print(f"{args.gesture} x{times_over}: {compiled.duration:.1f} s, {len(stream.data):,} "
           f"bytes, through {device} ({sys.platform}, Python {sys.version.split()[0]})\n")
-    print("| sender | p50 ms | p99 ms | max ms | as written: p99 / max ms "
+    print("| machine | sender | p50 ms | p99 ms | max ms | as written: p99 / max ms "
           "| error over the last 5 s, ms | drift, ms per minute |")
-    print("|---|---:|---:|---:|---:|---:|---:|")
-    for name, send in [
-        ("gestplay (one absolute clock)", lambda p: play(compiled, [Link(181, p, device)])),
+    print("|---|---|---:|---:|---:|---:|---:|---:|")
+    senders = [
+        ("gestplay (runs of bytes in one write)",
+         lambda p: play(compiled, [Link(181, p, device)])),
+        ("gestplay's clock, one write per byte", lambda p: per_byte(compiled,
+                                                                    Link(181, p, device))),
         ("sleep after each byte", lambda p: relative_sleeps(p, stream.times, stream.data)),
-    ]:
-        stamped = Stamped(port)
-        send(stamped)
-        time.sleep(0.2)
-        receiver.stdin.write("\n")
-        receiver.stdin.flush()
-        stamps = json.loads(receiver.stdout.readline())
-        print(summary(name, errors(stamps, stream.times, stream.data),
-                      errors(stamped.sent, stream.times, stream.data), stream.times),
-              flush=True)
+    ]
+    for machine in ("idle", "one core busy"):
+        hog = None if machine == "idle" else subprocess.Popen(
+            [sys.executable, "-c", "while True: pass"])
+        try:
+            for name, send in senders[:2] if hog else senders:
+                stamped = Stamped(port)
+                send(stamped)
+                time.sleep(0.2)
+                receiver.stdin.write("\n")
+                receiver.stdin.flush()
+                stamps = on_the_wire(json.loads(receiver.stdout.readline()),
+                                     stream.byte_time)
+                row = summary(name, errors(stamps, stream.times, stream.data),
+                              errors(on_the_wire(stamped.sent, stream.byte_time),
+                                     stream.times, stream.data), stream.times)
+                print(f"| {machine} {row}", flush=True)
+        finally:
+            if hog:
+                hog.kill()
+                hog.wait()
     port.close()
     receiver.stdin.close()
     receiver.wait()

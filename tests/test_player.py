@@ -35,11 +35,18 @@ class FakeClock:
 
 
 class FakePort:
-    def __init__(self, clock):
-        self.clock, self.sent = clock, []
+    """A port at 9600 baud: each byte leaves when the wire is free (the write returns at
+    once, as the OS buffers it); ``writes`` counts the player's wake-ups."""
+
+    def __init__(self, clock, baud=9600):
+        self.clock, self.sent, self.tau, self.free, self.writes = clock, [], 10 / baud, 0.0, 0
 
     def write(self, data):
-        self.sent += [(self.clock.t, b) for b in data]
+        self.writes += 1
+        for b in data:
+            t = max(self.clock.t, self.free)
+            self.sent.append((t, b))
+            self.free = t + self.tau
         return len(data)
 
     def read(self, size=1):
@@ -61,6 +68,9 @@ def test_every_byte_leaves_at_its_planned_time(speed):
     assert offsets == pytest.approx((stream.times / speed).tolist(), abs=2e-6)
     # the player returns after the gesture's full length, final hold included
     assert clock.t - start == pytest.approx(compiled.duration / speed, abs=1e-3)
+    if speed == 1:  # runs of bytes packed a byte-time apart go in one write each
+        assert port.writes <= 50 * compiled.duration + 1
+        assert port.writes < len(stream.data) / 2
 
 
 def test_two_boards_are_merged_on_one_clock():
@@ -122,10 +132,12 @@ def test_play_to_the_virtual_board_in_process():
     assert board.positions() == dict(enumerate(compiled.final))
     # each write happened when the plan said its pair arrives (a byte-time after its
     # last byte left), give or take the host's scheduling
+    # and never early; how late depends on how busy the machine is, so the bound is
+    # one a loaded machine meets (benchmarks/timing.py measures it)
     arrivals = [t - start for t, _ in board.log]
     planned = [t + 1 / 960 for t in compiled.stream().times.tolist()[2::2]]
-    late = [a - p for a, p in zip(arrivals, planned, strict=True)]
-    assert max(late) < 0.02 and min(late) > -0.002
+    late = sorted(a - p for a, p in zip(arrivals, planned, strict=True))
+    assert late[0] > -0.002 and late[len(late) // 2] < 0.02 and late[-1] < 0.25
 
 
 def test_the_gesture_is_planned_from_the_pose_the_board_reports():
