@@ -345,7 +345,10 @@ def test_a_pulled_cable_is_one_line_and_a_quick_exit(gestsim):
 def test_ctrl_c_sends_cancel_and_exits_130(gestsim):
     _, path, log = gestsim
     player = gestplay_proc("count", "--port", path)
-    time.sleep(2.0)
+    deadline = time.monotonic() + 60  # however busy the machine: once the hand moves
+    while time.monotonic() < deadline and b" 1\n" not in log.read_bytes():
+        time.sleep(0.05)  # until the first pair's ID (the thumb, 1) has arrived
+    time.sleep(0.5)
     player.send_signal(signal.SIGINT)
     _, err = player.communicate(timeout=10)
     assert player.returncode == 130
@@ -354,6 +357,7 @@ def test_ctrl_c_sends_cancel_and_exits_130(gestsim):
     time.sleep(0.1)
     _, data = received(log)
     assert data[-1] == 255
+    assert len(data) < len(compile_file(load_library()["count"]).stream().data)  # mid-move
 
 
 @POSIX
