@@ -5,17 +5,19 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from ..compiled import Compiled, to_json, to_timed
 from ..compiler import compile_program, load
 from ..errors import Diagnostic, GestError
-from ..fmt import format_source
 from ..library import Entry, find_gesture, library_dirs, scan
-from ..metrics import LinkReport, measure
 from ..plan import Plan
 from ..profile import load_profile
 from ..resolve import Program
 from . import record
+
+if TYPE_CHECKING:
+    from .. import metrics
 from .common import EXIT_ERROR, EXIT_OK, add_lib, add_version, report, run
 
 PROG = "gestc"
@@ -35,6 +37,8 @@ def _compile(args: argparse.Namespace) -> tuple[Compiled, Plan]:
 def _link_keeps_up(program: Program, compiled: Compiled, plan: Plan) -> None:
     """With --strict, a link that cannot send every value the plan needs (frame coverage
     below 100%) is an error at the gesture's name."""
+    from ..metrics import measure
+
     node = program.gestures[compiled.gesture]
     errors = [program.sources.error(
         f"gesture '{compiled.gesture}': the link to board {r.board} carries "
@@ -107,6 +111,8 @@ def cmd_check(args: argparse.Namespace) -> int:
 
 
 def cmd_show(args: argparse.Namespace) -> int:
+    from ..metrics import measure
+
     compiled, plan = _compile(args)
     print(f"{compiled.gesture}: {compiled.duration:.3f} s on profile '{compiled.profile}'")
     print()
@@ -124,7 +130,7 @@ def cmd_show(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _link_text(r: LinkReport) -> str:
+def _link_text(r: metrics.LinkReport) -> str:
     saved = 100 * (1 - r.bytes / r.naive_bytes) if r.naive_bytes else 0.0
     lag = (f"{r.worst_lag:.2f} deg ({r.worst_lag_servo} at {r.worst_lag_time:.3f} s)"
            if r.worst_lag_servo else "0.00 deg")
@@ -182,6 +188,8 @@ def cmd_export(args: argparse.Namespace) -> int:
 
 def cmd_fmt(args: argparse.Namespace) -> int:
     """Rewrite files in the canonical layout (``-``: stdin to stdout)."""
+    from ..fmt import format_source
+
     status = EXIT_OK
     for file in args.files:
         try:

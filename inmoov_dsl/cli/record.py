@@ -13,9 +13,6 @@ import time
 from pathlib import Path
 
 from ..errors import Diagnostic, GestError
-from ..profile import load_profile
-from ..record import DEFAULT_TOLERANCE, StreamReader, keyframes, on_the_clock, to_gest, traces
-from ..urlhandler import protocol_sim
 from .common import EXIT_OK, gesture_name
 
 PROG = "gestc record"
@@ -23,6 +20,12 @@ PROG = "gestc record"
 
 def cmd_record(args: argparse.Namespace) -> int:
     from ..ports import open_port
+    from ..profile import load_profile
+    from ..record import DEFAULT_TOLERANCE, StreamReader, keyframes, on_the_clock, to_gest, traces
+    from ..urlhandler import protocol_sim
+
+    if args.tolerance is None:
+        args.tolerance = DEFAULT_TOLERANCE
 
     profile = load_profile(args.profile)
     glove = profile.gloves[0] if profile.gloves else None
@@ -89,9 +92,9 @@ def add_parser(sub) -> None:
     p.add_argument("-o", "--output", required=True, help="the .gest file to write")
     p.add_argument("--name", help="the gesture's name (default: the file's name)")
     p.add_argument("--seconds", type=float, help="stop after this long (default: Ctrl-C)")
-    p.add_argument("--tolerance", type=float, default=DEFAULT_TOLERANCE,
-                   help=f"degrees the played gesture may stray from the recording "
-                   f"(default {DEFAULT_TOLERANCE:g})")
+    p.add_argument("--tolerance", type=float,
+                   help="degrees the played gesture may stray from the recording "
+                   "(default 3)")
     p.add_argument("--deadband", type=float, help="degrees a value moves before the glove "
                    "reports it (default: the profile's glove, else 0)")
     p.add_argument("-p", "--profile", default="rhand", help="robot profile (default rhand)")
