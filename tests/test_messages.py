@@ -21,14 +21,32 @@ POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals 
     (gestplay.main, ["teach", "--port", "sim://", "--name", "my-wave"],
      "gestplay: error: 'my-wave' cannot name a gesture\n"
      "  hint: --name takes a word: letters, digits and _\n"),
-    (gestc.main, ["export", "peace", "--joint-states", "-", "--rate", "0"],
-     "gestc: error: --rate 0: give a rate above 0 Hz\n"),
 ])
 def test_bad_options_are_one_clear_message(main, argv, message, capsys, tmp_path,
                                            monkeypatch):
     monkeypatch.chdir(tmp_path)
     assert main(argv) == 1
     assert capsys.readouterr().err == message
+
+
+@pytest.mark.parametrize(("main", "argv", "message"), [
+    (gestc.main, ["export", "peace", "--joint-states", "-", "--rate", "0"],
+     "gestc export: error: argument --rate: '0' is not a number above 0 and at most 1,000"),
+    (gestc.main, ["export", "peace", "--joint-states", "-", "--rate", "inf"],
+     "gestc export: error: argument --rate: 'inf' is not a number above 0 and at most 1,000"),
+    (gestplay.main, ["send", "--port", "sim://", "--listen", "nan", "cancel"],
+     "gestplay send: error: argument --listen: 'nan' is not a number from 0 to 60"),
+    (gestplay.main, ["send", "--port", "sim://", "--listen", "-1", "cancel"],
+     "gestplay send: error: argument --listen: '-1' is not a number from 0 to 60"),
+    (gestplay.main, ["peace", "--loop", "0"],
+     "gestplay: error: argument --loop: '0' is not a whole number from 1 to 1,000,000"),
+    (gestc.main, ["fmt", "a\x00.gest"], "gestc: error: an argument contains a NUL character"),
+])
+def test_values_out_of_range_are_usage_errors(main, argv, message, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(argv)
+    assert exit_.value.code == 2
+    assert capsys.readouterr().err.splitlines()[-1] == message
 
 
 def test_a_board_without_pins_cannot_have_firmware():

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 from collections.abc import Callable, Iterable
 
@@ -42,6 +43,35 @@ def add_lib(p: argparse.ArgumentParser) -> None:
     p.add_argument("--lib", action="append", default=[], metavar="DIR",
                    help="also look for gestures in DIR (before GEST_PATH, ./gestures and "
                    "the built-in library); may be repeated")
+
+
+def number(low: float, high: float, above: bool = False, whole: bool = False
+           ) -> Callable[[str], float]:
+    """An argparse type: a finite number from ``low`` (excluded if ``above``) to ``high``,
+    a whole one if ``whole``; anything else is a usage error saying what to give."""
+    kind = "a whole number" if whole else "a number"
+    top = f"{int(high):,}" if float(high).is_integer() else f"{high:g}"
+    span = f"above {low:g} and at most {top}" if above else f"from {low:g} to {top}"
+
+    def parse(text: str) -> float:
+        try:
+            value = int(text) if whole else float(text)
+        except ValueError:
+            value = math.nan
+        if not (low < value if above else low <= value) or not value <= high:
+            raise argparse.ArgumentTypeError(f"'{text}' is not {kind} {span}")
+        return value
+
+    parse.__name__ = kind  # argparse names the type in some messages
+    return parse
+
+
+def parse_args(ap: argparse.ArgumentParser, argv: list[str] | None) -> argparse.Namespace:
+    """``ap.parse_args``, refusing what no shell can pass (a NUL in an argument)."""
+    argv = sys.argv[1:] if argv is None else argv
+    if any("\x00" in a for a in argv):
+        ap.error("an argument contains a NUL character")
+    return ap.parse_args(argv)
 
 
 def add_blind(p: argparse.ArgumentParser) -> None:

@@ -18,7 +18,7 @@ from . import record
 
 if TYPE_CHECKING:
     from .. import metrics
-from .common import EXIT_ERROR, EXIT_OK, add_lib, add_version, report, run
+from .common import EXIT_ERROR, EXIT_OK, add_lib, add_version, number, parse_args, report, run
 
 PROG = "gestc"
 
@@ -175,8 +175,6 @@ def cmd_export(args: argparse.Namespace) -> int:
     from ..export import joint_states, to_csv
 
     compiled, plan = _compile(args)
-    if args.rate <= 0:
-        raise GestError(Diagnostic("error", f"--rate {args.rate:g}: give a rate above 0 Hz"))
     text = to_csv(*joint_states(plan, compiled, 1 / args.rate))
     if args.joint_states == "-":
         sys.stdout.write(text)
@@ -405,7 +403,7 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--joint-states", required=True, metavar="CSV",
                    help="the CSV file to write ('-' for standard output): time, then "
                    "each joint in radians")
-    p.add_argument("--rate", type=float, default=50.0,
+    p.add_argument("--rate", type=number(0, 1000, above=True), default=50.0,
                    help="rows per second (default 50: one per servo frame)")
     p.set_defaults(func=cmd_export)
 
@@ -459,7 +457,7 @@ def parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = parser().parse_args(argv)
+    args = parse_args(parser(), argv)
     return run(PROG, lambda: args.func(args))
 
 

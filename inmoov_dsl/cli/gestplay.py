@@ -20,7 +20,17 @@ from ..profile import Profile, load_profile
 from ..protocol import Signal
 from ..urlhandler import protocol_sim
 from . import calibrate, repl, teach
-from .common import EXIT_INTERRUPTED, EXIT_OK, add_blind, add_lib, add_version, report, run
+from .common import (
+    EXIT_INTERRUPTED,
+    EXIT_OK,
+    add_blind,
+    add_lib,
+    add_version,
+    number,
+    parse_args,
+    report,
+    run,
+)
 
 PROG = "gestplay"
 TOOLS = ("dump", "ports", "send", "relax", "calibrate", "repl", "teach")
@@ -338,7 +348,8 @@ def play_parser() -> argparse.ArgumentParser:
                     "compiled file's)")
     ap.add_argument("--speed", type=float, default=1.0,
                     help="play slower: 0.5 is half speed (at most 1)")
-    ap.add_argument("--loop", type=int, default=1, metavar="N", help="play N times")
+    ap.add_argument("--loop", type=number(1, 1_000_000, whole=True), default=1, metavar="N",
+                    help="play N times")
     ap.add_argument("--dry-run", action="store_true",
                     help="print the schedule ('<seconds> <byte>') without a port")
     ap.add_argument("--strict", action="store_true", help="stretched moves are errors")
@@ -361,7 +372,8 @@ def tools_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("send", help="send raw bytes and show the reply")
     p.add_argument("--port", required=True)
     p.add_argument("-p", "--profile", help="for the baud (default rhand)")
-    p.add_argument("--listen", type=float, default=0.3, help="seconds to wait for a reply")
+    p.add_argument("--listen", type=number(0, 60), default=0.3,
+                   help="seconds to wait for a reply (default 0.3)")
     p.add_argument("bytes", nargs="+", metavar="BYTE",
                    help="0..255, or a signal name: cancel, dump, relax")
     p.set_defaults(func=cmd_send)
@@ -381,9 +393,7 @@ def tools_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else argv
     ap = tools_parser() if argv[:1] and argv[0] in TOOLS else play_parser()
-    args = ap.parse_args(argv)
-    if getattr(args, "loop", 1) < 1:
-        ap.error("--loop must be 1 or more")
+    args = parse_args(ap, argv)
     return run(PROG, lambda: args.func(args))
 
 

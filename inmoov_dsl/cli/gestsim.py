@@ -22,7 +22,7 @@ from ..errors import Diagnostic, GestError
 from ..glove import VirtualGlove
 from ..profile import load_profile
 from ..sim import DtrLine, VirtualBoard
-from .common import EXIT_OK, add_version, report, run
+from .common import EXIT_OK, add_version, number, parse_args, report, run
 
 PROG = "gestsim"
 FRAME = 0.05  #: s between redraws of the live view
@@ -194,7 +194,7 @@ def main(argv: list[str] | None = None) -> int:
     add_version(ap)
     ap.add_argument("-p", "--profile", default="rhand", help="robot profile (default rhand)")
     ap.add_argument("--board", type=int, help="which board of the profile (default the first)")
-    ap.add_argument("--boot", type=float, default=0.5,
+    ap.add_argument("--boot", type=number(0, 10), default=0.5,
                     help="seconds the board ignores bytes after a reset (default 0.5)")
     ap.add_argument("--log", help="write every byte received to this file, as it "
                     "arrives: '<seconds> <byte>' per line (monotonic clock)")
@@ -202,9 +202,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--glove", metavar="GESTURE",
                     help="be the profile's glove instead, its fingers performing GESTURE "
                     "(a library name or a .gest file): for trying gestc record")
-    ap.add_argument("--noise", type=float, default=0.0,
+    ap.add_argument("--noise", type=number(0, 90), default=0.0,
                     help="with --glove: noise on each reading, in degrees (std. dev.)")
-    ap.add_argument("--drop", type=float, default=0.0,
+    ap.add_argument("--drop", type=number(0, 1), default=0.0,
                     help="with --glove: the chance that a byte is lost (0..1)")
     ap.add_argument("--gap", action="append", default=[], metavar="START-END",
                     help="with --glove: nothing is sent between these seconds")
@@ -212,7 +212,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--view", action="store_true",
                     help="draw the hand in the terminal, live (needs Pillow and a terminal "
                     "with 24-bit colour)")
-    args = ap.parse_args(argv)
+    args = parse_args(ap, argv)
     return run(PROG, lambda: serve(args))
 
 

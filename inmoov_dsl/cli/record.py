@@ -13,7 +13,7 @@ import time
 from pathlib import Path
 
 from ..errors import Diagnostic, GestError
-from .common import EXIT_OK, gesture_name
+from .common import EXIT_OK, gesture_name, number
 
 PROG = "gestc record"
 
@@ -91,11 +91,12 @@ def add_parser(sub) -> None:
                    "protocol): COM3, /dev/ttyUSB0, a pyserial URL")
     p.add_argument("-o", "--output", required=True, help="the .gest file to write")
     p.add_argument("--name", help="the gesture's name (default: the file's name)")
-    p.add_argument("--seconds", type=float, help="stop after this long (default: Ctrl-C)")
-    p.add_argument("--tolerance", type=float,
+    p.add_argument("--seconds", type=number(0, 86400, above=True),
+                   help="stop after this long (default: Ctrl-C)")
+    p.add_argument("--tolerance", type=number(0, 90, above=True),
                    help="degrees the played gesture may stray from the recording "
                    "(default 3)")
-    p.add_argument("--deadband", type=float, help="degrees a value moves before the glove "
+    p.add_argument("--deadband", type=number(0, 90), help="degrees a value moves before the glove "
                    "reports it (default: the profile's glove, else 0)")
     p.add_argument("-p", "--profile", default="rhand", help="robot profile (default rhand)")
     p.add_argument("--baud", type=int, help="the port's speed (default: the profile's "
