@@ -21,6 +21,9 @@ POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals 
     (gestplay.main, ["teach", "--port", "sim://", "--name", "my-wave"],
      "gestplay: error: 'my-wave' cannot name a gesture\n"
      "  hint: --name takes a word: letters, digits and _\n"),
+    (gestc.main, ["record", "--port", "sim://", "-o", "wait.gest"],
+     "gestc: error: 'wait' is a keyword of the language, not a name\n"
+     "  hint: --name my_wait\n"),
 ])
 def test_bad_options_are_one_clear_message(main, argv, message, capsys, tmp_path,
                                            monkeypatch):

@@ -107,7 +107,12 @@ def send_value(port, servo_id: int, value: int) -> None:
 
 def gesture_name(name: str) -> str:
     """``name`` if it can name a gesture; a GestError saying why not otherwise."""
-    if not name.isidentifier():
+    from ..syntax import KEYWORDS
+
+    if not name.isidentifier() or not name.isascii():
         raise GestError(Diagnostic("error", f"'{name}' cannot name a gesture",
                                    hint="--name takes a word: letters, digits and _"))
+    if name in KEYWORDS:
+        raise GestError(Diagnostic("error", f"'{name}' is a keyword of the language, not a "
+                                   "name", hint=f"--name my_{name}"))
     return name
