@@ -36,7 +36,7 @@ def test_the_wheel_carries_grammar_profiles_and_library(wheel):
         assert f"inmoov_dsl/_data/firmware/{part}" in names
     entry_points = next(n for n in names if n.endswith("entry_points.txt"))
     text = zipfile.ZipFile(wheel).read(entry_points).decode()
-    assert "gestc = inmoov_dsl.cli.gestc:main" in text
+    assert "gestc = inmoov_dsl.cli:run_gestc" in text
     assert "gestplay = inmoov_dsl.cli.gestplay:main" in text
 
 

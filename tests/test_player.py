@@ -342,22 +342,45 @@ def test_a_pulled_cable_is_one_line_and_a_quick_exit(gestsim):
 
 
 @POSIX
-def test_ctrl_c_sends_cancel_and_exits_130(gestsim):
+@pytest.mark.parametrize(("signum", "status", "said"), [
+    (signal.SIGINT, 130, "interrupted"),
+    (getattr(signal, "SIGTERM", None), 143, "stopped by SIGTERM"),
+    (getattr(signal, "SIGHUP", None), 129, "stopped by SIGHUP"),
+])
+def test_ctrl_c_or_a_stop_signal_sends_cancel(gestsim, signum, status, said):
     _, path, log = gestsim
     player = gestplay_proc("count", "--port", path)
     deadline = time.monotonic() + 60  # however busy the machine: once the hand moves
     while time.monotonic() < deadline and b" 1\n" not in log.read_bytes():
         time.sleep(0.05)  # until the first pair's ID (the thumb, 1) has arrived
     time.sleep(0.5)
-    player.send_signal(signal.SIGINT)
+    player.send_signal(signum)
     _, err = player.communicate(timeout=10)
-    assert player.returncode == 130
-    assert "gestplay: interrupted: CANCEL sent, the hand holds its pose" in err
+    assert player.returncode == status
+    assert f"gestplay: {said}: CANCEL sent, the hand holds its pose" in err
     assert "Traceback" not in err
     time.sleep(0.1)
     _, data = received(log)
     assert data[-1] == 255
     assert len(data) < len(compile_file(load_library()["count"]).stream().data)  # mid-move
+
+
+@POSIX
+def test_ctrl_c_while_starting_is_one_line(tmp_path):
+    """A Ctrl-C while the tool still imports its modules: no traceback."""
+    script = tmp_path / "slow_start.py"
+    script.write_text("import os, signal, sys\n"
+                      "import inmoov_dsl.cli as cli\n"
+                      "real = cli.importlib.import_module\n"
+                      "def slow(name, package=None):\n"
+                      "    os.kill(os.getpid(), signal.SIGINT)\n"
+                      "    return real(name, package)\n"
+                      "cli.importlib.import_module = slow\n"
+                      "sys.exit(cli.run_gestplay())\n")
+    done = subprocess.run([sys.executable, str(script), "peace", "--dry-run"],
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 130
+    assert done.stderr == "gestplay: interrupted while starting\n"
 
 
 @POSIX

@@ -16,7 +16,7 @@ from ..profile import find_profile, load_profile, parse_profile
 from ..protocol import MAX_VALUE, Signal
 from ..resources import profiles_dir
 from ..urlhandler import protocol_sim
-from .common import EXIT_INTERRUPTED, EXIT_OK, send_value, status_line
+from .common import EXIT_OK, send_value, status_line, status_of, why
 from .keys import key_reader
 
 PROG = "gestplay calibrate"
@@ -71,10 +71,10 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
             else:
                 print(f"\n{PROG}: input ended: nothing written")
                 return EXIT_OK
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         port.write(bytes([Signal.CANCEL]))
-        print(f"\n{PROG}: interrupted: nothing written", file=sys.stderr)
-        return EXIT_INTERRUPTED
+        print(f"\n{PROG}: {why(exc)}: nothing written", file=sys.stderr)
+        return status_of(exc)
     finally:
         port.close()
     new = found(servo, marks["straight"], marks["curled"])

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import math
+import signal
 import sys
 from collections.abc import Callable, Iterable
 
@@ -20,16 +22,50 @@ def report(diagnostics: Iterable[Diagnostic], prog: str) -> None:
         print(text, file=sys.stderr)
 
 
+class Stopped(KeyboardInterrupt):
+    """A signal that stops a tool as Ctrl-C does (SIGTERM from a service manager or
+    kill, SIGHUP from a closed terminal): every path that leaves the hand safe on
+    Ctrl-C runs for it too; the exit status is 128 + its number."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.name = signal.Signals(signum).name
+        self.status = 128 + signum
+
+
+def _stop(signum: int, frame: object) -> None:
+    raise Stopped(signum)
+
+
+def stop_on_signals() -> None:
+    """SIGTERM and SIGHUP (where there is one) raise Stopped in the main thread."""
+    for name in ("SIGTERM", "SIGHUP", "SIGBREAK"):
+        if hasattr(signal, name):
+            with contextlib.suppress(ValueError, OSError):  # not the main thread
+                signal.signal(getattr(signal, name), _stop)
+
+
+def why(exc: KeyboardInterrupt) -> str:
+    """What stopped us, for a message: 'interrupted' or 'stopped by SIGTERM'."""
+    return f"stopped by {exc.name}" if isinstance(exc, Stopped) else "interrupted"
+
+
+def status_of(exc: KeyboardInterrupt) -> int:
+    return exc.status if isinstance(exc, Stopped) else EXIT_INTERRUPTED
+
+
 def run(prog: str, body: Callable[[], int]) -> int:
-    """Run a command: people get messages and exit codes, never a traceback."""
+    """Run a command: people get messages and exit codes, never a traceback. SIGTERM
+    and SIGHUP stop it as Ctrl-C does."""
+    stop_on_signals()
     try:
         return body()
     except GestError as exc:
         report(exc.diagnostics, prog)
         return EXIT_ERROR
-    except KeyboardInterrupt:
-        print(f"{prog}: interrupted", file=sys.stderr)
-        return EXIT_INTERRUPTED
+    except KeyboardInterrupt as exc:
+        print(f"{prog}: {why(exc)}", file=sys.stderr)
+        return status_of(exc)
     except BrokenPipeError:
         sys.stderr.close()  # the reader went away (| head): nothing more to say
         return EXIT_OK

@@ -23,6 +23,7 @@ from . import calibrate, repl, teach
 from .common import (
     EXIT_INTERRUPTED,
     EXIT_OK,
+    Stopped,
     add_blind,
     add_lib,
     add_version,
@@ -30,6 +31,8 @@ from .common import (
     parse_args,
     report,
     run,
+    status_of,
+    why,
 )
 
 PROG = "gestplay"
@@ -204,19 +207,22 @@ def on_the_hand(prog: str, links: list[Link], body: Callable[[], int]) -> int:
     """Run ``body`` with the boards' links open, and close them after. Ctrl-C stops it,
     sends CANCEL so that no half command is pending and exits 130 with the hand holding
     its pose; at a terminal, a second Ctrl-C soon after relaxes the hand (its servos go
-    limp). A lost link sends CANCEL where it still can and is one line of error."""
+    limp). SIGTERM and SIGHUP do as Ctrl-C (exit 143, 129). A lost link sends CANCEL
+    where it still can and is one line of error."""
     try:
         return body()
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         cancel_all(links)
-        if not sys.stdin.isatty():
-            print(f"\n{prog}: interrupted: CANCEL sent, the hand holds its pose",
+        if isinstance(exc, Stopped) or not sys.stdin.isatty():
+            print(f"\n{prog}: {why(exc)}: CANCEL sent, the hand holds its pose",
                   file=sys.stderr)
-            return EXIT_INTERRUPTED
+            return status_of(exc)
         try:  # a second Ctrl-C may come as soon as the first one is answered
             print(f"\n{prog}: interrupted: CANCEL sent, the hand holds its pose (Ctrl-C "
                   f"again to relax it)", file=sys.stderr, flush=True)
             time.sleep(RELAX_WINDOW)
+        except Stopped as again:
+            return status_of(again)
         except KeyboardInterrupt:
             relax_all(links)
             print(f"{prog}: relaxed: the servos are limp until the next command",
