@@ -12,9 +12,9 @@ Errors are arrival time minus planned time, both counted from the stream's first
 rate, so the wire is modelled at the receiver: a byte reaches the board when it has
 arrived and the byte before it has been on the wire for a byte-time (what a UART does
 with a write of several bytes). "As written" is measured in the sender, when each write
-returned (the wire modelled likewise), which tells a late sender from a late receiver. The relative sender sleeps
-exactly the planned gap after each byte: the most generous version of "a fixed sleep
-after each byte". POSIX only (pseudo-terminals).
+returned (the wire modelled likewise), which tells a late sender from a late receiver.
+The relative sender sleeps exactly the planned gap after each byte: the most generous
+version of "a fixed sleep after each byte". POSIX only (pseudo-terminals).
 """
 
 from __future__ import annotations

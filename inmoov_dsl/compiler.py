@@ -4,26 +4,47 @@ from __future__ import annotations
 
 import hashlib
 import os
+import stat
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from .compiled import Compiled, StepSummary
 from .encode import encode
-from .errors import Diagnostic, GestError, did_you_mean
+from .errors import Diagnostic, GestError, Pos, decode_utf8, did_you_mean
 from .library import library_dirs
+from .parse import MAX_SOURCE
 from .plan import Plan, Planner
 from .profile import Profile, load_profile, profiles_with
-from .resolve import Program, Reader, Resolver, load_program, resolve_start
+from .resolve import Program, Reader, load_program, resolve_start, resolver
 
 
 def read_text(path: str) -> str:
-    """The default reader for ``use``: a UTF-8 file."""
-    with open(path, encoding="utf-8") as f:
-        return f.read()
+    """The default reader for ``use``: a UTF-8 file (GestError where it is not UTF-8).
+    A file too large to hold at most MAX_SOURCE characters (four bytes each) is a
+    GestError before it is read; one that is not a regular file is a ValueError, like a
+    NUL in the path."""
+    with open(path, "rb") as f:
+        if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
+            raise ValueError("not a regular file")
+        data = f.read(4 * MAX_SOURCE + 1)
+    if len(data) > 4 * MAX_SOURCE:
+        raise GestError(Diagnostic(
+            "error", f"the file is longer than {MAX_SOURCE:,} characters: it is not read",
+            Pos(path, 1, 1), "split it into several files joined with 'use'"))
+    return decode_utf8(data, path)
 
 
 def _sha256(text: str) -> str:
-    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+    # surrogatepass: a str given as source may hold a lone surrogate (a file never does)
+    return hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()
+
+
+def source_digests(program: Program) -> tuple[tuple[str, str], ...]:
+    """(path, SHA-256) of every text of the program, each hashed once."""
+    for path, text in program.texts.items():
+        if path not in program.digests:
+            program.digests[path] = _sha256(text)
+    return tuple((p, program.digests[p]) for p in program.texts)
 
 
 def as_profile(profile: str | Profile) -> Profile:
@@ -39,8 +60,9 @@ def load(path: str, text: str | None = None, read: Reader = read_text,
         return load_program(path, read, dirs, text, first_wins)
     except FileNotFoundError:
         raise GestError(Diagnostic("error", f"cannot find '{path}'")) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise GestError(Diagnostic("error", f"cannot read '{path}': {exc}")) from None
+    except (OSError, ValueError) as exc:  # not UTF-8, too large, a NUL in the name
+        raise GestError(Diagnostic("error", f"cannot read '{path}': {exc}",
+                                   Pos(path, 1, 1))) from None
 
 
 def pick_gesture(program: Program, name: str | None) -> str:
@@ -71,8 +93,7 @@ Start = str | Mapping[str, int] | None  #: ``--from`` text, or servo name -> val
 
 def plan_gesture(program: Program, gesture: str, profile: Profile, start: Start = None,
                  strict: bool = False) -> Plan:
-    resolver = Resolver(program, profile, profiles_with)
-    steps = resolver.gesture(gesture)
+    steps = resolver(program, profile, profiles_with).gesture(gesture)
     pose = resolve_start(program, profile, start)
     return Planner(profile, program.sources).plan(steps, pose, strict)
 
@@ -94,7 +115,7 @@ def compile_program(program: Program, gesture: str | None = None,
         gesture=name,
         profile=prof.name,
         profile_sha256=prof.sha256,
-        sources=tuple((p, _sha256(t)) for p, t in program.texts.items()),
+        sources=source_digests(program),
         servos=prof.names,
         start=plan.start,
         final=plan.final,

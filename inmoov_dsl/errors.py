@@ -29,18 +29,47 @@ class Diagnostic:
 
     def format(self) -> str:
         """Render like a compiler: location, message, the source line, a caret, a hint."""
-        head = f"{self.severity}: {self.message}"
+        head = f"{self.severity}: {_escaped(self.message)}"
         if self.pos is not None:
-            head = f"{self.pos.file}:{self.pos.line}:{self.pos.column}: {head}"
+            head = f"{_escaped(self.pos.file)}:{self.pos.line}:{self.pos.column}: {head}"
         lines = [head]
         if self.pos is not None and self.source_line is not None:
-            text = self.source_line.rstrip("\r\n").expandtabs(1)
+            text, column = _window(self.source_line.rstrip("\r\n").expandtabs(1),
+                                   self.pos.column)
+            # one character each, so the caret stays under its place
+            text = "".join(c if c.isprintable() else "?" for c in text)
             lines.append(f"    {text}")
-            width = max(1, min(self.pos.width, len(text) - self.pos.column + 1))
-            lines.append("    " + " " * (self.pos.column - 1) + "^" + "~" * (width - 1))
+            width = max(1, min(self.pos.width, len(text) - column + 1, SHOWN))
+            lines.append("    " + " " * (column - 1) + "^" + "~" * (width - 1))
         if self.hint:
-            lines.append(f"  hint: {self.hint}")
+            lines.append(f"  hint: {_escaped(self.hint)}")
         return "\n".join(lines)
+
+
+def _escaped(text: str) -> str:
+    """``text`` with what a terminal would not print as a character (NUL, escape
+    sequences, a lone surrogate; a newline stays) written as a Python escape."""
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() or c == "\n" else
+                   c.encode("unicode_escape").decode("ascii") for c in text)
+
+
+SHOWN = 120  #: characters of a long source line shown around the caret
+
+
+def _window(text: str, column: int) -> tuple[str, int]:
+    """At most SHOWN characters of ``text`` around ``column`` (from 1), marked with
+    '...' where cut, and the column in what is shown."""
+    if len(text) <= SHOWN:
+        return text, column
+    start = max(0, min(column - 1 - SHOWN // 2, len(text) - SHOWN))
+    shown = text[start:start + SHOWN]
+    if start > 0:
+        shown, column = "..." + shown, column - start + 3
+    if start + SHOWN < len(text):
+        shown += "..."
+    return shown, column
 
 
 class GestError(Exception):
@@ -67,7 +96,7 @@ class SourceMap:
         self._texts: dict[str, list[str]] = {}
 
     def add(self, file: str, text: str) -> None:
-        self._texts[file] = text.splitlines()
+        self._texts[file] = text.split("\n")  # lines as the parser counts them
 
     def line(self, pos: Pos | None) -> str | None:
         if pos is None:
@@ -84,7 +113,33 @@ class SourceMap:
         return Diagnostic("warning", message, pos, hint, self.line(pos))
 
 
+MAX_SUGGESTED = 64  #: characters; longer names get no 'did you mean'
+
+
 def did_you_mean(name: str, known: Iterable[str]) -> str | None:
-    """A 'did you mean' hint for a misspelt name, or None when nothing is close."""
-    close = difflib.get_close_matches(name, sorted(set(known)), n=1, cutoff=0.6)
+    """A 'did you mean' hint for a misspelt name, or None when nothing is close.
+    Names longer than MAX_SUGGESTED are not compared (difflib is quadratic in length)."""
+    if len(name) > MAX_SUGGESTED:
+        return None
+    candidates = sorted({k for k in known if len(k) <= MAX_SUGGESTED})
+    close = difflib.get_close_matches(name, candidates, n=1, cutoff=0.6)
     return f"did you mean '{close[0]}'?" if close else None
+
+
+def decode_utf8(data: bytes, file: str) -> str:
+    """``data`` as UTF-8 text, with newlines as Python reads a text file (``\r\n`` and
+    ``\r`` become ``\n``); bytes that are not UTF-8 are a GestError at their place."""
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line_start = data.rfind(b"\n", 0, exc.start) + 1
+        line = data.count(b"\n", 0, exc.start) + 1
+        column = len(data[line_start:exc.start].decode("utf-8", "replace")) + 1
+        line_end = data.find(b"\n", exc.start)
+        shown = data[line_start:line_end if line_end >= 0 else len(data)]
+        raise GestError(Diagnostic(
+            "error", f"this file is not UTF-8 text: {exc.reason} (byte "
+            f"0x{data[exc.start]:02x})", Pos(file, line, column),
+            "save it as UTF-8", shown.decode("utf-8", "replace"))) from None
+    return text.replace("\r\n", "\n").replace("\r", "\n")
+

@@ -22,6 +22,7 @@ from .profile import Profile
 from .resolve import Step
 
 MAX_GESTURE_DURATION = 3600.0  #: s; a compile's work is bounded by this
+POSITION_DECIMALS = 9  #: a planned position is evaluated to 1e-9 degree
 _EPS = 1e-6  #: s; durations closer than this are equal
 
 
@@ -39,9 +40,12 @@ class Track:
         return k, np.maximum(t - self.breaks[k], 0.0)
 
     def position(self, t: np.ndarray | float) -> np.ndarray:
+        """The planned position at ``t``, to a nanodegree: float noise below that would
+        otherwise decide a tie at a half degree (where the encoder rounds) one way at
+        one instant and the other way a frame later, making a step one degree too big."""
         k, dt = self._locate(t)
         p, v, a, j = self.coefs[k].T
-        return p + dt * (v + dt * (a / 2 + dt * j / 6))
+        return np.round(p + dt * (v + dt * (a / 2 + dt * j / 6)), POSITION_DECIMALS)
 
     def velocity(self, t: np.ndarray | float) -> np.ndarray:
         k, dt = self._locate(t)
@@ -126,7 +130,9 @@ class Planner:
         pose = list(start)
         builders = [_TrackBuilder(v) for v in pose]
         reports: list[PlannedStep] = []
-        stretched: list[Diagnostic] = []
+        # a stretch is told once per place and message, however often the step is
+        # played (a call in a repeat): (pos, message) -> how many times
+        stretched: dict[tuple[Pos | None, str], int] = {}
         now = 0.0
         for step in steps:
             if step.hold > 0:
@@ -135,22 +141,44 @@ class Planner:
             else:
                 report, needed = self._move(step, now, pose, builders)
                 if report.stretched:
-                    make = self.sources.error if strict else self.sources.warning
-                    stretched.append(make(
-                        f"move stretched: needs {needed:.2f} s, asked {step.over:.2f} s",
-                        step.over_pos or step.pos,
-                        "the profile's limits allow no faster move; ask for more time or "
-                        "raise the limits"))
+                    key = (step.over_pos or step.pos, stretch_message(needed, step.over))
+                    stretched[key] = stretched.get(key, 0) + 1
             reports.append(report)
             now = report.end
             if now > MAX_GESTURE_DURATION:
                 raise GestError(self.sources.error(
                     f"the gesture lasts more than {MAX_GESTURE_DURATION:g} s", step.pos,
                     "split it into shorter gestures"))
-        if strict and stretched:
-            raise GestError(stretched)
+        make = self.sources.error if strict else self.sources.warning
+        told = tuple(make(message + (f" ({count} times)" if count > 1 else ""), pos,
+                          STRETCH_HINT)
+                     for (pos, message), count in stretched.items())
+        if strict and told:
+            raise GestError(told)
         return Plan(self.profile, tuple(b.build() for b in builders), tuple(reports),
-                    tuple(start), tuple(pose), now, () if strict else tuple(stretched))
+                    tuple(start), tuple(pose), now, () if strict else told)
+
+    def _calculate(self, ruckig: Ruckig, inp: InputParameter, traj: Trajectory,
+                   step: Step | None) -> None:
+        """ruckig's trajectory for ``inp``; any failure of ruckig (a result that is not
+        a success, an exception, a duration that is not finite) is a GestError at the
+        step."""
+        try:
+            result = ruckig.calculate(inp, traj)
+            ok = result in (Result.Working, Result.Finished)
+            why = "" if ok else result.name
+        except Exception as exc:  # noqa: BLE001 - a foreign library: whatever it raises
+            first = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
+            ok, why = False, first.removeprefix("[ruckig] ").removesuffix(" input:")
+        if ok and not (math.isfinite(traj.duration) and traj.duration >= 0):
+            ok, why = False, f"a duration of {traj.duration}"
+        if not ok:
+            where = f" of '{step.where}'" if step is not None and step.where else ""
+            raise GestError(self.sources.error(
+                f"cannot plan this step{where}: ruckig failed ({why})",
+                step.pos if step is not None else None,
+                "the servos it moves may have limits too far apart for this duration: "
+                "try another 'over', or check the profile's limits"))
 
     def _move(self, step: Step, now: float, pose: list[int], builders: list[_TrackBuilder]
               ) -> tuple[PlannedStep, float]:
@@ -174,10 +202,7 @@ class Planner:
         inp.max_jerk = [servos[i].max_jerk for i in idx]
         inp.synchronization = Synchronization.Time
         inp.minimum_duration = step.over
-        result = ruckig.calculate(inp, traj)
-        if result not in (Result.Working, Result.Finished):
-            raise GestError(self.sources.error(f"ruckig cannot plan this step ({result.name})",
-                                               step.pos))
+        self._calculate(ruckig, inp, traj, step)
         move_time = traj.duration
         duration = max(k for k, _, _ in moving) * step.stagger + move_time
         for dof, (k, i, v) in enumerate(moving):
@@ -214,10 +239,7 @@ class Planner:
             inp.max_jerk = [servos[i].max_jerk for i in moving]
             inp.synchronization = Synchronization.Time
             inp.minimum_duration = over
-            result = ruckig.calculate(inp, traj)
-            if result not in (Result.Working, Result.Finished):
-                raise GestError(self.sources.error(
-                    f"ruckig cannot plan this step ({result.name})", step and step.pos))
+            self._calculate(ruckig, inp, traj, step)
             move_time = traj.duration
             duration = max(duration, move_time)
             for dof, i in enumerate(moving):
@@ -227,14 +249,26 @@ class Planner:
         stretched = over is not None and move_time > over + _EPS
         warnings = ()
         if stretched:
-            warnings = (self.sources.warning(
-                f"move stretched: needs {move_time:.2f} s, asked {over:.2f} s",
-                step and (step.over_pos or step.pos)),)
+            warnings = (self.sources.warning(stretch_message(move_time, over),
+                                             step and (step.over_pos or step.pos)),)
         report = PlannedStep(step.where if step else "", step and step.pos, "move", 0.0,
                              duration, over, stretched, tuple(moving))
         start = tuple(int(math.floor(x + 0.5)) for x in state.position)
         return Plan(self.profile, tuple(b.build() for b in builders), (report,), start,
                     tuple(int(v) for v in targets), duration, warnings)
+
+
+STRETCH_HINT = ("the profile's limits allow no faster move; ask for more time or raise "
+                "the limits")
+
+
+def stretch_message(needed: float, asked: float) -> str:
+    """``move stretched: needs 0.52 s, asked 0.40 s``, with as many decimals as it takes
+    (up to six) for the two numbers to differ."""
+    digits = 2
+    while digits < 6 and f"{needed:.{digits}f}" == f"{asked:.{digits}f}":
+        digits += 1
+    return f"move stretched: needs {needed:.{digits}f} s, asked {asked:.{digits}f} s"
 
 
 @dataclass(frozen=True)

@@ -17,6 +17,10 @@ from .profile import Profile
 
 MAX_STEPS = 100_000  #: the most steps one gesture may expand to
 MAX_NESTING = 100  #: the deepest chain of calls and repeats, or of poses within poses
+MAX_WHERE = 120  #: characters of a step's call chain; a longer one is abbreviated
+#: the most steps all the gestures of one program may expand to for one profile, each
+#: gesture counted once however often it is compiled (``gestc check`` compiles them all)
+MAX_TOTAL_STEPS = 1_000_000
 
 
 @dataclass(frozen=True)
@@ -43,6 +47,9 @@ class Program:
     poses: dict[str, ast.PoseDef] = field(default_factory=dict)
     groups: dict[str, ast.GroupDef] = field(default_factory=dict)
     own: list[str] = field(default_factory=list)  #: gestures defined in the root file
+    #: one Resolver per profile (see ``resolver``), and the SHA-256 of every text
+    resolvers: dict[int, Resolver] = field(default_factory=dict, repr=False)
+    digests: dict[str, str] = field(default_factory=dict, repr=False)
 
     def names(self) -> dict[str, Pos]:
         found: dict[str, Pos] = {}
@@ -115,7 +122,7 @@ def _find_import(use: ast.Use, importer: str, search: Sequence[str], read: Reade
             return place, read(place)
         except FileNotFoundError:
             continue
-        except (OSError, UnicodeDecodeError) as exc:
+        except (OSError, ValueError) as exc:  # a NUL in the path, not UTF-8, too large
             raise GestError(sources.error(f"cannot read '{place}': {exc}", use.pos)) from None
     raise GestError(sources.error(
         f"cannot find '{use.path}'", use.pos,
@@ -133,7 +140,14 @@ class Resolver:
         self.profile = profile
         self.elsewhere = elsewhere
         self.src = program.sources
-        self._sizes: dict[str, int] = {}
+        self._sizes: dict[str, tuple[int, int]] = {}
+        # what is expanded once and kept: each pose's targets and nesting height, each
+        # move's targets (by the node's id; the program keeps the nodes), call chains
+        self._poses: dict[str, tuple[dict[int, int], int]] = {}
+        self._moves: dict[int, tuple[tuple[int, int], ...]] = {}
+        self._wheres: dict[tuple[str, str], str] = {}
+        self._counted: set[str] = set()  # gestures expanded, and their steps in all
+        self._total = 0
         self._check_names()
 
     def _check_names(self) -> None:
@@ -175,22 +189,44 @@ class Resolver:
     def targets(self, targets: Sequence[ast.Target], chain: tuple[str, ...] = ()
                 ) -> dict[int, int]:
         """Servo index -> value, in order of first mention; later mentions win."""
+        return self._targets(targets, chain)[0]
+
+    def _pose(self, t: ast.Target, chain: tuple[str, ...]) -> dict[int, int]:
+        """The targets of the pose ``t`` names, expanded once: poses built from poses
+        cost the size of their text, not 2^depth."""
+        name = t.name.text
+        if t.value is not None:
+            raise GestError(self.src.error(f"'{name}' is a pose; it takes no value",
+                                           t.value_pos, f"write just '{name}'"))
+        if name in chain:
+            cycle = " -> ".join([*chain[chain.index(name):], name])
+            raise GestError(self.src.error(f"pose '{name}' refers to itself: {cycle}",
+                                           t.name.pos))
+        if name not in self._poses:
+            if len(chain) >= MAX_NESTING:
+                raise self._poses_too_deep(t)
+            inner, height = self._targets(self.program.poses[name].targets, (*chain, name))
+            self._poses[name] = (inner, height + 1)
+        inner, height = self._poses[name]
+        if len(chain) + height > MAX_NESTING:
+            raise self._poses_too_deep(t)
+        return inner
+
+    def _poses_too_deep(self, t: ast.Target) -> GestError:
+        return GestError(self.src.error(f"poses are nested more than {MAX_NESTING} deep",
+                                        t.name.pos))
+
+    def _targets(self, targets: Sequence[ast.Target], chain: tuple[str, ...]
+                 ) -> tuple[dict[int, int], int]:
+        """The targets, and how deep the poses among them nest."""
         out: dict[int, int] = {}
         direct: set[str] = set()
+        height = 0
         for t in targets:
             name = t.name.text
             if name in self.program.poses:
-                if t.value is not None:
-                    raise GestError(self.src.error(f"'{name}' is a pose; it takes no value",
-                                                   t.value_pos, f"write just '{name}'"))
-                if name in chain:
-                    cycle = " -> ".join([*chain[chain.index(name):], name])
-                    raise GestError(self.src.error(f"pose '{name}' refers to itself: {cycle}",
-                                                   t.name.pos))
-                if len(chain) >= MAX_NESTING:
-                    raise GestError(self.src.error(
-                        f"poses are nested more than {MAX_NESTING} deep", t.name.pos))
-                out.update(self.targets(self.program.poses[name].targets, (*chain, name)))
+                out.update(self._pose(t, chain))
+                height = max(height, self._poses[name][1])
                 continue
             if name in self.program.gestures:
                 raise GestError(self.src.error(
@@ -215,7 +251,7 @@ class Resolver:
                         f"value {t.value} is outside the range of '{member}' "
                         f"({servo.lo}..{servo.hi})", t.value_pos))
                 out[self.profile.index(member)] = t.value
-        return out
+        return out, height
 
     # -- steps ------------------------------------------------------------------
     def gesture(self, name: str) -> tuple[Step, ...]:
@@ -226,6 +262,14 @@ class Resolver:
             raise GestError(self.src.error(
                 f"gesture '{name}' expands to more than {MAX_STEPS:,} steps",
                 node.name.pos, "lower a repeat count"))
+        if name not in self._counted:
+            if self._total + size > MAX_TOTAL_STEPS:
+                raise GestError(self.src.error(
+                    f"with '{name}', the gestures of this program expand to more than "
+                    f"{MAX_TOTAL_STEPS:,} steps in all", node.name.pos,
+                    "split the file: each gesture's calls and repeats are expanded"))
+            self._counted.add(name)
+            self._total += size
         out: list[Step] = []
         self._emit(node.steps, name, out)
         return tuple(out)
@@ -290,17 +334,48 @@ class Resolver:
             elif isinstance(step, ast.Wait):
                 out.append(Step((), hold=step.duration.seconds, pos=step.pos, where=where))
             elif (callee := self._call(step)) is not None:
-                self._emit(self.program.gestures[callee].steps, f"{where} > {callee}", out)
+                self._emit(self.program.gestures[callee].steps, self._where(where, callee),
+                           out)
             else:
-                targets = self.targets(step.targets)
+                key = id(step)
+                if key not in self._moves:
+                    self._moves[key] = tuple(self.targets(step.targets).items())
                 out.append(Step(
-                    tuple(targets.items()),
+                    self._moves[key],
                     over=step.over.seconds if step.over else None,
                     stagger=step.stagger.seconds if step.stagger else 0.0,
                     pos=step.pos,
                     over_pos=step.over.pos if step.over else None,
                     where=where,
                 ))
+
+    def _where(self, where: str, callee: str) -> str:
+        """``where > callee``, made once per pair; a chain longer than MAX_WHERE keeps
+        its first and last names."""
+        key = (where, callee)
+        if key not in self._wheres:
+            text = f"{where} > {callee}"
+            if len(text) > MAX_WHERE:
+                root = where.split(" > ", 1)[0]
+                half = (MAX_WHERE - 9) // 2
+                text = f"{_cut(root, half)} > ... > {_cut(callee, half)}"
+            self._wheres[key] = text
+        return self._wheres[key]
+
+
+def _cut(name: str, most: int) -> str:
+    return name if len(name) <= most else name[:most - 3] + "..."
+
+
+def resolver(program: Program, profile: Profile,
+             elsewhere: Callable[[str], Sequence[str]] | None = None) -> Resolver:
+    """The Resolver of ``program`` for ``profile``, made once and kept in the program:
+    names are checked once and what is expanded stays expanded, so compiling every
+    gesture of a file costs about the file's size, not its square."""
+    found = program.resolvers.get(id(profile))
+    if found is None or found.profile is not profile:  # it holds the profile: no id reuse
+        found = program.resolvers[id(profile)] = Resolver(program, profile, elsewhere)
+    return found
 
 
 def resolve_start(program: Program, profile: Profile,
@@ -315,10 +390,13 @@ def resolve_start(program: Program, profile: Profile,
             pose[profile.index(name)] = value
         return tuple(pose)
     file, prefix = "--from", "pose start__: "
+    if len(text.splitlines()) > 1:
+        raise GestError(Diagnostic("error", "--from takes one line: a pose name or targets",
+                                   hint='--from "fingers 90, wrist 45"'))
     program.sources.add(file, prefix + text)
     try:
         (item,) = parse(prefix + text, file).items
-        targets = Resolver(program, profile).targets(item.targets)
+        targets = resolver(program, profile).targets(item.targets)
     except GestError as exc:
         raise GestError([_unwrap(d, file, prefix, text) for d in exc.diagnostics]) from None
     for index, value in targets.items():

@@ -6,6 +6,9 @@ from dataclasses import dataclass
 
 from .errors import Pos
 
+#: the language's keywords: never a gesture, pose, group or servo name
+KEYWORDS = frozenset({"use", "group", "pose", "wait", "hold", "repeat", "over", "stagger"})
+
 
 @dataclass(frozen=True)
 class Name:

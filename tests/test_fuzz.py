@@ -1,7 +1,11 @@
-"""Whatever the input, the compiler answers with diagnostics, never a crash."""
+"""Whatever the input, the compiler answers with diagnostics, never a crash or a hang."""
 
+import random
+
+import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from mutate import KINDS, attempt, mutate, seeds
 
 from inmoov_dsl import compile_source
 from inmoov_dsl.errors import GestError
@@ -35,3 +39,37 @@ def test_any_token_soup_compiles_or_is_a_diagnostic(text):
     except GestError as exc:
         assert all(d.severity == "error" for d in exc.diagnostics)
         assert exc.format()
+
+
+# -- seeded mutants of real files (tests/mutate.py; benchmarks/fuzz.py runs 20,000) ----
+MUTANTS = {"gest": 150, "toml": 300, "gestc": 400}  #: per kind: the file runs in ~12 s
+LIMIT = 5.0  #: s per input, which a loaded machine meets (most take milliseconds)
+
+
+@pytest.fixture(scope="module")
+def library_seeds():
+    return seeds()
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_mutants_are_accepted_or_refused_with_a_place(library_seeds, kind):
+    """Every mutant is accepted (and then keeps every rule of the protocol) or refused
+    with GestErrors that each read ``file:line:col: error: ...``; none raises anything
+    else, none takes more than LIMIT seconds (a timer interrupts it)."""
+    problems, statuses = [], set()
+    for n in range(MUTANTS[kind]):
+        rng = random.Random(f"test:{kind}:{n}")
+        seed = rng.choice(library_seeds[kind])
+        outcome = attempt(seed, mutate(seed.data, rng, kind), LIMIT)
+        statuses.add(outcome.status)
+        if outcome.status not in ("accepted", "refused"):
+            problems.append(f"mutant {n} of {seed.name}: {outcome.status} after "
+                            f"{outcome.seconds:.1f} s {outcome.detail}")
+    assert not problems, "\n".join(problems[:5])
+    assert statuses == {"accepted", "refused"}  # the mutants do reach both ends
+
+
+def test_the_seeds_themselves_are_accepted(library_seeds):
+    for kind in KINDS:
+        for seed in library_seeds[kind]:
+            assert attempt(seed, seed.data, 30.0).status == "accepted", seed.name

@@ -37,7 +37,8 @@ def test_the_wheel_carries_grammar_profiles_and_library(wheel):
     entry_points = next(n for n in names if n.endswith("entry_points.txt"))
     text = zipfile.ZipFile(wheel).read(entry_points).decode()
     assert "gestc = inmoov_dsl.cli:run_gestc" in text
-    assert "gestplay = inmoov_dsl.cli.gestplay:main" in text
+    assert "gestplay = inmoov_dsl.cli:run_gestplay" in text
+    assert "gestsim = inmoov_dsl.cli:run_gestsim" in text
 
 
 def test_the_installed_layout_compiles_the_library(wheel, tmp_path):

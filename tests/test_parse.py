@@ -128,3 +128,127 @@ def test_syntax_errors_suggest_a_fix(source, hint):
     with pytest.raises(GestError) as info:
         parse(source, "e.gest")
     assert info.value.format().splitlines()[-1] == f"  hint: {hint}"
+
+
+# -- bad input found by fuzzing (issue 11): every one a diagnostic at its place ------
+@pytest.mark.parametrize(("source", "first"), [
+    ("rockon: middle " + "9" * 400,
+     "e.gest:1:16: error: value 999999999999...999999 is outside 0..180"),
+    ("g: repeat " + "9" * 5000 + ": index 9",
+     "e.gest:1:11: error: repeat count must be a whole number from 1 to 1000, got "
+     "999999999999...999999"),
+    ("g: repeat 0001000: index 9", None),
+    ("g: index 9 over " + "9" * 500 + "s",
+     "e.gest:1:17: error: duration 999999999999...999999s is too long (at most 600 s per "
+     "step)"),
+    ("g: index 9\x00", "e.gest:1:11: error: unexpected character U+0000"),
+    ("g: index 9 \ud800", "e.gest:1:12: error: unexpected character U+D800"),
+])
+def test_huge_numbers_and_odd_characters_are_diagnostics(source, first):
+    if first is None:
+        assert parse(source, "e.gest").items[0].steps[0].count == 1000
+        return
+    with pytest.raises(GestError) as info:
+        parse(source, "e.gest")
+    assert info.value.format().splitlines()[0] == first
+
+
+@pytest.mark.parametrize(("source", "first", "hint"), [
+    ("wait: index 90", "e.gest:1:1: error: 'wait' is a keyword and cannot name a gesture",
+     "choose another name (the keywords: group, hold, over, pose, repeat, stagger, use, "
+     "wait)"),
+    ("pose over: index 9", "e.gest:1:6: error: 'over' is a keyword and cannot name a pose",
+     None),
+    ("group hold: index", "e.gest:1:7: error: 'hold' is a keyword and cannot name a group",
+     None),
+    ("g:\n    stagger:\n        index 9", None, None),
+    ("g: index 90, over 9",
+     "e.gest:1:14: error: 'over' is a keyword, not a servo, group, pose or gesture",
+     "a step's timing follows its targets, without a comma: index 90 over 0.5s"),
+    ("group pair: index, use",
+     "e.gest:1:20: error: 'use' is a keyword, not a servo, group, pose or gesture", None),
+    ("g:\n    repeat 2:\n        hold 1s\n        over 9",
+     "e.gest:4:9: error: 'over' is a keyword, not a servo, group, pose or gesture", None),
+    ("pose p: index 9, wait",
+     "e.gest:1:18: error: 'wait' is a keyword, not a servo, group, pose or gesture",
+     "a wait is a step on a line of its own: wait 0.5s"),
+])
+def test_a_keyword_is_not_a_name(source, first, hint):
+    with pytest.raises(GestError) as info:
+        parse(source, "e.gest")
+    lines = info.value.format().splitlines()
+    if first is not None:
+        assert lines[0] == first
+    assert "keyword" in lines[0]
+    if hint is not None:
+        assert lines[-1] == f"  hint: {hint}"
+
+
+def test_a_file_indented_with_tabs_only_parses():
+    module = parse("g:\n\tindex 90\n\trepeat 2:\n\t\tindex 0\n\t\tindex 9\n", "t.gest")
+    (gesture,) = module.items
+    assert [type(s).__name__ for s in gesture.steps] == ["Move", "Repeat"]
+
+
+@pytest.mark.parametrize(("source", "first"), [
+    ("g:\n    \tindex 90", "e.gest:2:1: error: this line's indentation mixes tabs and spaces"),
+    ("g:\n\t index 90", "e.gest:2:1: error: this line's indentation mixes tabs and spaces"),
+    ("g:\n\tindex 90\n        index 0",
+     "e.gest:3:1: error: this line is indented with spaces, line 2 with tabs"),
+    ("g:\n    index 90\nh:\n\tindex 0",
+     "e.gest:4:1: error: this line is indented with tabs, line 2 with spaces"),
+])
+def test_tabs_and_spaces_are_not_mixed_in_indentation(source, first):
+    with pytest.raises(GestError) as info:
+        parse(source, "e.gest")
+    lines = info.value.format().splitlines()
+    assert lines[0] == first
+    assert lines[-1] == "  hint: indent with spaces only (four per level), or with tabs only"
+
+
+def test_a_file_over_the_size_limit_is_refused_before_parsing():
+    import time
+
+    from inmoov_dsl.parse import MAX_SOURCE
+    text = "g: index 9\n" * (MAX_SOURCE // 11 + 1)
+    started = time.perf_counter()
+    with pytest.raises(GestError) as info:
+        parse(text, "big.gest")
+    assert time.perf_counter() - started < 1.0
+    first = info.value.first
+    assert first.message == (f"the file is longer than {MAX_SOURCE:,} characters "
+                             f"({len(text):,}): it is not parsed")
+    assert (first.pos.line, first.pos.column) == (MAX_SOURCE // 11 + 1, MAX_SOURCE % 11 + 1)
+    with pytest.raises(GestError) as info:  # one line of 1.7 MB: a hang before
+        parse("g: " + "index 9, " * 190_000 + "index 9", "line.gest")
+    assert time.perf_counter() - started < 2.0
+    assert info.value.first.pos.column == MAX_SOURCE + 1
+
+
+def test_a_line_over_the_length_limit_is_refused_and_shown_cut():
+    from inmoov_dsl.parse import MAX_LINE
+    source = "ok: index 9\ng: " + "index 9, " * 2_000 + "index 9\n"
+    with pytest.raises(GestError) as info:
+        parse(source, "long.gest")
+    lines = info.value.format().splitlines()
+    assert lines[0] == (f"long.gest:2:{MAX_LINE + 1}: error: this line is longer than "
+                        f"{MAX_LINE:,} characters (18,010)")
+    assert lines[1].startswith("    ...") and lines[1].endswith("...")
+    assert len(lines[1]) < 140 and lines[2].strip() == "^"
+
+
+def test_lines_are_counted_at_newlines_only():
+    # a form feed or a Unicode line separator in a comment does not start a line
+    with pytest.raises(GestError) as info:
+        parse("# a\x0cb\u2028c\x85d\np: index 900\n", "e.gest")
+    assert info.value.format().splitlines()[:2] == [
+        "e.gest:2:10: error: value 900 is outside 0..180", "    p: index 900"]
+
+
+def test_repeats_nested_too_deep_are_a_syntax_error():
+    from inmoov_dsl.parse import MAX_DEPTH
+    parse("g: " + "repeat 2: " * MAX_DEPTH + "index 9", "e.gest")
+    with pytest.raises(GestError) as info:
+        parse("g: " + "repeat 2: " * (MAX_DEPTH + 1) + "index 9", "e.gest")
+    assert info.value.format().splitlines()[0] == (
+        f"e.gest:1:11: error: repeats are nested more than {MAX_DEPTH} deep")

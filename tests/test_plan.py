@@ -53,7 +53,7 @@ def test_random_moves_start_and_end_exactly_within_limits(rhand):
             for i, v in s.targets:
                 expected[i] = v
         assert plan.final == tuple(expected)
-    check_limits(plan, rhand)
+        check_limits(plan, rhand)  # every plan's, not the last one's only
 
 
 def test_limits_hold_over_a_sweep(rhand):
@@ -138,3 +138,65 @@ def test_a_stretched_stagger_reports_each_servos_move_time(rhand):
     needed = max(solo_time(rhand.servos[2], 180), solo_time(rhand.servos[3], 180))
     assert plan.duration == pytest.approx(needed + 0.1)
     assert plan.warnings[0].message == f"move stretched: needs {needed:.2f} s, asked 0.30 s"
+
+
+# -- failures and warnings (issue 11) -------------------------------------------------
+class FailingRuckig:
+    """A ruckig that fails as the real one did on limits like 1e-09."""
+
+    def __init__(self, dofs):
+        pass
+
+    def calculate(self, inp, traj):
+        raise ValueError("-1 is not a valid Result.")
+
+
+class RefusingRuckig(FailingRuckig):
+    def calculate(self, inp, traj):
+        from ruckig import Result
+        return Result.ErrorSynchronizationCalculation
+
+
+@pytest.mark.parametrize(("ruckig", "why"), [
+    (FailingRuckig, "-1 is not a valid Result."),
+    (RefusingRuckig, "ErrorSynchronizationCalculation"),
+])
+def test_any_failure_of_ruckig_is_an_error_naming_the_step(rhand, monkeypatch, ruckig, why):
+    from inmoov_dsl import plan as planner
+    monkeypatch.setattr(planner, "Ruckig", ruckig)
+    program = load("f.gest", "up: index 90 over 0.5s\ng:\n    wait 1s\n    up\n")
+    with pytest.raises(GestError) as info:
+        plan_gesture(program, "g", rhand)
+    assert info.value.format().splitlines()[:3] == [
+        f"f.gest:1:5: error: cannot plan this step of 'g > up': ruckig failed ({why})",
+        "    up: index 90 over 0.5s", "        ^~~~~"]
+
+
+STRETCHED = "slow: index 180, middle 180 over 0.4s\nback: index 0, middle 0 over 2s\n"
+
+
+@pytest.mark.parametrize("body", [
+    "    repeat 9:\n        slow\n        back\n",
+    "    repeat 9:\n        index 180, middle 180 over 0.4s\n        back\n",
+    "    slow\n    back\n" * 9,
+])
+def test_a_stretch_is_told_once_per_place_with_its_count(rhand, body):
+    plan = plan_gesture(load("w.gest", STRETCHED + "g:\n" + body), "g", rhand)
+    needed = max(solo_time(rhand.servos[2], 180), solo_time(rhand.servos[3], 180))
+    (warning,) = plan.warnings
+    assert warning.message == f"move stretched: needs {needed:.2f} s, asked 0.40 s (9 times)"
+    assert sum(s.stretched for s in plan.steps) == 9
+
+
+def test_a_stretch_says_enough_decimals_to_tell_the_two_apart():
+    from inmoov_dsl.plan import stretch_message
+    assert stretch_message(0.5049, 0.5) == "move stretched: needs 0.505 s, asked 0.500 s"
+    assert stretch_message(0.62, 0.4) == "move stretched: needs 0.62 s, asked 0.40 s"
+
+
+def test_positions_are_exact_to_a_nanodegree(rhand):
+    # float noise below 1e-9 degree no longer decides which way a half degree rounds
+    plan = Planner(rhand).plan([Step(((2, 180),))], (0,) * 6)
+    t = np.linspace(0, plan.duration, 1001)
+    p = plan.tracks[2].position(t)
+    assert np.all(p == np.round(p, 9))

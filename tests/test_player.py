@@ -185,7 +185,8 @@ def test_the_cli_plays_to_sim(capsys):
 
 def test_a_loop_reports_the_whole_run(capsys):
     one = compile_file(load_library()["wiggle"])
-    again = compile_file(load_library()["wiggle"], start=dict(zip(one.servos, one.final)))
+    again = compile_file(load_library()["wiggle"], start=dict(zip(one.servos, one.final,
+                                                                        strict=True)))
     code, _, err = run(capsys, "wiggle", "--port", "sim://", "--loop", "2")
     assert code == 0
     assert err.startswith(f"played wiggle 2 times: {one.duration + again.duration:.2f} s, "

@@ -141,3 +141,122 @@ def test_a_compile_records_the_profile_it_used(rhand):
     with open(rhand.path, encoding="utf-8") as f:
         text = f.read()
     assert compiled.profile_sha256 == hashlib.sha256(text.encode()).hexdigest()
+
+
+def test_every_profile_error_points_at_its_key():
+    for text, message in PROFILE_ERRORS:
+        with pytest.raises(GestError) as info:
+            parse_profile(text, "bad.toml")
+        first = info.value.first
+        line = text.split("\n")[first.pos.line - 1]
+        assert first.source_line == line, message
+        if message.startswith("invalid TOML") or "at least one [[board]]" in message:
+            continue
+        assert first.pos.line > 1 or line.startswith("[[board]]"), message
+
+
+SERVO = board_toml(181, ["a"]) + servo_toml("a", 1)
+
+# the text, the message, the line the error is on (fuzzed profiles: issue 11)
+TYPED_ERRORS = [
+    (SERVO.replace("max_velocity = 400.0", "max_velocity = 1e-09"),
+     "servo 'a': 'max_velocity' must be in 1..100,000, got 1e-09", "max_velocity = 1e-09"),
+    (SERVO.replace("max_jerk = 160000.0", "max_jerk = inf"),
+     "servo 'a': 'max_jerk' must be in 1..1,000,000,000, got inf", "max_jerk = inf"),
+    (SERVO.replace("max_acceleration = 8000.0", "max_acceleration = nan"),
+     "servo 'a': 'max_acceleration' must be greater than 0, got nan", "max_acceleration = nan"),
+    (SERVO.replace("max_velocity = 400.0", 'max_velocity = "fast"'),
+     "servo 'a': 'max_velocity' must be a number, got 'fast'", 'max_velocity = "fast"'),
+    (SERVO.replace("baud = 9600", "baud = 1.5"),
+     "board 181: 'baud' must be a whole number in 1..2,000,000, got 1.5", "baud = 1.5"),
+    (SERVO.replace("id = 181", "id = true"),
+     "board id must be a whole number in 181..247, got True", "id = true"),
+    (SERVO.replace("id = 1\n", "id = 1.0\n"),
+     "servo 'a': 'id' must be a whole number in 0..180, got 1.0", "id = 1.0"),
+    (SERVO.replace('servos = ["a"]', 'servos = "a"'),
+     "board 181: 'servos' must be a list of servo names", 'servos = "a"'),
+    (SERVO + "reversed = 3\n", "servo 'a': 'reversed' must be true or false, got 3",
+     "reversed = 3"),
+    (SERVO + "pin = -1\n", "servo 'a': 'pin' must be a whole number in 0..255, got -1",
+     "pin = -1"),
+    ('board = 5\n' + servo_toml("a", 1), "a profile needs at least one [[board]]",
+     "board = 5"),
+    ("name = 5\n" + SERVO, "'name' must be a string, got 5", "name = 5"),
+    (SERVO + '[groups]\nwait = ["a"]\n',
+     "group 'wait': a group name must be a word (letters, digits, _) and not a keyword of "
+     "the language", 'wait = ["a"]'),
+    (SERVO + "[[glove]]\nid = 182\nboard = 181\nsensors = 1.5\n",
+     "glove 182: 'sensors' must be a list of { servo = ..., pin = ..., calibration = "
+     "[low, high] }", "sensors = 1.5"),
+    (SERVO + "[[glove]]\nid = 182\nboard = 181\nsensors = [1]\n",
+     "glove 182, sensor 1: expected { servo = ..., pin = ..., calibration = [low, high] }",
+     "sensors = [1]"),
+    (board_toml(181, ["a"]) + "[servo]\na = 3\n",
+     "servo 'a': expected a [servo.a] table, got 3", "a = 3"),
+    (SERVO + "x = " + "9" * 5000 + "\n", "invalid TOML: a number of thousands of digits",
+     "x = " + "9" * 5000),
+]
+
+
+@pytest.mark.parametrize(("text", "message", "line"), TYPED_ERRORS)
+def test_wrong_types_and_insane_limits_are_errors_at_their_key(text, message, line):
+    with pytest.raises(GestError) as info:
+        parse_profile(text, "bad.toml")
+    first = info.value.first
+    assert first.message == message
+    assert first.source_line == line
+    assert text.split("\n")[first.pos.line - 1] == line
+    assert info.value.format().startswith(f"bad.toml:{first.pos.line}:")
+
+
+def test_the_key_of_the_right_table_is_found():
+    text = board_toml(181, ["a"]) + board_toml(183, ["b"], baud=1) + servo_toml("a", 1) \
+        + servo_toml("b", 2, v=0)
+    with pytest.raises(GestError) as info:
+        parse_profile(text, "bad.toml")
+    lines = text.split("\n")
+    baud, velocity = info.value.diagnostics
+    assert baud.pos.line == lines.index("baud = 1") + 1  # the second [[board]]'s
+    assert velocity.pos.line == len(lines) - lines[::-1].index("max_velocity = 0")
+
+
+def test_deep_nesting_in_toml_is_an_error():
+    with pytest.raises(GestError) as info:
+        parse_profile("x = " + "[" * 100_000 + "]" * 100_000 + "\n", "deep.toml")
+    assert info.value.first.message == "invalid TOML: arrays or tables nested too deep"
+
+
+def test_a_profile_that_is_not_utf8_is_an_error_at_the_byte(tmp_path):
+    path = tmp_path / "latin.toml"
+    path.write_bytes(b'name = "caf\xe9"\n' + SERVO.encode())
+    with pytest.raises(GestError) as info:
+        load_profile(str(path))
+    assert info.value.format().splitlines()[0] == (
+        f"{path}:1:12: error: this file is not UTF-8 text: invalid continuation byte "
+        f"(byte 0xe9)")
+
+
+def test_a_profile_too_large_is_not_read(tmp_path):
+    from inmoov_dsl.profile import MAX_PROFILE
+    path = tmp_path / "huge.toml"
+    path.write_bytes(SERVO.encode() + b"#" * MAX_PROFILE)
+    with pytest.raises(GestError, match="larger than 1,000,000 bytes: it is not read"):
+        load_profile(str(path))
+    with pytest.raises(GestError, match="longer than 1,000,000 characters"):
+        parse_profile(SERVO + "#" * MAX_PROFILE)
+
+
+def test_a_profile_is_checked_once_per_text(tmp_path):
+    assert load_profile("rhand") is load_profile("rhand")
+    path = tmp_path / "mine.toml"
+    path.write_text(SERVO)
+    first = load_profile(str(path))
+    path.write_text(SERVO.replace("id = 1\n", "id = 7\n"))
+    assert load_profile(str(path)).servos[0].id == 7 and first.servos[0].id == 1
+
+
+def test_a_board_knows_where_it_is_defined(rhand):
+    from pathlib import Path
+    lines = Path(rhand.path).read_text(encoding="utf-8").split("\n")
+    (board,) = rhand.boards
+    assert lines[board.pos.line - 1] == "id = 181"

@@ -163,3 +163,107 @@ MORE_ERRORS = [
 @pytest.mark.parametrize(("source", "expected"), MORE_ERRORS)
 def test_more_errors(rhand, source, expected):
     assert error_of(source, rhand)[:len(expected)] == expected
+
+
+# -- bad input found by fuzzing (issue 11) -------------------------------------------
+def test_poses_built_from_each_other_cost_their_text_not_two_to_the_depth(rhand):
+    import time
+    lines = ["pose p0: index 1, fingers 2"] + [f"pose p{i}: p{i - 1}, p{i - 1}, thumb {i}"
+                                               for i in range(1, 60)]
+    started = time.perf_counter()
+    (step,) = steps_of("\n".join([*lines, "g: p59"]), rhand)
+    assert time.perf_counter() - started < 1.0  # 2^59 expansions before
+    assert names(step, rhand)[:2] == [("index", 2), ("thumb", 59)]
+
+
+def test_a_deep_pose_reached_again_from_further_down_is_still_too_deep(rhand):
+    # p90 is expanded first (91 deep: fine), then reached again 20 poses further down
+    lines = ["pose p0: index 1"] + [f"pose p{i}: p{i - 1}" for i in range(1, 91)]
+    lines += ["pose q0: p90"] + [f"pose q{i}: q{i - 1}" for i in range(1, 20)]
+    lines += ["a: p90", "g: q19"]
+    assert steps_of("\n".join(lines), rhand, "a")[0].targets == ((2, 1),)
+    program = load_program("main.gest", {"main.gest": "\n".join(lines)}.__getitem__)
+    resolver = Resolver(program, rhand)
+    resolver.gesture("a")
+    with pytest.raises(GestError, match="poses are nested more than 100 deep"):
+        resolver.gesture("g")
+
+
+def test_a_nul_in_a_use_path_is_an_error_at_the_use(rhand):
+    with pytest.raises(GestError) as info:
+        load("main.gest", 'use "a\x00b.gest"\ng: index 9\n', read=read_text, search=[])
+    assert info.value.format().startswith(
+        "main.gest:1:5: error: cannot read 'a\\x00b.gest': embedded null byte")
+
+
+@pytest.mark.skipif(not __import__("os").path.exists("/dev/zero"), reason="POSIX")
+def test_a_use_of_something_not_a_file_is_refused_not_read(rhand):
+    with pytest.raises(GestError) as info:
+        load("main.gest", 'use "/dev/zero"\ng: index 9\n', search=[])
+    assert info.value.format().startswith(
+        "main.gest:1:5: error: cannot read '/dev/zero': not a regular file")
+
+
+def test_a_lone_surrogate_in_a_comment_compiles(rhand):
+    import hashlib
+    text = "# \ud800 a lone surrogate\ng: index 9\n"
+    compiled = compile_source(text, file="s.gest")
+    assert compiled.sources == (
+        ("s.gest", hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()),)
+
+
+def test_a_file_that_is_not_utf8_is_an_error_at_the_byte(tmp_path):
+    path = tmp_path / "latin.gest"
+    path.write_bytes(b"# caf\xe9\ng: index 9\n")
+    with pytest.raises(GestError) as info:
+        load(str(path))
+    assert info.value.format().splitlines()[0] == (
+        f"{path}:1:6: error: this file is not UTF-8 text: invalid continuation byte "
+        f"(byte 0xe9)")
+
+
+def test_a_file_too_large_to_parse_is_refused_before_it_is_read(tmp_path):
+    from inmoov_dsl.parse import MAX_SOURCE
+    path = tmp_path / "huge.gest"
+    path.write_bytes(b"g: index 9\n" * (4 * MAX_SOURCE // 11 + 1))
+    with pytest.raises(GestError) as info:
+        load(str(path))
+    assert info.value.format().splitlines()[0] == (
+        f"{path}:1:1: error: the file is longer than {MAX_SOURCE:,} characters: it is not read")
+
+
+def test_the_gestures_of_one_program_expand_to_a_bounded_total(rhand, monkeypatch):
+    from inmoov_dsl import resolve
+    monkeypatch.setattr(resolve, "MAX_TOTAL_STEPS", 25)
+    source = "big:\n    repeat 10: index 9\n" + "".join(f"c{i}: big\n" for i in range(3))
+    program = load_program("main.gest", {"main.gest": source}.__getitem__)
+    shared = resolve.resolver(program, rhand)
+    assert resolve.resolver(program, rhand) is shared  # one per program and profile
+    shared.gesture("big")
+    shared.gesture("big")  # a gesture compiled again is counted once
+    shared.gesture("c0")
+    with pytest.raises(GestError) as info:
+        shared.gesture("c1")
+    assert info.value.format().splitlines()[0] == (
+        "main.gest:4:1: error: with 'c1', the gestures of this program expand to more than "
+        "25 steps in all")
+
+
+def test_a_long_call_chain_is_abbreviated(rhand):
+    names_ = [f"{c * 60}" for c in "abcd"]
+    source = "".join(f"{a}: {b}\n" for a, b in zip(names_, names_[1:], strict=False))
+    (step,) = steps_of(source + f"{names_[-1]}: index 9\n", rhand, names_[0])
+    assert len(step.where) <= 120
+    assert step.where.startswith("a" * 10) and " > ... > " in step.where
+
+
+def test_checking_every_gesture_of_a_file_does_the_shared_work_once(rhand):
+    # what made gestc check quadratic: per gesture, the profile read again, every name
+    # checked again, the whole text hashed again
+    from inmoov_dsl.compiler import compile_program
+    from inmoov_dsl.profile import load_profile
+    program = load("many.gest", "".join(f"g{i}: index {i}\n" for i in range(50)))
+    for name in program.own:
+        compile_program(program, name, "rhand")
+    assert list(program.resolvers.values())[0].profile is load_profile("rhand")
+    assert len(program.resolvers) == 1 and list(program.digests) == ["many.gest"]

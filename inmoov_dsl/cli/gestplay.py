@@ -6,11 +6,10 @@ import argparse
 import sys
 import time
 from collections.abc import Callable
-from pathlib import Path
 
 import serial
 
-from ..compiled import Compiled, from_json, to_timed
+from ..compiled import Compiled, check_profile, read_compiled, to_timed
 from ..compiler import compile_program, load
 from ..errors import Diagnostic, GestError
 from ..library import find_gesture, library_dirs
@@ -50,8 +49,9 @@ class Target:
         self.program = None
         name = args.target
         if name.endswith(".gestc"):
-            self.compiled = from_json(Path(name).read_text(encoding="utf-8"), name)
+            self.compiled = read_compiled(name)
             self.profile = load_profile(args.profile or self.compiled.profile)
+            check_profile(self.compiled, self.profile)
             return
         dirs = library_dirs(args.lib)
         path, self.gesture = find_gesture(name, args.gesture, dirs,
