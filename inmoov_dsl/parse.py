@@ -311,7 +311,8 @@ def parse(text: str, file: str = "<string>") -> ast.Module:
         if len(line_text) > MAX_LINE:
             raise fail(f"this line is longer than {MAX_LINE:,} characters "
                        f"({len(line_text):,})", number, MAX_LINE + 1,
-                       hint="continue a long line on the next with '\\' at its end")
+                       hint="put one step on each line; build a long pose from smaller "
+                       "poses")
     try:
         with _LOCK:
             _TO_AST.file, _TO_AST.depths = file, {}
