@@ -1,14 +1,15 @@
 """How close to its schedule does a stream reach the board? Play a library gesture
 repeated to about a minute, through a real pseudo-terminal opened with pyserial, to a
 separate process that timestamps every byte as it arrives, on an idle machine and with
-one core kept busy by another process; beside it, the same stream written one byte at a
+one core, then both, kept busy by other processes; beside it, the same stream written one byte at a
 time on the same clock, and (idle only) sent the way the original script did, sleeping
 after each byte.
 
     python benchmarks/timing.py [--gesture count] [--seconds 60]
 
-Errors are arrival time minus planned time, both counted from the stream's first byte
-(so the pty's constant latency is not counted against any sender). A pty has no baud
+Errors are arrival time minus planned time, less their median (the pty's constant
+latency, and the clocks' different origins, are not counted against any sender; a late
+first byte would shift every other one if they were counted from it). A pty has no baud
 rate, so the wire is modelled at the receiver: a byte reaches the board when it has
 arrived and the byte before it has been on the wire for a byte-time (what a UART does
 with a write of several bytes). "As written" is measured in the sender, when each write
@@ -104,7 +105,8 @@ def per_byte(compiled, link) -> None:
 def errors(stamps: list, times: np.ndarray, data: bytes) -> np.ndarray:
     arrived = np.array([t for t, _ in stamps])
     assert bytes(b for _, b in stamps) == data, "bytes lost or changed on the way"
-    return (arrived - arrived[0]) - (times - times[0])
+    late = arrived - times
+    return late - np.median(late)
 
 
 def summary(name: str, e: np.ndarray, sent: np.ndarray, times: np.ndarray) -> str:
@@ -124,6 +126,8 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--gesture", default="count")
     ap.add_argument("--seconds", type=float, default=60.0)
+    ap.add_argument("--busy", type=int, nargs="+", choices=(0, 1, 2), default=[0, 1, 2],
+                    help="cores kept busy by other processes, for each run (default 0 1 2)")
     args = ap.parse_args()
     path = load_library()[args.gesture]
     one = compile_source(f'use "{path.name}"\nbench: {args.gesture}\n').duration
@@ -147,11 +151,12 @@ def main() -> None:
                                                                     Link(181, p, device))),
         ("sleep after each byte", lambda p: relative_sleeps(p, stream.times, stream.data)),
     ]
-    for machine in ("idle", "one core busy"):
-        hog = None if machine == "idle" else subprocess.Popen(
-            [sys.executable, "-c", "while True: pass"])
+    loads = (("idle", 0), ("one core busy", 1), ("both cores busy", 2))
+    for machine, busy in (loads[k] for k in args.busy):
+        hogs = [subprocess.Popen([sys.executable, "-c", "while True: pass"])
+                for _ in range(busy)]
         try:
-            for name, send in senders[:2] if hog else senders:
+            for name, send in senders[:2] if hogs else senders:
                 stamped = Stamped(port)
                 send(stamped)
                 time.sleep(0.2)
@@ -164,7 +169,7 @@ def main() -> None:
                                      stream.times, stream.data), stream.times)
                 print(f"| {machine} {row}", flush=True)
         finally:
-            if hog:
+            for hog in hogs:
                 hog.kill()
                 hog.wait()
     port.close()

@@ -23,6 +23,9 @@ READY_TIMEOUT = 2.0  #: s; the longest we wait for a board to boot (its first WA
 PROBE = 0.1  #: s; while waiting for a board, send it a CANCEL this often
 DUMP_TIMEOUT = 0.5  #: s; the longest we wait for a DUMP reply
 SPIN = 0.0005  #: s; sleep until this close to a deadline, then spin on the clock
+#: s; the same for runs of bytes: about 50 wake-ups a second can afford to wake this
+#: early, which keeps them on time when other programs keep every core busy
+RUN_SPIN = 0.003
 POLL = 0.2  #: s; in a long pause, look at the links this often (a pulled cable)
 
 
@@ -115,17 +118,18 @@ def bursts(compiled: Compiled, links: Sequence[Link]) -> list[tuple[float, int, 
     return sorted(runs, key=lambda r: (r[0], r[1]))
 
 
-def wait_until(deadline: float, links: Sequence[Link], now: Clock, sleep: Sleep) -> None:
-    """Sleep until ``deadline`` (spinning for the last half millisecond); in long pauses
-    drain the links now and then, so a pulled cable is noticed within a second."""
+def wait_until(deadline: float, links: Sequence[Link], now: Clock, sleep: Sleep,
+               spin: float = SPIN) -> None:
+    """Sleep until ``deadline`` (spinning for the last ``spin`` s); in long pauses drain
+    the links now and then, so a pulled cable is noticed within a second."""
     while True:
         left = deadline - now()
-        if left > POLL + SPIN:
+        if left > POLL + spin:
             sleep(POLL)
             for link in links:
                 drain(link.port)
-        elif left > SPIN:
-            sleep(left - SPIN)
+        elif left > spin:
+            sleep(left - spin)
         elif left > 0:
             sleep(0)  # spin: give the thread away, look at the clock again
         else:
@@ -138,15 +142,18 @@ def play(compiled: Compiled, links: Sequence[Link], speed: float = 1.0,
     """Send every byte at its planned time; returns the worst lateness in seconds.
 
     At full speed a run of bytes due one byte-time apart goes in one write, which the
-    wire spaces as planned (``bursts``); slower, each byte is written on its own."""
-    events = bursts(compiled, links) if speed == 1 else \
+    wire spaces as planned (``bursts``), and the player wakes RUN_SPIN before each;
+    slower, each byte is written on its own, SPIN after waking."""
+    runs = speed == 1
+    events = bursts(compiled, links) if runs else \
         [(t, k, bytes([b])) for t, k, b in schedule(compiled, links)]
+    spin = RUN_SPIN if runs else SPIN
     start = now()
     worst = 0.0
     shown = -1.0
     for t, k, data in events:
         due = start + t / speed
-        wait_until(due, links, now, sleep)
+        wait_until(due, links, now, sleep, spin)
         links[k].port.write(data)
         worst = max(worst, now() - due)
         if progress is not None and t - shown >= 0.1:
