@@ -15,10 +15,10 @@ from ..plan import Plan
 from ..profile import load_profile
 from ..resolve import Program
 from . import record
+from .common import EXIT_ERROR, EXIT_OK, add_lib, add_version, number, parse_args, report, run
 
 if TYPE_CHECKING:
     from .. import metrics
-from .common import EXIT_ERROR, EXIT_OK, add_lib, add_version, number, parse_args, report, run
 
 PROG = "gestc"
 
