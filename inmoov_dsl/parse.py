@@ -7,16 +7,19 @@ GestError diagnostics with the position, the line and a caret.
 from __future__ import annotations
 
 import functools
+import hashlib
 import math
+import sys
 import threading
 
 from lark import Lark, Token, Transformer, UnexpectedCharacters, UnexpectedInput, v_args
+from lark import __version__ as lark_version
 from lark.exceptions import UnexpectedEOF, UnexpectedToken
 from lark.indenter import Indenter
 
 from . import syntax as ast
 from .errors import Diagnostic, GestError, Pos
-from .resources import grammar_path
+from .resources import grammar_path, private_cache_dir, private_file
 from .syntax import KEYWORDS
 
 MAX_REPEAT = 1000
@@ -119,16 +122,32 @@ def _next_line_pos(token: Token, indent_str: str) -> tuple[int, int, int]:
 @functools.cache
 def parser() -> Lark:
     """The .gest parser, built once. It builds the syntax tree's dataclasses while it
-    parses (Lark's tree-less LALR mode); positions come from the tokens."""
+    parses (Lark's tree-less LALR mode); positions come from the tokens.
+
+    Lark can keep the analysed grammar between runs, but it reads its cache file with
+    pickle, which runs whatever the file says: the cache is kept only in this user's
+    private cache directory (resources.private_cache_dir), never in the shared temp
+    directory Lark would choose, and not at all when no private place can be trusted."""
+    text = grammar_path().read_text(encoding="utf-8")
     return Lark(
-        grammar_path().read_text(encoding="utf-8"),
+        text,
         parser="lalr",
         lexer="contextual",
         postlex=_Indenter(),
         maybe_placeholders=False,
         transformer=_TO_AST,
-        cache=True,  # Lark keeps the analysed grammar in the temp dir between runs
+        cache=_cache_file(text),
     )
+
+
+def _cache_file(grammar: str) -> str | bool:
+    """The private file for Lark's cache of ``grammar``, or False (no cache)."""
+    where = private_cache_dir()
+    if where is None:
+        return False
+    digest = hashlib.sha256(f"{grammar}{lark_version}{sys.version_info[:2]}".encode())
+    path = where / f"gest-grammar-{digest.hexdigest()[:16]}.lark"
+    return str(path) if private_file(path) else False
 
 
 def _tok_pos(file: str, tok: Token) -> Pos:

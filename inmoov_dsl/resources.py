@@ -1,7 +1,10 @@
-"""Where the grammar, the gesture library and the profiles are, installed or not."""
+"""Where the grammar, the gesture library and the profiles are, installed or not, and
+where this user's caches may be kept."""
 
 from __future__ import annotations
 
+import os
+import stat
 from pathlib import Path
 
 _PACKAGE = Path(__file__).resolve().parent
@@ -29,3 +32,45 @@ def library_dir() -> Path:
 
 def profiles_dir() -> Path:
     return library_dir() / "profiles"
+
+
+CACHE_ENV = "INMOOV_DSL_CACHE"  #: a directory to keep caches in instead of the default
+
+
+def private_cache_dir() -> Path | None:
+    """A directory for this user's caches that no one else can write: ``$INMOOV_DSL_CACHE``,
+    or ``inmoov-dsl`` in the user's cache directory (``$XDG_CACHE_HOME`` or ``~/.cache``;
+    ``%LOCALAPPDATA%`` on Windows), created with mode 0700. On POSIX it must be a real
+    directory (not a symlink), owned by this user, that neither group nor others can
+    write; None when it is not (then nothing is cached)."""
+    base = os.environ.get(CACHE_ENV)
+    if base:
+        path = Path(base)
+    else:
+        root = os.environ.get("LOCALAPPDATA") if os.name == "nt" else \
+            os.environ.get("XDG_CACHE_HOME")
+        path = Path(root or Path.home() / ".cache") / "inmoov-dsl"
+    try:
+        path.mkdir(mode=0o700, parents=True, exist_ok=True)
+        if os.name == "nt":
+            return path if path.is_dir() else None
+        st = os.lstat(path)
+    except (OSError, RuntimeError):  # RuntimeError: no home directory
+        return None
+    if not stat.S_ISDIR(st.st_mode) or st.st_uid != os.getuid() or st.st_mode & 0o022:
+        return None
+    return path
+
+
+def private_file(path: Path) -> bool:
+    """May ``path`` (in a private_cache_dir) be trusted: absent, or a regular file of
+    this user's that no one else can write?"""
+    try:
+        st = os.lstat(path)
+    except FileNotFoundError:
+        return True
+    except OSError:
+        return False
+    if not stat.S_ISREG(st.st_mode):
+        return False
+    return os.name == "nt" or (st.st_uid == os.getuid() and not st.st_mode & 0o022)
