@@ -243,8 +243,6 @@ def test_blind_plays_on_a_link_that_cannot_answer(capsys, monkeypatch):
     (["peace", "--port", "/dev/ttyNOPE0"], "gestplay: error: port /dev/ttyNOPE0 not found; "
                                            "ports on this machine: "),
     (["peace"], "gestplay: error: no port given"),
-    (["peace", "--port", "sim://", "--speed", "2"], "gestplay: error: --speed 2: use a speed "
-                                                    "above 0 and at most 1"),
     (["pece", "--port", "sim://"], "gestplay: error: no file or library gesture 'pece'"),
     (["t.gest", "--profile", str(TWO), "--port", "loop://"],
      "gestplay: error: profile 'two' has 2 boards: give a port for each"),

@@ -158,10 +158,6 @@ def _warn(message: str) -> None:
 
 
 def cmd_play(args: argparse.Namespace) -> int:
-    if not 0 < args.speed <= 1:
-        raise GestError(Diagnostic("error", f"--speed {args.speed:g}: use a speed above 0 "
-                                   "and at most 1", hint="faster than 1 would break the "
-                                   "servos' limits; change the gesture's timing instead"))
     target = Target(args)
     profile = target.profile
     if args.dry_run:
@@ -352,8 +348,9 @@ def play_parser() -> argparse.ArgumentParser:
     ap.add_argument("-g", "--gesture", help="the gesture to play from a .gest file")
     ap.add_argument("-p", "--profile", help="robot profile (default rhand, or the "
                     "compiled file's)")
-    ap.add_argument("--speed", type=float, default=1.0,
-                    help="play slower: 0.5 is half speed (at most 1)")
+    ap.add_argument("--speed", type=number(0.01, 1), default=1.0,
+                    help="play slower: 0.5 is half speed (0.01 to 1; faster than 1 would "
+                    "break the servos' limits: change the gesture's timing instead)")
     ap.add_argument("--loop", type=number(1, 1_000_000, whole=True), default=1, metavar="N",
                     help="play N times")
     ap.add_argument("--dry-run", action="store_true",
