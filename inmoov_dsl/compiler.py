@@ -23,7 +23,9 @@ def read_text(path: str) -> str:
     A file too large to hold at most MAX_SOURCE characters (four bytes each) is a
     GestError before it is read; one that is not a regular file is a ValueError, like a
     NUL in the path."""
-    with open(path, "rb") as f:
+    # O_NONBLOCK: opening a FIFO must not wait for a writer (it is refused just after)
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
+    with open(fd, "rb") as f:
         if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
             raise ValueError("not a regular file")
         data = f.read(4 * MAX_SOURCE + 1)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import os
 import re
 import tomllib
 from dataclasses import dataclass, field, replace
@@ -124,6 +125,10 @@ def find_profile(name_or_path: str) -> Path:
     """A profile file from a built-in name (``rhand``) or a path."""
     path = Path(name_or_path)
     if path.suffix == ".toml" or len(path.parts) > 1:
+        if path.suffix != ".toml" or not os.path.realpath(path).endswith(".toml"):
+            raise GestError(Diagnostic("error", f"a profile is a .toml file, not "
+                                       f"'{name_or_path}'", hint="--profile rhand, or "
+                                       "--profile my_hand.toml"))
         if not path.is_file():
             raise GestError(Diagnostic("error", f"profile file '{name_or_path}' not found"))
         return path

@@ -9,6 +9,7 @@ from __future__ import annotations
 import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from pathlib import Path
 
 from . import syntax as ast
 from .errors import Diagnostic, GestError, Pos, SourceMap, did_you_mean
@@ -113,12 +114,26 @@ def load_program(path: str, read: Reader, search: Sequence[str] = (),
     return program
 
 
+GEST_SUFFIX = ".gest"
+
+
 def _find_import(use: ast.Use, importer: str, search: Sequence[str], read: Reader,
                  sources: SourceMap) -> tuple[str, str]:
+    """The file ``use`` names: relative to the importing file's directory, then to each
+    directory of the search path (an absolute path as it is). It must be a gesture file,
+    its name and (through any symlink) its target's name ending in .gest: so a gesture
+    file from someone else cannot make the tools open, or quote a line of, anything else
+    (docs/security.md)."""
+    if not use.path.endswith(GEST_SUFFIX):
+        raise GestError(sources.error(f"use takes a {GEST_SUFFIX} file, not '{use.path}'",
+                                      use.pos, f'use "{Path(use.path).stem}{GEST_SUFFIX}"'))
     places = [os.path.join(os.path.dirname(importer), use.path)]
     places += [os.path.join(d, use.path) for d in search]
     for place in places:
         try:
+            if not os.path.realpath(place).endswith(GEST_SUFFIX) and os.path.exists(place):
+                raise ValueError(f"it links to '{os.path.realpath(place)}', which is not a "
+                                 f"{GEST_SUFFIX} file")
             return place, read(place)
         except FileNotFoundError:
             continue

@@ -256,6 +256,26 @@ def test_the_player_checks_a_compiled_file_before_the_first_byte(tmp_path, capsy
     assert sent == []
 
 
+@pytest.mark.skipif(os.name != "posix", reason="symlinks")
+def test_a_profile_is_a_toml_file_and_nothing_else(tmp_path, capsys):
+    from inmoov_dsl.cli import gestplay
+
+    secret = tmp_path / "secret.txt"
+    secret.write_text("API_KEY=hunter2\n")
+    (tmp_path / "evil.toml").symlink_to(secret)
+    for profile in (str(secret), str(tmp_path / "evil.toml"), "/etc/passwd"):
+        code, _, err = run(capsys, "compile", COUNT, "--profile", profile, "-o", "-")
+        assert code == 1 and "a profile is a .toml file" in err and "hunter2" not in err
+    good = tmp_path / "count.gestc"
+    assert run(capsys, "compile", COUNT, "-o", str(good))[0] == 0
+    doc = json.loads(good.read_text())
+    doc["profile"]["name"] = "/etc/passwd"  # a compiled file naming what it should not
+    bad = tmp_path / "bad.gestc"
+    bad.write_text(json.dumps(doc))
+    assert gestplay.main([str(bad), "--dry-run"]) == 1
+    assert "a profile is a .toml file, not '/etc/passwd'" in capsys.readouterr().err
+
+
 def test_a_compiled_file_round_trips():
     compiled = compile_file(COUNT)
     again = from_json(to_json(compiled))

@@ -1,5 +1,7 @@
 """Names, poses, groups, calls, repeats and imports, and what their errors say."""
 
+import os
+
 import pytest
 
 from inmoov_dsl import compile_source
@@ -201,7 +203,23 @@ def test_a_use_of_something_not_a_file_is_refused_not_read(rhand):
     with pytest.raises(GestError) as info:
         load("main.gest", 'use "/dev/zero"\ng: index 9\n', search=[])
     assert info.value.format().startswith(
-        "main.gest:1:5: error: cannot read '/dev/zero': not a regular file")
+        "main.gest:1:5: error: use takes a .gest file, not '/dev/zero'")
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="symlinks and FIFOs are POSIX")
+def test_use_opens_only_gesture_files_and_quotes_nothing_else(tmp_path):
+    secret = tmp_path / "secret.txt"
+    secret.write_text("API_KEY=hunter2\n")
+    (tmp_path / "evil.gest").symlink_to(secret)
+    os.mkfifo(tmp_path / "fifo.gest")
+    for used, why in [(secret, "use takes a .gest file"),
+                      (tmp_path / "evil.gest", "which is not a .gest file"),
+                      (tmp_path / "fifo.gest", "not a regular file"),
+                      ("/proc/self/environ", "use takes a .gest file")]:
+        with pytest.raises(GestError) as info:  # and no hang on the FIFO
+            load(str(tmp_path / "main.gest"), f'use "{used}"\ng: index 9\n', search=[])
+        said = info.value.format()
+        assert why in said and "hunter2" not in said and "PATH=" not in said
 
 
 def test_a_lone_surrogate_in_a_comment_compiles(rhand):
