@@ -12,7 +12,6 @@ import json
 import math
 import os
 import re
-import stat
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,6 +21,7 @@ from .encode import Stream
 from .errors import Diagnostic, GestError, Pos, decode_utf8
 from .plan import MAX_GESTURE_DURATION
 from .profile import MAX_BAUD, Board, Profile
+from .resources import read_regular
 
 FORMAT = "inmoov-dsl-compiled"
 VERSION = 1
@@ -105,10 +105,7 @@ def read_compiled(path: str | os.PathLike) -> Compiled:
     it is read), UTF-8, then everything ``from_json`` checks."""
     file = os.fspath(path)
     try:
-        with open(file, "rb") as f:
-            if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
-                raise GestError(Diagnostic("error", f"cannot read '{file}': not a file"))
-            data = f.read(MAX_COMPILED + 1)
+        data = read_regular(file, MAX_COMPILED)
     except FileNotFoundError:
         raise GestError(Diagnostic("error", f"cannot find '{file}'")) from None
     except (OSError, ValueError) as exc:  # ValueError: a NUL in the name

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import hashlib
 import os
-import stat
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
@@ -16,6 +15,7 @@ from .parse import MAX_SOURCE
 from .plan import Plan, Planner
 from .profile import Profile, load_profile, profiles_with
 from .resolve import Program, Reader, load_program, resolve_start, resolver
+from .resources import read_regular
 
 
 def read_text(path: str) -> str:
@@ -23,12 +23,7 @@ def read_text(path: str) -> str:
     A file too large to hold at most MAX_SOURCE characters (four bytes each) is a
     GestError before it is read; one that is not a regular file is a ValueError, like a
     NUL in the path."""
-    # O_NONBLOCK: opening a FIFO must not wait for a writer (it is refused just after)
-    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
-    with open(fd, "rb") as f:
-        if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
-            raise ValueError("not a regular file")
-        data = f.read(4 * MAX_SOURCE + 1)
+    data = read_regular(path, 4 * MAX_SOURCE)
     if len(data) > 4 * MAX_SOURCE:
         raise GestError(Diagnostic(
             "error", f"the file is longer than {MAX_SOURCE:,} characters: it is not read",

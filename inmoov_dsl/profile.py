@@ -14,7 +14,7 @@ from typing import Any
 
 from . import protocol
 from .errors import Diagnostic, GestError, Pos, decode_utf8, did_you_mean
-from .resources import profiles_dir
+from .resources import profiles_dir, read_regular
 from .syntax import KEYWORDS
 
 NAME_RE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
@@ -146,11 +146,10 @@ def load_profile(name_or_path: str) -> Profile:
     (a profile is read for every gesture ``gestc check`` compiles)."""
     path = find_profile(name_or_path)
     try:
-        with open(path, "rb") as f:
-            data = f.read(MAX_PROFILE + 1)
-    except OSError as exc:
+        data = read_regular(path, MAX_PROFILE)
+    except (OSError, ValueError) as exc:
         raise GestError(Diagnostic("error", f"cannot read profile '{path}': "
-                                   f"{exc.strerror or exc}")) from None
+                                   f"{getattr(exc, 'strerror', None) or exc}")) from None
     if len(data) > MAX_PROFILE:
         raise GestError(Diagnostic("error", f"profile '{path}' is larger than "
                                    f"{MAX_PROFILE:,} bytes: it is not read",

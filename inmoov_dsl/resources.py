@@ -74,3 +74,14 @@ def private_file(path: Path) -> bool:
     if not stat.S_ISREG(st.st_mode):
         return False
     return os.name == "nt" or (st.st_uid == os.getuid() and not st.st_mode & 0o022)
+
+
+def read_regular(path: str | os.PathLike, limit: int) -> bytes:
+    """At most ``limit + 1`` bytes of the regular file ``path`` (one more than the limit
+    tells the caller it is too large). Anything else (a FIFO, a device, a directory) is a
+    ValueError; opening does not wait for a FIFO's writer."""
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0)
+    with open(os.open(path, flags), "rb") as f:
+        if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
+            raise ValueError("not a regular file")
+        return f.read(limit + 1)

@@ -77,3 +77,14 @@ def test_the_private_cache_is_used_only_when_no_one_else_can_write_it(tmp_path):
     os.symlink(tmp_path / "elsewhere", cache)  # a link: not followed
     assert gestc_check(env).returncode == 0 and not marker.exists()
     assert not (tmp_path / "elsewhere").exists()
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="FIFOs are POSIX")
+def test_a_fifo_given_as_a_compiled_file_is_refused_without_waiting(tmp_path, capsys):
+    from inmoov_dsl.cli import gestplay
+
+    fifo = tmp_path / "x.gestc"
+    os.mkfifo(fifo)  # opened for reading, it would wait for a writer forever
+    assert gestplay.main([str(fifo), "--dry-run"]) == 1
+    assert capsys.readouterr().err == f"gestplay: error: cannot read '{fifo}': not a " \
+                                      "regular file\n"
