@@ -217,7 +217,7 @@ class SilentPort:
         pass
 
 
-@pytest.mark.parametrize("tool", [[], ["repl"], ["teach"]])
+@pytest.mark.parametrize("tool", [[], ["repl"], ["teach"], ["relax"]])
 def test_no_board_is_an_error_before_any_gesture_byte(capsys, monkeypatch, tool):
     port = SilentPort()
     monkeypatch.setattr(gestplay, "open_port", lambda name, baud: port)

@@ -292,7 +292,10 @@ def cmd_relax(args: argparse.Namespace) -> int:
     def relax() -> int:
         for link in links:
             if not wait_ready(link.port):
-                _warn(f"board {link.board} on {link.name} sent no WAIT: relaxing it anyway")
+                if not args.blind:
+                    raise GestError(no_answer(link, profile))
+                _warn(f"board {link.board} on {link.name} did not answer (--blind): "
+                      f"relaxing it anyway")
         relax_all(links)
         for link in links:
             drain(link.port)  # a pulled cable says so here
@@ -386,6 +389,7 @@ def tools_parser() -> argparse.ArgumentParser:
                    help="the board's port; BOARD=PORT for each board of a profile with "
                    "several")
     p.add_argument("-p", "--profile", help="robot profile (default rhand)")
+    add_blind(p)
     p.set_defaults(func=cmd_relax)
     calibrate.add_parser(sub)
     repl.add_parser(sub)
