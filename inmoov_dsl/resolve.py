@@ -131,9 +131,10 @@ def _find_import(use: ast.Use, importer: str, search: Sequence[str], read: Reade
     places += [os.path.join(d, use.path) for d in search]
     for place in places:
         try:
-            if not os.path.realpath(place).endswith(GEST_SUFFIX) and os.path.exists(place):
-                raise ValueError(f"it links to '{os.path.realpath(place)}', which is not a "
-                                 f"{GEST_SUFFIX} file")
+            target = os.path.realpath(place)
+            if not target.endswith(GEST_SUFFIX) and os.path.exists(place):
+                raise ValueError(f"it links to '{target}', which is not a {GEST_SUFFIX} "
+                                 f"file")
             return place, read(place)
         except FileNotFoundError:
             continue

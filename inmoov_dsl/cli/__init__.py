@@ -5,22 +5,18 @@ status 130 (143), not a traceback."""
 from __future__ import annotations
 
 import importlib
-import signal
 import sys
 
 
 def _start(tool: str) -> int:
-    def stop(signum: int, frame: object) -> None:
-        raise KeyboardInterrupt(128 + signum)
+    from .common import status_of, stop_on_signals, why
 
-    for name in ("SIGTERM", "SIGHUP"):
-        if hasattr(signal, name):
-            signal.signal(getattr(signal, name), stop)
+    stop_on_signals()
     try:
         main = importlib.import_module(f".{tool}", __name__).main
     except KeyboardInterrupt as exc:
-        print(f"{tool}: interrupted while starting", file=sys.stderr)
-        return exc.args[0] if exc.args else 130
+        print(f"{tool}: {why(exc)} while starting", file=sys.stderr)
+        return status_of(exc)
     return main()
 
 

@@ -26,8 +26,14 @@ PROG = "gestc"
 def _compile(args: argparse.Namespace) -> tuple[Compiled, Plan]:
     dirs = library_dirs(args.lib)
     path, gesture = find_gesture(args.target, args.gesture, dirs, _warn)
-    program = load(path, search=dirs)
-    compiled, plan = compile_program(program, gesture, args.profile, args.start, args.strict)
+    return _compile_one(load(path, search=dirs), gesture, args, args.start)
+
+
+def _compile_one(program: Program, gesture: str | None, args: argparse.Namespace,
+                 start: str | None) -> tuple[Compiled, Plan]:
+    """Compile one gesture and report its warnings; with --strict, a link that cannot
+    keep up is an error too."""
+    compiled, plan = compile_program(program, gesture, args.profile, start, args.strict)
     report(compiled.warnings, PROG)
     if args.strict:
         _link_keeps_up(program, compiled, plan)
@@ -97,11 +103,7 @@ def cmd_check(args: argparse.Namespace) -> int:
         try:
             program = load(file, search=dirs)
             for name in program.own:
-                compiled, plan = compile_program(program, name, args.profile, None,
-                                                 args.strict)
-                report(compiled.warnings, PROG)
-                if args.strict:
-                    _link_keeps_up(program, compiled, plan)
+                _compile_one(program, name, args, None)
             count = len(program.own)
             print(f"{file}: ok ({count} gesture{'' if count == 1 else 's'})")
         except GestError as exc:
@@ -322,7 +324,7 @@ def _profiles_needed(entries: list[Entry], dirs: list[Path]) -> dict[str, str]:
     """Gesture name -> the built-in profile it is for: rhand (the default) if its names
     are all there, else the first profile that has them all; '-' if none has."""
     from ..profile import builtin_profiles
-    from ..resolve import Resolver
+    from ..resolve import resolver
 
     names = ["rhand", *(n for n in builtin_profiles() if n != "rhand")]
     profiles = [load_profile(n) for n in names]
@@ -337,7 +339,7 @@ def _profiles_needed(entries: list[Entry], dirs: list[Path]) -> dict[str, str]:
         needs[e.name] = "-"
         for profile in profiles if programs[e.path] is not None else ():
             try:
-                Resolver(programs[e.path], profile, lambda _: []).gesture(e.name)
+                resolver(programs[e.path], profile).gesture(e.name)
             except GestError:
                 continue
             needs[e.name] = profile.name

@@ -115,28 +115,33 @@ def close(links: list[Link]) -> None:
 
 
 def board_pose(links: list[Link], profile: Profile, blind: bool = False) -> dict[str, int]:
-    """Wait for each board to boot, sync it with CANCEL and read its pose with DUMP.
-    A link on which nothing answers is an error before any gesture byte goes out,
-    unless ``blind`` (a link that cannot answer): then the plan starts from rest."""
+    """Each board's pose (``reach``), by servo name; a board that did not say it is
+    planned from the profile's rest pose."""
     names = {s.id: s.name for s in profile.servos}
     pose: dict[str, int] = {}
     for link in links:
-        ready = wait_ready(link.port)
-        values = ask_dump(link.port, link.board)
-        if values is None and not ready:
-            if not blind:
-                raise GestError(no_answer(link, profile))
-            _warn(f"board {link.board} on {link.name} did not answer (--blind): starting "
-                  f"from the profile's rest pose")
-            continue
-        if values is None:
-            _warn(f"board {link.board} on {link.name} did not answer DUMP: starting from "
-                  f"the profile's rest pose")
-            continue
-        if not ready:
-            _warn(f"board {link.board} on {link.name} sent no WAIT, but answered DUMP")
-        pose.update({names[sid]: v for sid, v in values.items() if sid in names})
+        values = reach(link, profile, blind, "starting from the profile's rest pose")
+        pose.update({names[sid]: v for sid, v in (values or {}).items() if sid in names})
     return pose
+
+
+def reach(link: Link, profile: Profile, blind: bool, going_on: str) -> dict[int, int] | None:
+    """Wait for the board to boot, sync it with CANCEL and ask its pose with DUMP: its
+    values (servo ID -> value), or None. Nothing answering (no WAIT and no DUMP reply)
+    is an error before any gesture byte goes out, unless ``blind`` (a link that cannot
+    answer); a board that answered only in part is a warning ending in ``going_on``."""
+    ready = wait_ready(link.port)
+    values = ask_dump(link.port, link.board)
+    where = f"board {link.board} on {link.name}"
+    if values is None and not ready:
+        if not blind:
+            raise GestError(no_answer(link, profile))
+        _warn(f"{where} did not answer (--blind): {going_on}")
+    elif values is None:
+        _warn(f"{where} did not answer DUMP: {going_on}")
+    elif not ready:
+        _warn(f"{where} sent no WAIT, but answered DUMP")
+    return values
 
 
 def no_answer(link: Link, profile: Profile) -> Diagnostic:
@@ -291,11 +296,7 @@ def cmd_relax(args: argparse.Namespace) -> int:
 
     def relax() -> int:
         for link in links:
-            if not wait_ready(link.port):
-                if not args.blind:
-                    raise GestError(no_answer(link, profile))
-                _warn(f"board {link.board} on {link.name} did not answer (--blind): "
-                      f"relaxing it anyway")
+            reach(link, profile, args.blind, "relaxing it anyway")
         relax_all(links)
         for link in links:
             drain(link.port)  # a pulled cable says so here
