@@ -20,7 +20,7 @@ from .errors import Diagnostic, GestError, Pos, SourceMap
 from .parse import parse
 from .plan import MotionState, Plan, Planner
 from .profile import Profile
-from .resolve import Program, Resolver, Step
+from .resolve import Action, Program, Resolver
 from .syntax import GestureDef
 
 LINE = "<repl>"  #: the file name diagnostics give for a typed line
@@ -35,7 +35,7 @@ class Segment:
     origin: float
     plan: Plan
     streams: tuple[Stream, ...]
-    step: Step
+    step: Action
     warnings: tuple[Diagnostic, ...] = ()
 
 
@@ -46,9 +46,9 @@ class Session:
                  sources: SourceMap | None = None):
         self.profile = profile
         self.planner = Planner(profile, sources)
-        hold = Step((), hold=0.0)
+        hold = Action((), hold=0.0)
         self.current = Segment(now, self.planner.plan([hold], pose), (), hold)
-        self.queue: deque[tuple[Step, SourceMap | None]] = deque()
+        self.queue: deque[tuple[Action, SourceMap | None]] = deque()
 
     def state(self, now: float) -> MotionState:
         return MotionState.at(self.current.plan, now - self.current.origin)
@@ -61,7 +61,7 @@ class Session:
     def end(self) -> float:
         return self.current.origin + self.current.plan.duration
 
-    def submit(self, steps: Sequence[Step], now: float, held: Sequence[int],
+    def submit(self, steps: Sequence[Action], now: float, held: Sequence[int],
                sources: SourceMap | None = None) -> Segment | None:
         """New steps replace the queue; a move starts now (taking over), a wait starts
         when the running move ends. Returns the segment to send now, if any.
@@ -71,7 +71,7 @@ class Session:
             return self._start(now, held)
         return self.next(now, held)
 
-    def append(self, steps: Sequence[Step], now: float, held: Sequence[int],
+    def append(self, steps: Sequence[Action], now: float, held: Sequence[int],
                sources: SourceMap | None = None) -> Segment | None:
         """New steps after the queued ones (a script, not a takeover)."""
         self.queue.extend((step, sources) for step in steps)
@@ -101,7 +101,7 @@ class Session:
         return self.current
 
 
-def line_steps(line: str, program: Program, profile: Profile) -> tuple[list[Step], SourceMap]:
+def line_steps(line: str, program: Program, profile: Profile) -> tuple[list[Action], SourceMap]:
     """The steps of one typed line, e.g. ``index 90, middle 45 over 0.5s``, ``wait 1s``
     or the name of a gesture or pose of ``program``. Errors point into the line."""
     text = f"{_PREFIX}{line}\n"

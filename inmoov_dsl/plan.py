@@ -19,7 +19,7 @@ from ruckig import InputParameter, Result, Ruckig, Synchronization, Trajectory
 
 from .errors import Diagnostic, GestError, Pos, SourceMap
 from .profile import Profile
-from .resolve import Step
+from .resolve import Action
 
 MAX_GESTURE_DURATION = 3600.0  #: s; a compile's work is bounded by this
 POSITION_DECIMALS = 9  #: a planned position is evaluated to 1e-9 degree
@@ -112,7 +112,7 @@ class _TrackBuilder:
 
 
 class Planner:
-    """Plans Steps for one profile; keeps one ruckig instance per number of servos."""
+    """Plans Actions for one profile; keeps one ruckig instance per number of servos."""
 
     def __init__(self, profile: Profile, sources: SourceMap | None = None):
         self.profile = profile
@@ -124,7 +124,7 @@ class Planner:
             self._ruckig[dofs] = (Ruckig(dofs), InputParameter(dofs), Trajectory(dofs))
         return self._ruckig[dofs]
 
-    def plan(self, steps: Sequence[Step], start: Sequence[int], strict: bool = False) -> Plan:
+    def plan(self, steps: Sequence[Action], start: Sequence[int], strict: bool = False) -> Plan:
         """Plan ``steps`` from the pose ``start``; a stretched move warns (or, with
         ``strict``, is an error)."""
         pose = list(start)
@@ -159,7 +159,7 @@ class Planner:
                     tuple(start), tuple(pose), now, () if strict else told)
 
     def _calculate(self, ruckig: Ruckig, inp: InputParameter, traj: Trajectory,
-                   step: Step | None) -> None:
+                   step: Action | None) -> None:
         """ruckig's trajectory for ``inp``; any failure of ruckig (a result that is not
         a success, an exception, a duration that is not finite) is a GestError at the
         step."""
@@ -180,7 +180,7 @@ class Planner:
                 "the servos it moves may have limits too far apart for this duration: "
                 "try another 'over', or check the profile's limits"))
 
-    def _move(self, step: Step, now: float, pose: list[int], builders: list[_TrackBuilder]
+    def _move(self, step: Action, now: float, pose: list[int], builders: list[_TrackBuilder]
               ) -> tuple[PlannedStep, float]:
         """One ruckig trajectory for every servo the step moves, from rest to rest;
         appends it to the servos' tracks and updates ``pose``. Also returns how long
@@ -216,7 +216,7 @@ class Planner:
                            stretched, tuple(idx)), move_time
 
     def take_over(self, state: MotionState, targets: Sequence[int], over: float | None = None,
-                  step: Step | None = None) -> Plan:
+                  step: Action | None = None) -> Plan:
         """Plan from a moving state to ``targets`` (one per servo), all arriving together,
         at rest, no sooner than ``over``: a new step takes over a running move with the
         hand's current position, velocity and acceleration (no jump, no stop first)."""

@@ -10,12 +10,13 @@ from __future__ import annotations
 
 import contextlib
 import heapq
-import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
+from . import clock
 from .board import parse_dump
+from .clock import Clock, Sleep
 from .compiled import Compiled
 from .protocol import SERVO_FRAME, Signal
 
@@ -43,16 +44,12 @@ class Link:
     name: str = ""
 
 
-Clock = Callable[[], float]
-Sleep = Callable[[float], None]
-
-
 def drain(port: Port) -> bytes:
     """Whatever the board has sent (WAIT bytes, mostly); raises if the link is gone."""
     return port.read(4096)
 
 
-def wait_ready(port: Port, now: Clock = time.monotonic, sleep: Sleep = time.sleep,
+def wait_ready(port: Port, now: Clock = clock.now, sleep: Sleep = clock.sleep,
                timeout: float = READY_TIMEOUT) -> bool:
     """Wait until the board is ready: the WAIT it sends when it has booted (opening the
     port reset it) or the WAIT it answers a CANCEL with (the port kept DTR up, so it did
@@ -70,7 +67,7 @@ def wait_ready(port: Port, now: Clock = time.monotonic, sleep: Sleep = time.slee
     return False
 
 
-def ask_dump(port: Port, board: int, now: Clock = time.monotonic, sleep: Sleep = time.sleep,
+def ask_dump(port: Port, board: int, now: Clock = clock.now, sleep: Sleep = clock.sleep,
              timeout: float = DUMP_TIMEOUT) -> dict[int, int] | None:
     """CANCEL, then DUMP: the board's servo values (ID -> value), or None if no reply."""
     drain(port)
@@ -137,7 +134,7 @@ def wait_until(deadline: float, links: Sequence[Link], now: Clock, sleep: Sleep,
 
 
 def play(compiled: Compiled, links: Sequence[Link], speed: float = 1.0,
-         now: Clock = time.perf_counter, sleep: Sleep = time.sleep,
+         now: Clock = clock.now, sleep: Sleep = clock.sleep,
          progress: Callable[[float], None] | None = None) -> float:
     """Send every byte at its planned time; returns the worst lateness in seconds.
 

@@ -26,7 +26,7 @@ from .fmt import format_source
 from .plan import Planner
 from .profile import Profile
 from .protocol import MAX_VALUE, SERVO_FRAME, Signal
-from .resolve import Step
+from .resolve import Action
 
 DEFAULT_TOLERANCE = 3.0  #: command degrees
 OUTLIER = 12.0  #: command degrees from both neighbours makes a lone sample an outlier
@@ -248,7 +248,7 @@ def _segment(planner: Planner, servos: list[int], times: np.ndarray, rec: np.nda
 
     def try_plan(targets, stagger=0.0):
         over = total - stagger * (len(targets) - 1)
-        plan = planner.plan([Step(tuple(targets), over=over, stagger=stagger)], start)
+        plan = planner.plan([Action(tuple(targets), over=over, stagger=stagger)], start)
         planned = np.stack([plan.tracks[i].position(span) for i in servos], axis=1)
         error = max(0.0, float(np.abs(planned - rec[a:b + 1]).max()) - band)
         return error, plan.duration > total + 1e-6

@@ -1,6 +1,6 @@
 """Resolve names (stage 2): files and their imports, poses, groups, calls and repeats.
 
-A gesture becomes a flat tuple of Steps over the profile's servos. File access
+A gesture becomes a flat tuple of Actions over the profile's servos. File access
 goes through an injected ``read`` function, so the stage stays testable.
 """
 
@@ -25,8 +25,10 @@ MAX_TOTAL_STEPS = 1_000_000
 
 
 @dataclass(frozen=True)
-class Step:
-    """One step of a resolved gesture: a move (targets), or a hold (``hold`` > 0)."""
+class Action:
+    """What one step of a gesture does once resolved: a move (targets), or a hold
+    (``hold`` > 0). (``syntax.Step`` is what was written, ``plan.PlannedStep`` what was
+    planned, ``compiled.StepSummary`` what a compiled file reports.)"""
 
     targets: tuple[tuple[int, int], ...]  #: (servo index, value), in stagger order
     over: float | None = None  #: s; all servos arrive together at this time
@@ -146,7 +148,7 @@ def _find_import(use: ast.Use, importer: str, search: Sequence[str], read: Reade
 
 
 class Resolver:
-    """Turns a gesture of a Program into Steps for one profile."""
+    """Turns a gesture of a Program into Actions for one profile."""
 
     def __init__(self, program: Program, profile: Profile,
                  elsewhere: Callable[[str], Sequence[str]] | None = None):
@@ -270,7 +272,7 @@ class Resolver:
         return out, height
 
     # -- steps ------------------------------------------------------------------
-    def gesture(self, name: str) -> tuple[Step, ...]:
+    def gesture(self, name: str) -> tuple[Action, ...]:
         """The steps of gesture ``name``, with calls and repeats expanded."""
         node = self.program.gestures[name]
         size, _ = self.measure(name, (name,))
@@ -286,7 +288,7 @@ class Resolver:
                     "split the file: each gesture's calls and repeats are expanded"))
             self._counted.add(name)
             self._total += size
-        out: list[Step] = []
+        out: list[Action] = []
         self._emit(node.steps, name, out)
         return tuple(out)
 
@@ -342,13 +344,13 @@ class Resolver:
         return GestError(self.src.error(
             f"calls and repeats are nested more than {MAX_NESTING} deep", pos))
 
-    def _emit(self, steps: Sequence[ast.Step], where: str, out: list[Step]) -> None:
+    def _emit(self, steps: Sequence[ast.Step], where: str, out: list[Action]) -> None:
         for step in steps:
             if isinstance(step, ast.Repeat):
                 for _ in range(step.count):
                     self._emit(step.body, where, out)
             elif isinstance(step, ast.Wait):
-                out.append(Step((), hold=step.duration.seconds, pos=step.pos, where=where))
+                out.append(Action((), hold=step.duration.seconds, pos=step.pos, where=where))
             elif (callee := self._call(step)) is not None:
                 self._emit(self.program.gestures[callee].steps, self._where(where, callee),
                            out)
@@ -356,7 +358,7 @@ class Resolver:
                 key = id(step)
                 if key not in self._moves:
                     self._moves[key] = tuple(self.targets(step.targets).items())
-                out.append(Step(
+                out.append(Action(
                     self._moves[key],
                     over=step.over.seconds if step.over else None,
                     stagger=step.stagger.seconds if step.stagger else 0.0,

@@ -7,7 +7,7 @@ from ruckig import InputParameter, Ruckig, Trajectory
 from inmoov_dsl.compiler import load, plan_gesture
 from inmoov_dsl.errors import GestError
 from inmoov_dsl.plan import Planner
-from inmoov_dsl.resolve import Step
+from inmoov_dsl.resolve import Action
 
 
 def solo_time(servo, distance):
@@ -41,7 +41,7 @@ def test_random_moves_start_and_end_exactly_within_limits(rhand):
             servos = rng.choice(6, size=int(rng.integers(1, 7)), replace=False)
             over = float(rng.uniform(0.05, 1.5)) if rng.random() < 0.5 else None
             stagger = float(rng.uniform(0, 0.2)) if rng.random() < 0.3 else 0.0
-            steps.append(Step(tuple((int(i), int(rng.integers(0, 181))) for i in servos),
+            steps.append(Action(tuple((int(i), int(rng.integers(0, 181))) for i in servos),
                               over=over, stagger=stagger))
         plan = planner.plan(steps, start)
         for i, track in enumerate(plan.tracks):
@@ -60,21 +60,21 @@ def test_limits_hold_over_a_sweep(rhand):
     rng = np.random.default_rng(11)
     planner = Planner(rhand)
     for _ in range(40):
-        steps = [Step(tuple((i, int(rng.integers(0, 181))) for i in range(6)),
+        steps = [Action(tuple((i, int(rng.integers(0, 181))) for i in range(6)),
                       over=float(rng.uniform(0.1, 1.0)) if rng.random() < 0.5 else None)
                  for _ in range(3)]
         check_limits(planner.plan(steps, (0,) * 6), rhand)
 
 
 def test_without_over_a_step_is_as_fast_as_its_slowest_servo(rhand):
-    plan = Planner(rhand).plan([Step(((2, 180), (3, 90), (1, 40)))], (0,) * 6)
+    plan = Planner(rhand).plan([Action(((2, 180), (3, 90), (1, 40)))], (0,) * 6)
     slowest = max(solo_time(rhand.servos[2], 180), solo_time(rhand.servos[3], 90),
                   solo_time(rhand.servos[1], 40))
     assert plan.duration == pytest.approx(slowest, abs=1e-6)
 
 
 def test_with_over_every_servo_arrives_together_on_time(rhand):
-    plan = Planner(rhand).plan([Step(((2, 180), (3, 20), (1, 60)), over=1.25)], (0,) * 6)
+    plan = Planner(rhand).plan([Action(((2, 180), (3, 20), (1, 60)), over=1.25)], (0,) * 6)
     assert plan.duration == pytest.approx(1.25, abs=1e-9)
     for i, target in ((2, 180), (3, 20), (1, 60)):
         track = plan.tracks[i]
@@ -84,7 +84,7 @@ def test_with_over_every_servo_arrives_together_on_time(rhand):
 
 
 def test_a_stagger_starts_each_servo_later(rhand):
-    step = Step(((5, 90), (4, 90), (3, 90), (2, 90)), over=0.5, stagger=0.1)
+    step = Action(((5, 90), (4, 90), (3, 90), (2, 90)), over=0.5, stagger=0.1)
     plan = Planner(rhand).plan([step], (0,) * 6)
     assert plan.duration == pytest.approx(0.5 + 3 * 0.1)
     for k, i in enumerate((5, 4, 3, 2)):
@@ -119,8 +119,8 @@ def test_strict_makes_a_stretch_an_error(rhand):
 
 
 def test_holds_and_moves_to_the_current_pose(rhand):
-    plan = Planner(rhand).plan([Step((), hold=0.5), Step(((2, 0),), over=0.3),
-                                Step(((2, 0),))], (0,) * 6)
+    plan = Planner(rhand).plan([Action((), hold=0.5), Action(((2, 0),), over=0.3),
+                                Action(((2, 0),))], (0,) * 6)
     assert plan.duration == pytest.approx(0.8)
     assert [s.kind for s in plan.steps] == ["hold", "move", "move"]
 
@@ -196,7 +196,7 @@ def test_a_stretch_says_enough_decimals_to_tell_the_two_apart():
 
 def test_positions_are_exact_to_a_nanodegree(rhand):
     # float noise below 1e-9 degree no longer decides which way a half degree rounds
-    plan = Planner(rhand).plan([Step(((2, 180),))], (0,) * 6)
+    plan = Planner(rhand).plan([Action(((2, 180),))], (0,) * 6)
     t = np.linspace(0, plan.duration, 1001)
     p = plan.tracks[2].position(t)
     assert np.all(p == np.round(p, 9))
