@@ -16,6 +16,7 @@ from terminal import AtTerminal, listen_as_a_plain_program
 from inmoov_dsl import load_profile
 from inmoov_dsl.board import BoardCore
 from inmoov_dsl.cli import gestplay
+from inmoov_dsl.player import ask_dump, wait_ready
 from inmoov_dsl.ports import leave_dtr_up, open_port
 from inmoov_dsl.protocol import POSE_SETTLE
 from inmoov_dsl.sim import VirtualBoard
@@ -73,21 +74,21 @@ def test_sim_resets_only_when_an_open_raises_dtr():
     raw = serial.serial_for_url(url, 9600, timeout=0)  # HUPCL set: DTR drops on close
     first = raw.board
     assert first.resets == 0  # powered up
-    gestplay.wait_ready(raw)
+    wait_ready(raw)
     raw.write(bytes([255, 2, 90]))
     time.sleep(0.05)
     raw.close()
     port = open_port(url, 9600)  # DTR rose: a reset, from the rest pose (90 never settled)
     assert port.board is first and first.resets == 1
-    assert gestplay.ask_dump(port, 181) is None  # the bootloader is still running...
-    assert gestplay.wait_ready(port)
-    assert gestplay.ask_dump(port, 181) == dict.fromkeys(range(6), 0)
+    assert ask_dump(port, 181) is None  # the bootloader is still running...
+    assert wait_ready(port)
+    assert ask_dump(port, 181) == dict.fromkeys(range(6), 0)
     port.write(bytes([255, 3, 120]))
     time.sleep(0.05)
     port.close()  # HUPCL cleared by open_port: DTR stays up
     again = open_port(url, 9600)
     assert again.board.resets == 1  # no reset
-    assert gestplay.ask_dump(again, 181)[3] == 120  # at once: no boot to wait for
+    assert ask_dump(again, 181)[3] == 120  # at once: no boot to wait for
     again.close()
 
 
@@ -121,13 +122,13 @@ def test_gestplay_leaves_the_board_running_and_in_its_pose(gestsim):
     # the next program finds the board as gestplay left it: no reset, the rockon pose
     port, heard = listen_as_a_plain_program(path)
     assert heard == b""
-    assert gestplay.ask_dump(port, 181) == {0: 0, 1: 0, 2: 0, 3: 180, 4: 180, 5: 0}
+    assert ask_dump(port, 181) == {0: 0, 1: 0, 2: 0, 3: 180, 4: 180, 5: 0}
     time.sleep(POSE_SETTLE)  # the pose has held for a second: the board stores it
     port.close()  # this one drops DTR: the next open resets, from the pose stored
     time.sleep(0.1)
     port, heard = listen_as_a_plain_program(path)
     assert heard == bytes([254])
-    assert gestplay.ask_dump(port, 181) == {0: 0, 1: 0, 2: 0, 3: 180, 4: 180, 5: 0}
+    assert ask_dump(port, 181) == {0: 0, 1: 0, 2: 0, 3: 180, 4: 180, 5: 0}
     port.close()
 
 
@@ -138,7 +139,7 @@ def test_gestplay_relax_stops_the_pulses_until_the_next_command(capsys):
     assert capsys.readouterr().out == (f"board 181 on {url}: relaxed, its servos are limp "
                                        "until the next command\n")
     port = open_port(url, 9600)
-    assert gestplay.ask_dump(port, 181) == dict.fromkeys(range(6), 0)  # it still answers
+    assert ask_dump(port, 181) == dict.fromkeys(range(6), 0)  # it still answers
     assert port.board.core.relaxed and port.board.resets == 0
     port.write(bytes([255, 2, 90]))
     time.sleep(0.05)

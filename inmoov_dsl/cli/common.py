@@ -11,7 +11,15 @@ from collections.abc import Callable, Iterable
 
 from ..errors import Diagnostic, GestError
 
-EXIT_OK, EXIT_ERROR, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
+EXIT_OK, EXIT_ERROR, EXIT_INTERRUPTED = 0, 1, 130
+
+
+class Exit(Exception):  # noqa: N818 (not an error: the way out, everything said)
+    """Leave the tool now with ``status``; what happened has been said."""
+
+    def __init__(self, status: int):
+        super().__init__(status)
+        self.status = status
 
 
 def report(diagnostics: Iterable[Diagnostic], prog: str) -> None:
@@ -63,6 +71,8 @@ def run(prog: str, body: Callable[[], int]) -> int:
     except GestError as exc:
         report(exc.diagnostics, prog)
         return EXIT_ERROR
+    except Exit as exc:
+        return exc.status
     except KeyboardInterrupt as exc:
         print(f"{prog}: {why(exc)}", file=sys.stderr)
         return status_of(exc)

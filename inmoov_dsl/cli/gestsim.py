@@ -15,8 +15,10 @@ import argparse
 import os
 import select
 import sys
-import time
+from collections.abc import Callable
+from typing import TextIO
 
+from .. import clock
 from ..board import BoardCore
 from ..errors import Diagnostic, GestError
 from ..glove import VirtualGlove
@@ -29,6 +31,7 @@ FRAME = 0.05  #: s between redraws of the live view
 
 
 def serve(args: argparse.Namespace) -> int:
+    """Open a pseudo-terminal, print its path, and be the board on it until stopped."""
     if not hasattr(os, "openpty"):
         raise GestError(Diagnostic("error", "gestsim needs a POSIX system (Linux, macOS)",
                                    hint="on Windows, play to --port sim:// instead"))
@@ -47,7 +50,6 @@ def serve(args: argparse.Namespace) -> int:
     print(f"{path}", flush=True)
     print(f"{PROG}: board {board_cfg.id} ({board_cfg.name}) of profile '{profile.name}' on "
           f"{path} at {board_cfg.baud} baud; Ctrl-C stops", file=sys.stderr, flush=True)
-    log = open(args.log, "w", encoding="utf-8") if args.log else None  # noqa: SIM115
     view = None
     if glove is not None:
         print(f"{PROG}: a glove performing '{args.glove}' from the moment the port opens",
@@ -56,57 +58,83 @@ def serve(args: argparse.Namespace) -> int:
         view = _HandView(profile, board_cfg)
     elif sys.stderr.isatty() and not args.quiet:
         view = _View(profile, board_cfg)
-    poller = select.poll()
-    poller.register(master, select.POLLIN)
-    board: VirtualBoard | VirtualGlove | None = None
-    line = DtrLine()  # no program has the port open yet
+    log = open(args.log, "w", encoding="utf-8") if args.log else None  # noqa: SIM115
     try:
-        while True:
-            flags = dict(poller.poll(5)).get(master, 0)
-            now = time.monotonic()
-            data = b""
-            if flags & select.POLLIN:  # read first: the last bytes may come with the hang-up
-                try:
-                    data = os.read(master, 4096)
-                except OSError:  # EIO: the other side has closed
-                    data = b""
-            if data and log is not None:
-                log.write("".join(f"{now:.6f} {b}\n" for b in data))
-                log.flush()
-            if flags & select.POLLHUP and not data:
-                line.closed()  # the bytes already on the wire still arrive
-                if board is not None:
-                    board.read(now)
-                    if view is not None:
-                        view.draw(board, now)
-                time.sleep(0.01)
-                continue
-            if not line.is_open:  # a program opened the port: if DTR rises, a reset
-                rose = line.opened()
-                if glove is not None:
-                    board = VirtualGlove(glove, now + args.boot)
-                elif board is None:
-                    board = VirtualBoard(BoardCore.from_profile(profile, board_cfg),
-                                         board_cfg.baud, ready_at=now + args.boot)
-                elif rose:
-                    board.reset(now, args.boot)
-            line.hupcl = _hupcl(master)
-            if data:
-                board.write(data, now)
-            out = board.read(now)
-            if out:
-                try:
-                    os.write(master, out)
-                except OSError:  # the other side closed meanwhile
-                    line.closed()
-            if view is not None:
-                view.draw(board, now)
+        _Pty(master, args.boot, glove, view, log, lambda ready_at: VirtualBoard(
+            BoardCore.from_profile(profile, board_cfg), board_cfg.baud, ready_at=ready_at)
+             ).serve()
     except KeyboardInterrupt:
         return EXIT_OK
     finally:
         os.close(master)
         if log is not None:
             log.close()
+    return EXIT_OK
+
+
+class _Pty:
+    """The board's side of the pseudo-terminal: bytes in, replies out, resets as the
+    program on the other side raises DTR."""
+
+    def __init__(self, master: int, boot: float, glove: list[tuple[float, bytes]] | None,
+                 view: _View | None, log: TextIO | None,
+                 new_board: Callable[[float], VirtualBoard]):
+        self.master, self.boot, self.glove, self.view, self.log = master, boot, glove, view, log
+        self.new_board = new_board
+        self.board: VirtualBoard | VirtualGlove | None = None
+        self.line = DtrLine()  # no program has the port open yet
+
+    def serve(self) -> None:
+        """Forever: wait up to 5 ms for bytes, then let the board read and answer."""
+        poller = select.poll()
+        poller.register(self.master, select.POLLIN)
+        while True:
+            flags = dict(poller.poll(5)).get(self.master, 0)
+            self.tick(flags, clock.now())
+
+    def tick(self, flags: int, now: float) -> None:
+        """One turn: read what came, notice a close or an open, let the board answer."""
+        data = b""
+        if flags & select.POLLIN:  # read first: the last bytes may come with the hang-up
+            try:
+                data = os.read(self.master, 4096)
+            except OSError:  # EIO: the other side has closed
+                data = b""
+        if data and self.log is not None:
+            self.log.write("".join(f"{now:.6f} {b}\n" for b in data))
+            self.log.flush()
+        if flags & select.POLLHUP and not data:
+            self.line.closed()  # the bytes already on the wire still arrive
+            if self.board is not None:
+                self.board.read(now)
+                self._draw(now)
+            clock.sleep(0.01)
+            return
+        if not self.line.is_open:  # a program opened the port: if DTR rises, a reset
+            self._opened(now)
+        self.line.hupcl = _hupcl(self.master)
+        if data:
+            self.board.write(data, now)
+        out = self.board.read(now)
+        if out:
+            try:
+                os.write(self.master, out)
+            except OSError:  # the other side closed meanwhile
+                self.line.closed()
+        self._draw(now)
+
+    def _opened(self, now: float) -> None:
+        rose = self.line.opened()
+        if self.glove is not None:
+            self.board = VirtualGlove(self.glove, now + self.boot)
+        elif self.board is None:
+            self.board = self.new_board(now + self.boot)
+        elif rose:
+            self.board.reset(now, self.boot)
+
+    def _draw(self, now: float) -> None:
+        if self.view is not None:
+            self.view.draw(self.board, now)
 
 
 def _hupcl(master: int) -> bool:
@@ -154,10 +182,12 @@ class _View:
         self.height = 0  # lines drawn last time
 
     def lines(self, values: list[int]) -> list[str]:
+        """A line per servo: its name, value and a bar."""
         return [f"  {name:<10} {value:>3}  {'#' * (value * 30 // 180)}"
                 for name, value in zip(self.names, values, strict=True)]
 
     def draw(self, board: VirtualBoard, now: float) -> None:
+        """Redraw if the values changed and a frame has passed."""
         if now < self.next or board.core.values == self.shown:
             return
         self.next = now + FRAME
@@ -185,11 +215,13 @@ class _HandView(_View):
         draw_hand({})  # Pillow is there
 
     def lines(self, values: list[int]) -> list[str]:
+        """The hand in that pose, as coloured half-block characters."""
         pose = self.pose_of(self.profile, values, self.ids)
         return self.to_terminal(self.draw_hand(pose), columns=48)
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The console script."""
     ap = argparse.ArgumentParser(prog=PROG, description=__doc__.splitlines()[0])
     add_version(ap)
     ap.add_argument("-p", "--profile", default="rhand", help="robot profile (default rhand)")

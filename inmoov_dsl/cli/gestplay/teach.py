@@ -7,34 +7,31 @@ import argparse
 import sys
 from pathlib import Path
 
-from ..compiler import compile_program, load
-from ..player import Link, play
-from ..profile import Profile, load_profile
-from ..teach import HELP, Teach
-from .common import EXIT_OK, add_blind, gesture_name, report, send_value, status_line
-from .keys import key_reader
+from ...compiler import compile_program, load
+from ...player import Link, play
+from ...profile import load_profile
+from ...teach import HELP, Teach
+from .. import hand
+from ..common import EXIT_OK, add_blind, gesture_name, report, send_value, status_line
+from ..keys import key_reader
 
 PROG = "gestplay teach"
 
 
-def cmd_teach(args: argparse.Namespace) -> int:
-    from .gestplay import connect, on_the_hand, parse_ports
-
+def run(args: argparse.Namespace) -> int:
+    """Teach a gesture on the hand, from the pose it holds."""
     name = gesture_name(args.name or (Path(args.output).stem if args.output else "taught"))
     output = Path(args.output or f"{name}.gest")
     profile = load_profile(args.profile or "rhand")
-    links = connect(parse_ports(args.port, profile), profile)
-    return on_the_hand(PROG, links, lambda: _teach(profile, links, name, output,
-                                                          args.blind))
+    with hand.opened(PROG, profile, args.port, args.blind) as on:
+        return teach_on(on, name, output)
 
 
-def _teach(profile: Profile, links: list[Link], name: str, output: Path,
-           blind: bool = False) -> int:
-    from .gestplay import board_pose
-
+def teach_on(on: hand.Hand, name: str, output: Path) -> int:
+    """The keyboard loop: keys move servos, keep keyframes, play them back, save them."""
+    profile, links = on.profile, on.links
     link_of = {link.board: link for link in links}
-    held = board_pose(links, profile, blind)
-    teach = Teach(profile, [held.get(s.name, s.rest) for s in profile.servos])
+    teach = Teach(profile, [on.pose.get(s.name, s.rest) for s in profile.servos])
     with key_reader() as keys:
         print(HELP)
         _show(teach)
@@ -77,7 +74,8 @@ def _show(teach: Teach) -> None:
     status_line(teach.line())
 
 
-def add_parser(sub) -> None:
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """``gestplay teach --port PORT``."""
     p = sub.add_parser("teach", help="pose the hand from the keyboard and save the poses "
                        "as a gesture", description=HELP,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -87,4 +85,4 @@ def add_parser(sub) -> None:
     p.add_argument("--name", help="the gesture's name (default: the file's name, or taught)")
     p.add_argument("-p", "--profile", help="robot profile (default rhand)")
     add_blind(p)
-    p.set_defaults(func=cmd_teach)
+    p.set_defaults(func=run)

@@ -13,18 +13,21 @@ import functools
 import queue
 import sys
 import threading
-import time
 from collections.abc import Callable
 from pathlib import Path
+from typing import Literal
 
-from ..board import BoardCore
-from ..compiler import load
-from ..errors import GestError
-from ..library import library_dirs, library_files, scan
-from ..live import Segment, Session, line_steps
-from ..player import POLL, SPIN, Link, drain
-from ..profile import Profile, load_profile
-from .common import EXIT_OK, add_blind, add_lib, report
+from ... import clock
+from ...board import BoardCore
+from ...compiler import load
+from ...errors import GestError
+from ...library import library_dirs, library_files, scan
+from ...live import Segment, Session, line_steps
+from ...player import POLL, SPIN, Link, drain
+from ...profile import Profile, load_profile
+from ...resolve import Program
+from .. import hand
+from ..common import EXIT_OK, add_blind, add_lib, report
 
 PROG = "gestplay repl"
 HELP = """\
@@ -38,7 +41,11 @@ A step typed while the hand moves takes over from there, without stopping.
   quit     (or Ctrl-D) leave once the hand is still; Ctrl-C stops at once"""
 
 
-def library_program(dirs: list[Path] | None = None):
+#: a typed line, None at the end of the input, False if none came in time
+Line = str | None | Literal[False]
+
+
+def library_program(dirs: list[Path] | None = None) -> Program:
     """Every library gesture, pose and group, for names typed at the prompt: the first
     definition of a name along the search path, as for gestures named on the command
     line (files that do not parse are left out; ``gestplay repl`` warned of them)."""
@@ -61,13 +68,16 @@ class Mirror:
         self._where = [where[s.id] for s in profile.servos]
 
     def set(self, pose: list[int]) -> None:
+        """The boards hold ``pose`` (the profile's servo order)."""
         for (k, j), v in zip(self._where, pose, strict=True):
             self.cores[k].values[j] = v
 
     def feed(self, k: int, byte: int) -> None:
+        """Board ``k`` reads ``byte``."""
         self.cores[k].feed(byte)
 
     def held(self) -> list[int]:
+        """What the boards hold, in the profile's servo order."""
         return [self.cores[k].values[j] for k, j in self._where]
 
 
@@ -131,11 +141,13 @@ def read_lines(lines: queue.Queue) -> None:
 
 
 def repl(links: list[Link], profile: Profile, pose: dict[str, int],
-         lines: queue.Queue, take_over: bool = True, now=time.perf_counter,
+         next_line: Callable[[float], Line], take_over: bool = True,
+         now: clock.Clock = clock.now, sleep: clock.Sleep = clock.sleep,
          dirs: list[Path] | None = None, screen: Screen | None = None) -> int:
-    """Run until the input ends and the hand is still. Each line takes over the running
-    move (``take_over``, a person typing), or waits for the steps before it (a script).
-    With a ``screen``, each line is answered before the next prompt."""
+    """Run until the input ends and the hand is still. ``next_line(timeout)`` waits at
+    most ``timeout`` s for a line (``waiting_on`` a queue). Each line takes over the
+    running move (``take_over``, a person typing), or waits for the steps before it (a
+    script). With a ``screen``, each line is answered before the next prompt."""
     program = library_program(dirs)
     start = [pose.get(s.name, s.rest) for s in profile.servos]
     mirror = Mirror(profile, links)
@@ -149,10 +161,10 @@ def repl(links: list[Link], profile: Profile, pose: dict[str, int],
             return EXIT_OK
         wait = _wait(events, session, t, ended)
         if ended:
-            time.sleep(max(wait, 0))
+            sleep(max(wait, 0))
             line = False
         else:
-            line = _get(lines, wait)
+            line = next_line(wait)
         if not events and line is False:
             for link in links:
                 drain(link.port)  # a pulled cable shows here
@@ -187,16 +199,20 @@ def _wait(events: list, session: Session, t: float, ended: bool) -> float:
     return POLL
 
 
-def _get(lines: queue.Queue, timeout: float):
-    """A typed line, None at the end of input, False if nothing came in time."""
-    try:
-        return lines.get(timeout=timeout) if timeout > 0 else lines.get_nowait()
-    except queue.Empty:
-        return False
+def waiting_on(lines: queue.Queue) -> Callable[[float], Line]:
+    """``next_line`` for lines that a thread puts in a queue."""
+
+    def next_line(timeout: float) -> Line:
+        try:
+            return lines.get(timeout=timeout) if timeout > 0 else lines.get_nowait()
+        except queue.Empty:
+            return False
+
+    return next_line
 
 
 def _typed(line: str, session: Session, t: float, mirror: Mirror, profile: Profile,
-           program, take_over: bool) -> Segment | None:
+           program: Program, take_over: bool) -> Segment | None:
     words = line.strip()
     if not words or words.startswith("#"):
         return None
@@ -223,14 +239,10 @@ def _events(segment: Segment, links: list[Link]) -> list[tuple[float, int, int]]
     return sorted(events)
 
 
-def cmd_repl(args: argparse.Namespace) -> int:
-    from .gestplay import board_pose, connect, on_the_hand, parse_ports
-
+def run(args: argparse.Namespace) -> int:
+    """Read steps from the terminal (or a pipe) and do them on the hand."""
     profile = load_profile(args.profile or "rhand")
-    links = connect(parse_ports(args.port, profile), profile)
-
-    def session() -> int:
-        pose = board_pose(links, profile, args.blind)
+    with hand.opened(PROG, profile, args.port, args.blind) as on:
         lines: queue.Queue = queue.Queue()
         interactive = sys.stdin.isatty()
         screen = Screen("gest> ") if interactive else None
@@ -238,13 +250,12 @@ def cmd_repl(args: argparse.Namespace) -> int:
             print("gestplay repl: 'help' for help, Ctrl-D to leave", file=sys.stderr)
         threading.Thread(target=screen.read_lines if screen else read_lines, args=(lines,),
                          daemon=True).start()
-        return repl(links, profile, pose, lines, take_over=interactive,
+        return repl(on.links, profile, on.pose, waiting_on(lines), take_over=interactive,
                     dirs=library_dirs(args.lib), screen=screen)
 
-    return on_the_hand(PROG, links, session)
 
-
-def add_parser(sub) -> None:
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """``gestplay repl --port PORT``."""
     p = sub.add_parser("repl", help="type .gest steps, the hand does them at once",
                        description=HELP, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--port", action="append", default=[], required=True,
@@ -252,4 +263,4 @@ def add_parser(sub) -> None:
     p.add_argument("-p", "--profile", help="robot profile (default rhand)")
     add_blind(p)
     add_lib(p)
-    p.set_defaults(func=cmd_repl)
+    p.set_defaults(func=run)

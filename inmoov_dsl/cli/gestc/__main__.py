@@ -1,0 +1,7 @@
+"""``python -m inmoov_dsl.cli.gestc``."""
+
+import sys
+
+from . import main
+
+sys.exit(main())

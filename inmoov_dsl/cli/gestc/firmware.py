@@ -1,0 +1,43 @@
+"""gestc firmware: write the Arduino sketch of every board of a profile."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from ...profile import load_profile
+from ..common import EXIT_ERROR, EXIT_OK
+
+BAUDS = (9600, 19200, 38400, 57600, 115200)  #: the link speeds a sketch may use
+
+
+def run(args: argparse.Namespace) -> int:
+    """Write (or, with --check, compare) the sketch folders of a profile's boards."""
+    from ...upload import stale_files, write_sketchbook
+
+    profile = load_profile(args.profile_name)
+    out = Path(args.output)
+    if args.check:
+        stale = stale_files(profile, out, args.baud)
+        for path in stale:
+            print(f"{path}: out of date (gestc firmware {args.profile_name} -o {out})")
+        return EXIT_ERROR if stale else EXIT_OK
+    for path in write_sketchbook(profile, out, args.baud):
+        print(f"wrote {path}", file=sys.stderr)
+    print(f"{out}: {profile.name}'s sketches are up to date; build them with make -C {out}",
+          file=sys.stderr)
+    return EXIT_OK
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """``gestc firmware PROFILE``."""
+    p = sub.add_parser("firmware", help="write the Arduino sketch of every board of a profile")
+    p.add_argument("profile_name", metavar="PROFILE", help="a built-in name or a .toml path")
+    p.add_argument("-o", "--output", default="firmware",
+                   help="the sketchbook to write into (default ./firmware)")
+    p.add_argument("--baud", type=int, choices=BAUDS,
+                   help="the boards' link speed (default: the profile's)")
+    p.add_argument("--check", action="store_true",
+                   help="change nothing; list the files that are out of date, exit 1 if any")
+    p.set_defaults(func=run)

@@ -1,0 +1,45 @@
+"""gestc fmt: rewrite .gest files in the canonical layout."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from ...errors import GestError
+from ..common import EXIT_ERROR, EXIT_OK, report
+from .target import PROG
+
+
+def run(args: argparse.Namespace) -> int:
+    """Rewrite files in the canonical layout (``-``: stdin to stdout)."""
+    from ...fmt import format_source
+
+    status = EXIT_OK
+    for file in args.files:
+        try:
+            text = sys.stdin.read() if file == "-" else Path(file).read_text(encoding="utf-8")
+            formatted = format_source(text, "<stdin>" if file == "-" else file)
+        except GestError as exc:
+            report(exc.diagnostics, PROG)
+            status = EXIT_ERROR
+            continue
+        if file == "-":
+            sys.stdout.write(formatted)
+        elif formatted != text:
+            if args.check:
+                print(f"{file}: would be reformatted")
+                status = EXIT_ERROR
+            else:
+                Path(file).write_text(formatted, encoding="utf-8")
+                print(f"{file}: reformatted", file=sys.stderr)
+    return status
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """``gestc fmt FILE...``."""
+    p = sub.add_parser("fmt", help="rewrite .gest files in the canonical layout")
+    p.add_argument("files", nargs="+", metavar="FILE", help="a .gest file, or - for stdin")
+    p.add_argument("--check", action="store_true",
+                   help="change nothing; list the files fmt would change, exit 1 if any")
+    p.set_defaults(func=run)

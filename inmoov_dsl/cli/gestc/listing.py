@@ -1,0 +1,68 @@
+"""gestc list: the library's gestures, where each is defined, and the profile it needs."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from ...compiler import load
+from ...errors import GestError
+from ...library import Entry, library_dirs, scan
+from ...profile import load_profile
+from ...resolve import Program
+from ..common import EXIT_OK, add_lib, report
+from .target import PROG
+
+
+def run(args: argparse.Namespace) -> int:
+    """``NAME<TAB>FILE<TAB>PROFILE`` per gesture, or with -l a table."""
+    dirs = library_dirs(args.lib)
+    library = scan(dirs)
+    report(library.warnings(), PROG)
+    entries = sorted(library.entries.values(), key=lambda e: e.name)
+    needs = profiles_needed(entries, dirs)
+    width = max((len(e.name) for e in entries), default=0)
+    for e in entries:
+        shadows = "".join(f"  (shadows {p})" for p in e.shadows)
+        if args.long:
+            print(f"{e.name:<{width}}  {e.description or '-'}  ({e.path.name}:{e.line}, "
+                  f"for {needs[e.name]}){shadows}")
+        else:
+            print(f"{e.name}\t{e.path}\t{needs[e.name]}{shadows}")
+    return EXIT_OK
+
+
+def profiles_needed(entries: list[Entry], dirs: list[Path]) -> dict[str, str]:
+    """Gesture name -> the built-in profile it is for: rhand (the default) if its names
+    are all there, else the first profile that has them all; '-' if none has."""
+    from ...profile import builtin_profiles
+    from ...resolve import resolver
+
+    names = ["rhand", *(n for n in builtin_profiles() if n != "rhand")]
+    profiles = [load_profile(n) for n in names]
+    programs: dict[Path, Program | None] = {}
+    needs: dict[str, str] = {}
+    for e in entries:
+        if e.path not in programs:
+            try:
+                programs[e.path] = load(str(e.path), search=dirs)
+            except GestError:
+                programs[e.path] = None
+        needs[e.name] = "-"
+        for profile in profiles if programs[e.path] is not None else ():
+            try:
+                resolver(programs[e.path], profile).gesture(e.name)
+            except GestError:
+                continue
+            needs[e.name] = profile.name
+            break
+    return needs
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """``gestc list``."""
+    p = sub.add_parser("list", help="the library's gestures: NAME<TAB>FILE")
+    p.add_argument("-l", "--long", action="store_true",
+                   help="a table: name, what the gesture does, where it is defined")
+    add_lib(p)
+    p.set_defaults(func=run)

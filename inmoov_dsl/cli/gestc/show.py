@@ -1,0 +1,63 @@
+"""gestc show: a gesture's steps, and for each link its bytes, use, coverage and lag."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from ..common import EXIT_OK
+from .target import add_arguments, compile_target
+
+if TYPE_CHECKING:
+    from ... import metrics
+
+
+def run(args: argparse.Namespace) -> int:
+    """Print the step table and each link's figures."""
+    from ...metrics import measure
+
+    compiled, plan = compile_target(args)
+    print(f"{compiled.gesture}: {compiled.duration:.3f} s on profile '{compiled.profile}'")
+    print()
+    print(f"  {'#':>3}  {'step':<24} {'source':<18} {'kind':<5} {'start':>7} {'end':>7} "
+          f"{'asked':>7} {'planned':>7}")
+    for n, s in enumerate(plan.steps, 1):
+        source = f"{Path(s.pos.file).name}:{s.pos.line}" if s.pos else ""
+        asked = f"{s.asked:7.3f}" if s.asked is not None else "      -"
+        flag = "  stretched" if s.stretched else ""
+        print(f"  {n:>3}  {s.where:<24} {source:<18} {s.kind:<5} {s.start:7.3f} "
+              f"{s.end:7.3f} {asked} {s.end - s.start:7.3f}{flag}")
+    for link in measure(plan, compiled.streams):
+        print()
+        print(link_text(link))
+    return EXIT_OK
+
+
+def link_text(r: metrics.LinkReport) -> str:
+    """One link's figures, a line each."""
+    saved = 100 * (1 - r.bytes / r.naive_bytes) if r.naive_bytes else 0.0
+    lag = (f"{r.worst_lag:.2f} deg ({r.worst_lag_servo} at {r.worst_lag_time:.3f} s)"
+           if r.worst_lag_servo else "0.00 deg")
+    rows = [
+        f"board {r.board} at {r.baud} baud, {r.servos} servos",
+        f"  bytes        {r.bytes:,} (every servo every frame: {r.naive_bytes:,}; "
+        f"{saved:.0f}% fewer)",
+        f"  link use     {100 * r.utilisation:.0f}% over the gesture, "
+        f"{100 * r.peak_utilisation:.0f}% in the busiest frame",
+        f"  coverage     {100 * r.coverage:.1f}% ({r.covered:,} of {r.needed:,} servo-frames "
+        f"that needed a value)",
+        f"  worst lag    {lag}",
+        f"  max error    {r.max_error:.2f} deg (value sent vs plan at arrival)",
+    ]
+    if r.coverage < 1:
+        rows.append("  the link is the bottleneck: raise the baud or split the servos "
+                    "over more boards")
+    return "\n".join(rows)
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """``gestc show GESTURE``."""
+    p = sub.add_parser("show", help="steps, bytes, link use, coverage and lag")
+    add_arguments(p)
+    p.set_defaults(func=run)

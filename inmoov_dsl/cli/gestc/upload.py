@@ -1,0 +1,114 @@
+"""gestc upload: build boards' firmware from their profile and flash it (avrdude)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import tempfile
+from pathlib import Path
+
+from ...errors import Diagnostic, GestError
+from ...profile import Profile, load_profile
+from ..common import EXIT_OK
+from .firmware import BAUDS
+from .target import PROG
+
+
+def run(args: argparse.Namespace) -> int:
+    """Build boards' firmware from their profile and flash it through the bootloader."""
+    from ...upload import OLD_NANO_BAUD, UNO_BAUD, build, flash, read_hex
+    from ...upload import avrdude_command as command
+
+    profile, names = _boards(args.profile, args.board)
+    targets = [args.board] if args.board else list(names)
+    ports = upload_ports(args.port, targets, names)
+    if args.hex and len(targets) > 1:
+        raise GestError(Diagnostic("error", "--hex is one board's firmware",
+                                   hint="name the board: gestc upload BOARD --hex FILE"))
+    baud = OLD_NANO_BAUD if args.old_bootloader else UNO_BAUD
+    with tempfile.TemporaryDirectory(prefix="inmoov-upload-") as tmp:
+        if args.hex:
+            hexes = {targets[0]: Path(args.hex)}
+        elif args.dry_run:
+            hexes = {name: Path(tmp) / "build" / f"{name}.hex" for name in targets}
+            print(f"make -C {tmp} {' '.join(targets)}")
+        else:
+            hexes = build(profile, targets, Path(tmp), args.baud)
+        for name in targets:
+            if args.dry_run:
+                print(" ".join(command(hexes[name], ports[name], baud, args.avrdude,
+                                       args.avrdude_option)))
+                continue
+            size = len(read_hex(hexes[name]))
+            print(f"{PROG}: flashing {name} ({size:,} bytes) through the bootloader on "
+                  f"{ports[name]} at {baud} baud", file=sys.stderr, flush=True)
+            flash(hexes[name], ports[name], baud, args.avrdude, args.avrdude_option)
+            print(f"{PROG}: uploaded {name} to {ports[name]}", file=sys.stderr)
+    return EXIT_OK
+
+
+def _boards(profile_name: str | None, board: str | None) -> tuple[Profile, dict[str, int]]:
+    """The profile to build from, and its sketches (name -> board ID)."""
+    from ...firmware import sketch_names
+    from ...upload import find_sketch
+
+    if profile_name:
+        profile = load_profile(profile_name)
+        names = sketch_names(profile)
+        if board and board not in names:
+            raise GestError(Diagnostic("error", f"profile '{profile.name}' has no board "
+                                       f"'{board}'", hint=f"its boards: {', '.join(names)}"))
+        return profile, names
+    if board:
+        profile = find_sketch(board)
+        return profile, sketch_names(profile)
+    raise GestError(Diagnostic("error", "which board?", hint="name one (gestc upload "
+                               "servo_rhand --port COM3), or give --profile for all "
+                               "of a profile's"))
+
+
+def upload_ports(specs: list[str], targets: list[str], names: dict[str, int]
+                 ) -> dict[str, str]:
+    """``--port COM3`` for one board; ``--port NAME=PORT`` or ``--port ID=PORT`` each."""
+    by_key = {**{n: n for n in names}, **{str(i): n for n, i in names.items()}}
+    ports: dict[str, str] = {}
+    for spec in specs:
+        key, sep, port = spec.partition("=")
+        if sep and key in by_key:
+            ports[by_key[key]] = port
+        elif len(targets) == 1 and len(specs) == 1:
+            ports[targets[0]] = spec
+        else:
+            raise GestError(Diagnostic("error", f"--port {spec}: which board?",
+                                       hint=" ".join(f"--port {n}=PORT" for n in targets)))
+    missing = [n for n in targets if n not in ports]
+    if missing:
+        raise GestError(Diagnostic("error", f"no port for {', '.join(missing)}",
+                                   hint=f"add --port {missing[0]}=PORT"))
+    return ports
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """``gestc upload BOARD --port PORT``."""
+    p = sub.add_parser("upload", help="build a board's firmware and flash it (avrdude)")
+    p.add_argument("board", nargs="?", metavar="BOARD",
+                   help="a sketch name: servo_rhand, glove_rhand, servo_inmoov_head... "
+                   "(default with --profile: every board of the profile)")
+    p.add_argument("--port", action="append", required=True, metavar="PORT",
+                   help="the board's port; with several boards BOARD=PORT each (the "
+                   "sketch name or the board's ID)")
+    p.add_argument("-p", "--profile", help="the profile the boards are built from (a "
+                   "built-in name or a .toml path; default: the one with BOARD)")
+    p.add_argument("--old-bootloader", action="store_true",
+                   help="a Nano with the old bootloader (57600 baud instead of 115200)")
+    p.add_argument("--baud", type=int, choices=BAUDS,
+                   help="the link speed the firmware will use (default: the profile's)")
+    p.add_argument("--hex", metavar="FILE",
+                   help="flash this .hex (built in the Arduino IDE, say) instead of building")
+    p.add_argument("--dry-run", action="store_true",
+                   help="print the commands, build and flash nothing")
+    p.add_argument("--avrdude", default="avrdude", metavar="PATH",
+                   help="the avrdude to run (default: avrdude on the PATH)")
+    p.add_argument("--avrdude-option", action="append", default=[], metavar="ARG",
+                   help="pass ARG to avrdude (e.g. -v, or -x attempts=1); may be repeated")
+    p.set_defaults(func=run)

@@ -1,0 +1,132 @@
+"""gestplay play: play a gesture on the hand (``gestplay GESTURE`` for short)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Callable
+
+from ...compiled import Compiled, check_profile, read_compiled, to_timed
+from ...compiler import compile_program, load
+from ...errors import Diagnostic, GestError
+from ...library import find_gesture, library_dirs
+from ...player import play
+from ...profile import load_profile
+from .. import hand
+from ..common import EXIT_OK, add_blind, add_lib, number, report
+
+PROG = "gestplay"
+
+
+class Target:
+    """What to play: a compiled file, or a gesture to compile from the pose the hand is in."""
+
+    def __init__(self, name: str, gesture: str | None = None, profile: str | None = None,
+                 lib: list[str] | None = None, strict: bool = False):
+        self.compiled: Compiled | None = None
+        self.program = None
+        self.strict = strict
+        if name.endswith(".gestc"):
+            self.compiled = read_compiled(name)
+            self.profile = load_profile(profile or self.compiled.profile)
+            check_profile(self.compiled, self.profile)
+            return
+        dirs = library_dirs(lib or [])
+        path, self.gesture = find_gesture(name, gesture, dirs, lambda d: report([d], PROG))
+        self.program = load(path, search=dirs)
+        self.profile = load_profile(profile or "rhand")
+
+    def build(self, start: dict[str, int] | None) -> Compiled:
+        """The streams, planned from ``start`` (servo name -> value) when given."""
+        if self.program is None:
+            return self.compiled
+        compiled, _ = compile_program(self.program, self.gesture, self.profile, start,
+                                      self.strict)
+        report(compiled.warnings, PROG)
+        return compiled
+
+
+def run(args: argparse.Namespace) -> int:
+    """Play (or with --dry-run print) the gesture."""
+    target = Target(args.target, args.gesture, args.profile, args.lib, args.strict)
+    if args.dry_run:
+        return dry_run(target.build(None), args.speed)
+    if not args.port:
+        raise GestError(Diagnostic("error", "no port given", hint="--port COM3, "
+                                   "--port /dev/ttyUSB0, or --port sim:// for the virtual "
+                                   "board (--dry-run prints the schedule)"))
+    with hand.opened(PROG, target.profile, args.port, args.blind) as on:
+        return play_on(on, target, args.loop, args.speed)
+
+
+def dry_run(compiled: Compiled, speed: float) -> int:
+    """Print the schedule, '<seconds> <byte>' per line, each board's under its number."""
+    for stream in compiled.streams:
+        if len(compiled.streams) > 1:
+            print(f"# board {stream.board}")
+        times = stream.times / speed
+        sys.stdout.write(to_timed(type(stream)(stream.board, stream.baud, times, stream.data)))
+    return EXIT_OK
+
+
+def play_on(on: hand.Hand, target: Target, loop: int, speed: float) -> int:
+    """Play ``loop`` times from the pose the hand holds; one line of figures after."""
+    pose = on.pose
+    seconds, sent, worst = 0.0, 0, 0.0
+    for _ in range(loop):
+        compiled = target.build(pose)
+        if target.program is None and pose and pose != dict(zip(compiled.servos,
+                                                                compiled.start, strict=True)):
+            print(f"{PROG}: warning: the hand is not in the pose this compiled gesture "
+                  f"starts from: it will jump to it", file=sys.stderr)
+        show = _progress(compiled, speed) if sys.stderr.isatty() else None
+        worst = max(worst, play(compiled, on.links, speed, progress=show))
+        if show:
+            print(file=sys.stderr)
+        pose = dict(zip(compiled.servos, compiled.final, strict=True))
+        seconds += compiled.duration / speed
+        sent += sum(len(s.data) for s in compiled.streams)
+    times = f" {loop} times" if loop > 1 else ""
+    print(f"played {compiled.gesture}{times}: {seconds:.2f} s, {sent:,} bytes, worst "
+          f"lateness {worst * 1000:.2f} ms", file=sys.stderr)
+    return EXIT_OK
+
+
+def _progress(compiled: Compiled, speed: float) -> Callable[[float], None]:
+    steps = compiled.steps
+
+    def show(t: float) -> None:
+        n = sum(1 for s in steps if s.start <= t) or 1
+        sys.stderr.write(f"\r{compiled.gesture}  step {n}/{len(steps)}  "
+                         f"{t / speed:6.2f} / {compiled.duration / speed:.2f} s ")
+        sys.stderr.flush()
+
+    return show
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """``gestplay play GESTURE``, which ``gestplay GESTURE`` is short for."""
+    ap = sub.add_parser("play", help="play a gesture (gestplay GESTURE is short for "
+                        "gestplay play GESTURE)", description="Play a gesture on the "
+                        "InMoov hand. Bench tools: gestplay "
+                        "dump|ports|send|relax|calibrate|repl|teach --help.")
+    ap.add_argument("target", metavar="GESTURE",
+                    help="a library gesture, a .gest file or a compiled .gestc file")
+    ap.add_argument("--port", action="append", default=[], metavar="PORT",
+                    help="COM3, /dev/ttyUSB0, a pyserial URL (loop://, socket://...) or "
+                    "sim:// (the virtual board); BOARD=PORT for each board of a profile "
+                    "with several")
+    ap.add_argument("-g", "--gesture", help="the gesture to play from a .gest file")
+    ap.add_argument("-p", "--profile", help="robot profile (default rhand, or the "
+                    "compiled file's)")
+    ap.add_argument("--speed", type=number(0.01, 1), default=1.0,
+                    help="play slower: 0.5 is half speed (0.01 to 1; faster than 1 would "
+                    "break the servos' limits: change the gesture's timing instead)")
+    ap.add_argument("--loop", type=number(1, 1_000_000, whole=True), default=1, metavar="N",
+                    help="play N times")
+    ap.add_argument("--dry-run", action="store_true",
+                    help="print the schedule ('<seconds> <byte>') without a port")
+    ap.add_argument("--strict", action="store_true", help="stretched moves are errors")
+    add_blind(ap)
+    add_lib(ap)
+    ap.set_defaults(func=run)

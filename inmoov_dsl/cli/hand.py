@@ -1,0 +1,181 @@
+"""The hand on the desk: its boards' links, the pose they hold, and the guard that
+always leaves it safe.
+
+Every gestplay command that moves the hand goes through ``opened``: it opens a link
+per board, waits for each board and asks its pose, and whatever happens in the body
+(Ctrl-C, SIGTERM, a pulled cable) no board is left with half a command: it sends
+CANCEL, says so, and leaves with the right exit status.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+
+import serial
+
+from .. import clock
+from ..errors import Diagnostic, GestError
+from ..player import Link, Port, ask_dump, cancel_all, relax_all, wait_ready
+from ..ports import open_port
+from ..profile import Profile
+from ..urlhandler import protocol_sim
+from .common import EXIT_INTERRUPTED, Exit, Stopped, status_of, why
+
+RELAX_WINDOW = 1.5  #: s after a Ctrl-C at a terminal in which a second one relaxes the hand
+REST_POSE = "starting from the profile's rest pose"
+
+
+@dataclass
+class Hand:
+    """The open links to a profile's boards, and the pose the boards said they hold."""
+
+    profile: Profile
+    links: list[Link]
+    pose: dict[str, int]  #: servo name -> value, for the servos whose board answered
+
+
+def parse_ports(specs: list[str], profile: Profile) -> dict[int, str]:
+    """``--port COM3`` (a one-board profile) or ``--port 181=COM3 --port 183=COM4``;
+    a bare ``--port sim://`` is a virtual board for every board of the profile."""
+    boards = [b.id for b in profile.boards]
+    ports: dict[int, str] = {}
+    for spec in specs:
+        board, sep, name = spec.partition("=")
+        if sep and board.isdigit():
+            if int(board) not in boards:
+                raise GestError(Diagnostic("error", f"--port {spec}: profile '{profile.name}' "
+                                           f"has no board {board} (boards: {_ids(boards)})"))
+            ports[int(board)] = protocol_sim.complete(name, profile, int(board))
+        elif len(boards) == 1 or (len(specs) == 1 and protocol_sim.bare(spec)):
+            ports.update({b: protocol_sim.complete(spec, profile, b) for b in boards})
+        else:
+            raise GestError(Diagnostic(
+                "error", f"profile '{profile.name}' has {len(boards)} boards: give a port for "
+                f"each", hint=" ".join(f"--port {b}=PORT" for b in boards)))
+    missing = [b for b in boards if b not in ports]
+    if missing:
+        raise GestError(Diagnostic("error", f"no port for board {_ids(missing)}",
+                                   hint=f"add --port {missing[0]}=PORT"))
+    return ports
+
+
+def _ids(ids: list[int]) -> str:
+    return ", ".join(map(str, ids))
+
+
+def connect(ports: dict[int, str], profile: Profile) -> list[Link]:
+    """Open a link to each board of the profile (all or none)."""
+    links: list[Link] = []
+    try:
+        for board in profile.boards:
+            links.append(Link(board.id, open_port(ports[board.id], board.baud), ports[board.id]))
+    except GestError:
+        close(links)
+        raise
+    return links
+
+
+def close(links: list[Link]) -> None:
+    """Close every link."""
+    for link in links:
+        link.port.close()
+
+
+def open_first(spec: str, profile: Profile) -> Port:
+    """A bench tool's port, at the baud of the profile's first board."""
+    first = profile.boards[0]
+    return open_port(protocol_sim.complete(spec, profile, first.id), first.baud)
+
+
+def board_pose(links: list[Link], profile: Profile, blind: bool = False,
+               going_on: str = REST_POSE) -> dict[str, int]:
+    """Each board's pose (``reach``), by servo name; a board that did not say it is
+    planned from the profile's rest pose."""
+    names = {s.id: s.name for s in profile.servos}
+    pose: dict[str, int] = {}
+    for link in links:
+        values = reach(link, profile, blind, going_on)
+        pose.update({names[sid]: v for sid, v in (values or {}).items() if sid in names})
+    return pose
+
+
+def reach(link: Link, profile: Profile, blind: bool, going_on: str) -> dict[int, int] | None:
+    """Wait for the board to boot, sync it with CANCEL and ask its pose with DUMP: its
+    values (servo ID -> value), or None. Nothing answering (no WAIT and no DUMP reply)
+    is an error before any gesture byte goes out, unless ``blind`` (a link that cannot
+    answer); a board that answered only in part is a warning ending in ``going_on``."""
+    ready = wait_ready(link.port)
+    values = ask_dump(link.port, link.board)
+    where = f"board {link.board} on {link.name}"
+    if values is None and not ready:
+        if not blind:
+            raise GestError(no_answer(link, profile))
+        _warn(f"{where} did not answer (--blind): {going_on}")
+    elif values is None:
+        _warn(f"{where} did not answer DUMP: {going_on}")
+    elif not ready:
+        _warn(f"{where} sent no WAIT, but answered DUMP")
+    return values
+
+
+def no_answer(link: Link, profile: Profile) -> Diagnostic:
+    """What to say when nothing answers on a link (no WAIT, no DUMP reply)."""
+    from ..firmware import sketch_names
+
+    board = next(b for b in profile.boards if b.id == link.board)
+    sketch = next(n for n, i in sketch_names(profile).items() if i == board.id)
+    return Diagnostic(
+        "error", f"no board answered on {link.name} (board {link.board}, {board.baud} baud)",
+        hint=f"try another port ('gestplay ports' lists them and marks the likely "
+        f"Arduinos), check that the board's sketch uses {board.baud} baud, or flash it: "
+        f"gestc upload {sketch} --port {link.name}; --blind plays anyway on a link "
+        f"that cannot answer")
+
+
+def _warn(message: str) -> None:
+    print(f"gestplay: warning: {message}", file=sys.stderr)
+
+
+@contextmanager
+def opened(prog: str, profile: Profile, ports: list[str], blind: bool = False,
+           going_on: str = REST_POSE) -> Iterator[Hand]:
+    """The hand, its links open and its pose asked (``board_pose``); closed after.
+
+    Ctrl-C sends CANCEL, so that no half command is pending, and leaves (``Exit``) with
+    status 130 and the hand holding its pose; at a terminal, a second Ctrl-C soon after
+    relaxes the hand (its servos go limp). SIGTERM and SIGHUP do as Ctrl-C (exit 143,
+    129). A lost link sends CANCEL where it still can and is one line of error."""
+    links = connect(parse_ports(ports, profile), profile)
+    try:
+        yield Hand(profile, links, board_pose(links, profile, blind, going_on))
+    except KeyboardInterrupt as exc:
+        cancel_all(links)
+        raise Exit(_interrupted(prog, links, exc)) from None
+    except serial.SerialException as exc:
+        cancel_all(links)
+        where = ", ".join(f"board {link.board} on {link.name}" for link in links)
+        raise GestError(Diagnostic("error", f"lost the link ({where}): {exc}")) from None
+    finally:
+        close(links)
+
+
+def _interrupted(prog: str, links: list[Link], exc: KeyboardInterrupt) -> int:
+    """Say that the hand holds its pose; at a terminal, relax it on a second Ctrl-C.
+    The exit status."""
+    if isinstance(exc, Stopped) or not sys.stdin.isatty():
+        print(f"\n{prog}: {why(exc)}: CANCEL sent, the hand holds its pose", file=sys.stderr)
+        return status_of(exc)
+    try:  # a second Ctrl-C may come as soon as the first one is answered
+        print(f"\n{prog}: interrupted: CANCEL sent, the hand holds its pose (Ctrl-C "
+              f"again to relax it)", file=sys.stderr, flush=True)
+        clock.sleep(RELAX_WINDOW)
+    except Stopped as again:
+        return status_of(again)
+    except KeyboardInterrupt:
+        relax_all(links)
+        print(f"{prog}: relaxed: the servos are limp until the next command",
+              file=sys.stderr)
+    return EXIT_INTERRUPTED
