@@ -317,3 +317,19 @@ def test_every_tool_tells_its_version(capsys, tool):
         main(["--version"])
     assert exit_.value.code == 0
     assert capsys.readouterr().out == f"{tool} {__version__}\n"
+
+
+def test_a_gesture_named_like_a_bench_tool_plays_with_play(tmp_path, capsys):
+    from inmoov_dsl.cli import gestplay
+
+    (tmp_path / "mine.gest").write_text("dump: index 90 over 0.5s\n")
+    assert gestplay.main(["play", "dump", "--lib", str(tmp_path), "--dry-run"]) == 0
+    schedule = capsys.readouterr().out.splitlines()
+    assert schedule[0] == "0.000000 255" and schedule[-1].endswith(" 90")
+    # the same first word without 'play' is the bench tool, which wants a port
+    with pytest.raises(SystemExit):
+        gestplay.main(["dump", "--lib", str(tmp_path)])
+    assert "the following arguments are required: --port" in capsys.readouterr().err
+    # and 'gestplay GESTURE' is still short for 'gestplay play GESTURE'
+    assert gestplay.main(["peace", "--dry-run"]) == 0
+    assert capsys.readouterr().out.startswith("0.000000 255\n")

@@ -9,6 +9,7 @@ import sys
 
 
 def _start(tool: str) -> int:
+    """Import the tool (a Ctrl-C meanwhile is one line) and run its ``main``."""
     from .common import status_of, stop_on_signals, why
 
     stop_on_signals()
@@ -21,12 +22,15 @@ def _start(tool: str) -> int:
 
 
 def run_gestc() -> int:
+    """The gestc console script."""
     return _start("gestc")
 
 
 def run_gestplay() -> int:
+    """The gestplay console script."""
     return _start("gestplay")
 
 
 def run_gestsim() -> int:
+    """The gestsim console script."""
     return _start("gestsim")

@@ -1,4 +1,5 @@
-"""What both command-line tools share: error printing and exit codes."""
+"""What the command-line tools share: error printing, exit codes, signals, and the
+arguments several commands take."""
 
 from __future__ import annotations
 
@@ -23,6 +24,7 @@ class Exit(Exception):  # noqa: N818 (not an error: the way out, everything said
 
 
 def report(diagnostics: Iterable[Diagnostic], prog: str) -> None:
+    """Print diagnostics to stderr, those without a place in a file after ``prog:``."""
     for d in diagnostics:
         text = d.format()
         if d.pos is None:
@@ -59,6 +61,7 @@ def why(exc: KeyboardInterrupt) -> str:
 
 
 def status_of(exc: KeyboardInterrupt) -> int:
+    """The exit status for what stopped us: 130 for Ctrl-C, 128 + N for signal N."""
     return exc.status if isinstance(exc, Stopped) else EXIT_INTERRUPTED
 
 
@@ -86,6 +89,7 @@ def run(prog: str, body: Callable[[], int]) -> int:
 
 
 def add_lib(p: argparse.ArgumentParser) -> None:
+    """``--lib DIR``: one more place to look for gestures."""
     p.add_argument("--lib", action="append", default=[], metavar="DIR",
                    help="also look for gestures in DIR (before GEST_PATH, ./gestures and "
                    "the built-in library); may be repeated")
@@ -121,12 +125,14 @@ def parse_args(ap: argparse.ArgumentParser, argv: list[str] | None) -> argparse.
 
 
 def add_blind(p: argparse.ArgumentParser) -> None:
+    """``--blind``: play on a link where no board answers."""
     p.add_argument("--blind", action="store_true",
                    help="go on when no board answers (a link that cannot answer); the plan "
                    "then starts from the profile's rest pose")
 
 
 def add_version(p: argparse.ArgumentParser) -> None:
+    """``--version``: the package's version."""
     from .. import __version__
 
     p.add_argument("--version", action="version", version=f"%(prog)s {__version__}")

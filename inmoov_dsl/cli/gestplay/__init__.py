@@ -30,7 +30,7 @@ def parser() -> tuple[argparse.ArgumentParser, Collection[str]]:
         "(gestplay play --help for the options; gestplay play NAME plays a gesture "
         "whatever its name). The bench tools: gestplay TOOL --help.")
     add_version(ap)
-    sub = ap.add_subparsers(dest="command", required=True, metavar="GESTURE|TOOL")
+    sub = ap.add_subparsers(dest="command", required=True, metavar="GESTURE|TOOL", prog=PROG)
     for module in TOOLS:
         module.add_parser(sub)
     return ap, sub.choices

@@ -106,7 +106,7 @@ def _progress(compiled: Compiled, speed: float) -> Callable[[float], None]:
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestplay play GESTURE``, which ``gestplay GESTURE`` is short for."""
-    ap = sub.add_parser("play", help="play a gesture (gestplay GESTURE is short for "
+    ap = sub.add_parser("play", prog=PROG, help="play a gesture (gestplay GESTURE is short for "
                         "gestplay play GESTURE)", description="Play a gesture on the "
                         "InMoov hand. Bench tools: gestplay "
                         "dump|ports|send|relax|calibrate|repl|teach --help.")
