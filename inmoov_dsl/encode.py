@@ -34,6 +34,7 @@ class Stream:
 
     @property
     def byte_time(self) -> float:
+        """Seconds one byte takes on this board's link."""
         return protocol.byte_time(self.baud)
 
 

@@ -82,10 +82,12 @@ class GestError(Exception):
         super().__init__(self.format())
 
     def format(self) -> str:
+        """Every diagnostic, rendered, one after the other."""
         return "\n".join(d.format() for d in self.diagnostics)
 
     @property
     def first(self) -> Diagnostic:
+        """The first diagnostic (most errors carry one)."""
         return self.diagnostics[0]
 
 
@@ -96,9 +98,11 @@ class SourceMap:
         self._texts: dict[str, list[str]] = {}
 
     def add(self, file: str, text: str) -> None:
+        """Keep the text of ``file``."""
         self._texts[file] = text.split("\n")  # lines as the parser counts them
 
     def line(self, pos: Pos | None) -> str | None:
+        """The source line at ``pos``, or None when the file or line is unknown."""
         if pos is None:
             return None
         lines = self._texts.get(pos.file)
@@ -107,9 +111,11 @@ class SourceMap:
         return lines[pos.line - 1]
 
     def error(self, message: str, pos: Pos | None, hint: str | None = None) -> Diagnostic:
+        """An error at ``pos``, with its source line."""
         return Diagnostic("error", message, pos, hint, self.line(pos))
 
     def warning(self, message: str, pos: Pos | None, hint: str | None = None) -> Diagnostic:
+        """A warning at ``pos``, with its source line."""
         return Diagnostic("warning", message, pos, hint, self.line(pos))
 
 

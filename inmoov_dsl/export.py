@@ -47,6 +47,7 @@ def joint_states(plan: Plan, compiled: Compiled, period: float = SERVO_FRAME
 
 
 def to_csv(names: list[str], rows: np.ndarray) -> str:
+    """The rows of ``joint_states`` as CSV: a header, times to 1 ms, radians to 1e-6."""
     lines = [",".join(names)]
     lines += [",".join([f"{row[0]:.3f}", *(f"{x:.6f}" for x in row[1:])]) for row in rows]
     return "\n".join(lines) + "\n"

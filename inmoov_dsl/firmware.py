@@ -23,6 +23,8 @@ def _slug(text: str) -> str:
 
 
 def sketch_name(profile: Profile, kind: str, name: str, several: bool) -> str:
+    """The folder of a ``kind`` ("servo" or "glove") sketch: the board's or glove's
+    ``name`` is part of it only when the profile has ``several``."""
     base = f"{kind}_{_slug(profile.name)}"
     return f"{base}_{_slug(name)}" if several else base
 
@@ -34,6 +36,8 @@ def _header(profile: Profile, what: str) -> str:
 
 
 def servo_settings(profile: Profile, board: Board, baud: int | None = None) -> str:
+    """The ``settings.h`` of servo board ``board`` (``baud`` overrides its link's
+    speed); every servo on it needs a pin."""
     servos = [profile.servos[profile.index(name)] for name in board.servos]
     missing = [s.name for s in servos if s.pin is None]
     if missing:
@@ -54,6 +58,8 @@ def servo_settings(profile: Profile, board: Board, baud: int | None = None) -> s
 
 
 def glove_settings(profile: Profile, glove: Glove, baud: int | None = None) -> str:
+    """The ``settings.h`` of ``glove``; ``baud`` overrides the speed of its link to the
+    servo board (the board's own by default)."""
     board = next(b for b in profile.boards if b.id == glove.board)
     ids = {s.name: s.id for s in profile.servos}
     rows = "\n".join(

@@ -43,7 +43,6 @@ def moving_servos(plan: Plan, sent: dict) -> list[int]:
 def plot(plan: Plan, compiled: Compiled, path: str | os.PathLike) -> None:
     """Draw the gesture to ``path`` (the suffix picks the format: .png, .svg, .pdf)."""
     Figure, Patch = _matplotlib()  # noqa: N806 (classes)
-    profile = plan.profile
     sent = sent_values(plan, compiled)
     rows = moving_servos(plan, sent) or [0]
     end = max(plan.duration, max((float(t[-1]) for t, _ in sent.values() if len(t)),
@@ -53,41 +52,14 @@ def plot(plan: Plan, compiled: Compiled, path: str | os.PathLike) -> None:
     fig = Figure(figsize=(12, 1.2 + 1.7 * len(rows)), layout="constrained")
     grid = fig.add_gridspec(len(rows), 2, width_ratios=(3, 1.3))
     total = sum(len(s.data) for s in compiled.streams)
-    fig.suptitle(f"{compiled.gesture} on {profile.name}: {compiled.duration:.2f} s, "
+    fig.suptitle(f"{compiled.gesture} on {plan.profile.name}: {compiled.duration:.2f} s, "
                  f"{total:,} bytes", fontsize=13, x=0.01, ha="left")
     first_pos = first_vel = None
     for row, i in enumerate(rows):
-        servo = profile.servos[i]
-        track = plan.tracks[i]
         pos = fig.add_subplot(grid[row, 0], sharex=first_pos)
         vel = fig.add_subplot(grid[row, 1], sharex=first_vel)
         first_pos, first_vel = first_pos or pos, first_vel or vel
-        for ax in (pos, vel):
-            for step in plan.steps:
-                if step.kind == "hold":
-                    ax.axvspan(step.start, step.end, color=HOLD_COLOUR, lw=0)
-            ax.grid(True, color="#dddddd", lw=0.6)
-            ax.set_xlim(0, end)
-        # the values the board holds: the start pose, then each pair as it arrives
-        times, values = sent.get(i, (np.empty(0), np.empty(0)))
-        held_t = np.concatenate(([0.0], times, [end]))
-        held_v = np.concatenate(([plan.start[i]], values, [values[-1] if len(values)
-                                                           else plan.start[i]]))
-        pos.plot(t, track.position(t), color=PLAN_COLOUR, lw=2.4, alpha=0.55,
-                 label="planned position")
-        pos.step(held_t, held_v, where="post", color=SENT_COLOUR, lw=0.9,
-                 label="values sent (as the board holds them)")
-        _keyframes(pos, plan, i)
-        pos.set_ylim(-12, 192)
-        pos.set_yticks([0, 90, 180])
-        pos.set_ylabel(f"{servo.name}\n(id {servo.id})", rotation=0, ha="right",
-                       va="center", fontsize=10)
-        v = track.velocity(t)
-        vel.plot(t, v, color=PLAN_COLOUR, lw=1.4, label="planned velocity")
-        for sign in (1, -1):
-            vel.axhline(sign * servo.max_velocity, color=LIMIT_COLOUR, ls="--", lw=1,
-                        label="velocity limit" if sign > 0 else None)
-        vel.set_ylim(-1.15 * servo.max_velocity, 1.15 * servo.max_velocity)
+        _servo_row(pos, vel, plan, i, sent.get(i, (np.empty(0), np.empty(0))), t)
         if row < len(rows) - 1:
             pos.tick_params(labelbottom=False)
             vel.tick_params(labelbottom=False)
@@ -95,18 +67,54 @@ def plot(plan: Plan, compiled: Compiled, path: str | os.PathLike) -> None:
     first_vel.set_title("velocity (command degrees / s)", fontsize=10, loc="left")
     pos.set_xlabel("time (s)")
     vel.set_xlabel("time (s)")
-    handles = [*first_pos.get_legend_handles_labels()[0],
-               *first_vel.get_legend_handles_labels()[0]]
-    labels = [*first_pos.get_legend_handles_labels()[1],
-              *first_vel.get_legend_handles_labels()[1]]
-    handles.append(first_pos.scatter([], [], color="black", s=18))
+    _legend(fig, first_pos, first_vel, plan, Patch)
+    fig.savefig(path, dpi=110)
+
+
+def _servo_row(pos, vel, plan: Plan, i: int, sent: tuple[np.ndarray, np.ndarray],
+               t: np.ndarray) -> None:
+    """Servo ``i``'s row: its position (planned, as the board holds the values
+    ``sent``, keyframes) on ``pos``, its planned velocity between its limits on ``vel``;
+    ``t`` samples the time axis, to its end."""
+    servo, track, end = plan.profile.servos[i], plan.tracks[i], float(t[-1])
+    for ax in (pos, vel):
+        for step in plan.steps:
+            if step.kind == "hold":
+                ax.axvspan(step.start, step.end, color=HOLD_COLOUR, lw=0)
+        ax.grid(True, color="#dddddd", lw=0.6)
+        ax.set_xlim(0, end)
+    # the values the board holds: the start pose, then each pair as it arrives
+    times, values = sent
+    held_t = np.concatenate(([0.0], times, [end]))
+    held_v = np.concatenate(([plan.start[i]], values, [values[-1] if len(values)
+                                                       else plan.start[i]]))
+    pos.plot(t, track.position(t), color=PLAN_COLOUR, lw=2.4, alpha=0.55,
+             label="planned position")
+    pos.step(held_t, held_v, where="post", color=SENT_COLOUR, lw=0.9,
+             label="values sent (as the board holds them)")
+    _keyframes(pos, plan, i)
+    pos.set_ylim(-12, 192)
+    pos.set_yticks([0, 90, 180])
+    pos.set_ylabel(f"{servo.name}\n(id {servo.id})", rotation=0, ha="right",
+                   va="center", fontsize=10)
+    vel.plot(t, track.velocity(t), color=PLAN_COLOUR, lw=1.4, label="planned velocity")
+    for sign in (1, -1):
+        vel.axhline(sign * servo.max_velocity, color=LIMIT_COLOUR, ls="--", lw=1,
+                    label="velocity limit" if sign > 0 else None)
+    vel.set_ylim(-1.15 * servo.max_velocity, 1.15 * servo.max_velocity)
+
+
+def _legend(fig, pos, vel, plan: Plan, Patch) -> None:  # noqa: N803 (a class)
+    """One legend for the figure: the lines of the first row, keyframes, holds."""
+    handles, labels = (pos.get_legend_handles_labels()[k] + vel.get_legend_handles_labels()[k]
+                       for k in (0, 1))
+    handles.append(pos.scatter([], [], color="black", s=18))
     labels.append("keyframe, numbered as the steps of gestc show")
     if any(step.kind == "hold" for step in plan.steps):
         handles.append(Patch(color=HOLD_COLOUR))
         labels.append("hold")
     fig.legend(handles, labels, loc="outside upper right", ncols=3, fontsize=9,
                frameon=False)
-    fig.savefig(path, dpi=110)
 
 
 def _keyframes(ax, plan: Plan, servo: int) -> None:

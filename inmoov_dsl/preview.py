@@ -10,7 +10,9 @@ the compiled stream), so the animation runs at the stream's own timing.
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -20,6 +22,9 @@ from .metrics import held_at, sent_values
 from .plan import Plan
 from .profile import Profile
 from .protocol import MAX_VALUE, SERVO_FRAME
+
+if TYPE_CHECKING:  # Pillow is optional: imported when a picture is drawn
+    import PIL.Image
 
 FINGERS = ("index", "middle", "ring", "pinky")
 HAND = ("wrist", "thumb", *FINGERS)
@@ -55,7 +60,8 @@ def hand_servos(profile: Profile) -> dict[str, int]:
     return found
 
 
-def draw_hand(pose: Mapping[str, int], title: str = "", image=None):
+def draw_hand(pose: Mapping[str, int], title: str = "",
+              image: PIL.Image.Image | None = None) -> PIL.Image.Image:
     """The hand in ``pose`` (part -> value 0..180; missing parts straight)."""
     Image, ImageDraw, ImageFont = _pillow()  # noqa: N806 (modules)
     img = image or Image.new("RGB", (WIDTH, HEIGHT), "white")
@@ -134,7 +140,7 @@ def poses(plan: Plan, compiled: Compiled, period: float = SERVO_FRAME
     return times, [{part: int(row[i]) for part, i in parts.items()} for row in held]
 
 
-def animation(plan: Plan, compiled: Compiled) -> tuple[list, list[int]]:
+def animation(plan: Plan, compiled: Compiled) -> tuple[list[PIL.Image.Image], list[int]]:
     """The frames of the preview and each one's duration in ms; a frame repeats only
     as long as the pose holds, so the timing is the stream's, frame for frame."""
     times, frames = poses(plan, compiled)
@@ -150,7 +156,7 @@ def animation(plan: Plan, compiled: Compiled) -> tuple[list, list[int]]:
     return images, durations
 
 
-def write_gif(plan: Plan, compiled: Compiled, path) -> tuple[int, int]:
+def write_gif(plan: Plan, compiled: Compiled, path: str | os.PathLike) -> tuple[int, int]:
     """Write the animation; returns (frames, total ms)."""
     images, durations = animation(plan, compiled)
     images[0].save(path, save_all=True, append_images=images[1:], duration=durations,
@@ -158,7 +164,7 @@ def write_gif(plan: Plan, compiled: Compiled, path) -> tuple[int, int]:
     return len(images), sum(durations)
 
 
-def to_terminal(image, columns: int = 60) -> list[str]:
+def to_terminal(image: PIL.Image.Image, columns: int = 60) -> list[str]:
     """``image`` as terminal lines: two pixels per character cell (upper half block,
     24-bit colour)."""
     w, h = image.size

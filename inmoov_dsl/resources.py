@@ -23,14 +23,17 @@ def data_dir(name: str) -> Path:
 
 
 def grammar_path() -> Path:
+    """The grammar of the gesture language (``gest.lark``)."""
     return data_dir("grammar") / "gest.lark"
 
 
 def library_dir() -> Path:
+    """The shipped gesture library."""
     return data_dir("gestures")
 
 
 def profiles_dir() -> Path:
+    """The shipped robot profiles (``*.toml``)."""
     return library_dir() / "profiles"
 
 

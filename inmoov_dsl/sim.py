@@ -43,6 +43,8 @@ class DtrLine:
 
 @dataclass
 class VirtualBoard:
+    """A board on a simulated link: ``write`` and ``read`` take the time they happen."""
+
     core: BoardCore
     baud: int = 9600
     ready_at: float = 0.0  #: s; when the bootloader hands over to the sketch

@@ -2,15 +2,14 @@
 
 import os
 import shutil
-import time
 from pathlib import Path
 
 import numpy as np
 import pytest
 from boardmodel import final_values, read_stream
 
-from inmoov_dsl import GestError, load_profile, measure
-from inmoov_dsl.cli import gestc, gestplay
+from inmoov_dsl import GestError, clock, load_profile, measure
+from inmoov_dsl.cli import gestc, gestplay, hand
 from inmoov_dsl.compiler import compile_program, load
 from inmoov_dsl.library import find_gesture, library_dirs, scan_library
 from inmoov_dsl.player import play
@@ -161,9 +160,9 @@ def test_left_hand_is_its_own_board_and_ids():
 
 def test_the_whole_robot_plays_in_lockstep_on_virtual_boards():
     inmoov = load_profile("inmoov")
-    ports = gestplay.parse_ports(["sim://?boot=0"], inmoov)
+    ports = hand.parse_ports(["sim://?boot=0"], inmoov)
     assert ports[184] == "sim://inmoov?boot=0&board=184"
-    links = gestplay.connect(ports, inmoov)
+    links = hand.connect(ports, inmoov)
     try:
         program = load("t.gest", "g: r_index 90, neck 110, l_thumb 45, r_shoulder 40 "
                                  "over 0.3s\n")
@@ -171,7 +170,7 @@ def test_the_whole_robot_plays_in_lockstep_on_virtual_boards():
         play(compiled, links)
         boards = {link.board: link.port.board for link in links}
         for board in boards.values():
-            board.advance(time.monotonic())
+            board.advance(clock.now())
         assert boards[181].positions()[2] == 90
         assert boards[184].positions()[12] == 110
         assert boards[183].positions()[7] == 45
@@ -185,14 +184,14 @@ def test_the_whole_robot_plays_in_lockstep_on_virtual_boards():
             offsets += [t - p for (t, _), (p, _, _) in zip(got, planned, strict=True)]
         assert max(offsets) - min(offsets) < 0.02
     finally:
-        gestplay.close(links)
+        hand.close(links)
 
 
 def test_a_bare_sim_port_is_the_virtual_board_of_the_profile_played(capsys):
-    assert gestplay.parse_ports(["sim://"], load_profile("lhand")) == \
+    assert hand.parse_ports(["sim://"], load_profile("lhand")) == \
         {183: "sim://lhand?board=183"}
     custom = ROOT / "tests" / "data" / "two.toml"
-    assert gestplay.parse_ports(["sim://"], load_profile(str(custom)))[183] == \
+    assert hand.parse_ports(["sim://"], load_profile(str(custom)))[183] == \
         f"sim://{custom.as_posix()}?board=183"
     assert gestplay.main(["dump", "--port", "sim://", "--profile", "lhand"]) == 0
     assert "board 183 (left hand): 6 servos" in capsys.readouterr().out
@@ -294,7 +293,7 @@ def test_list_long_shows_what_each_gesture_does(capsys):
 
 
 def test_the_repl_knows_the_first_definition_of_each_name(tmp_path):
-    from inmoov_dsl.cli.repl import library_program
+    from inmoov_dsl.cli.gestplay.repl import library_program
 
     write(tmp_path, "mine.gest", "peace: index 0, middle 0\npose open2: fingers 0\n")
     write(tmp_path, "bad.gest", "oops: index 90 over\n")

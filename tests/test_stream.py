@@ -216,6 +216,8 @@ def stream(doc):
      "a board ID is a whole number in 181..247, got 12"),
     (lambda d: d["streams"].append(dict(stream(d))), "board 181 has two streams"),
     (lambda d: d.__setitem__("duration", 1e6), "a duration of 1e+06 s (at most 3600 s)"),
+    (lambda d: d.__setitem__("duration", 10 ** 400),
+     "'duration' must be a finite number, got 1000000000000000000000000000000000000..."),
     (lambda d: d.__setitem__("start", [0] * 5),
      "'start' must be 6 whole numbers in 0..180, one per servo"),
     (lambda d: d["final"].__setitem__(0, 1.5),

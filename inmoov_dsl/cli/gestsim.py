@@ -42,24 +42,26 @@ def serve(args: argparse.Namespace) -> int:
     if board_cfg is None:
         raise GestError(Diagnostic("error", f"profile '{profile.name}' has no board "
                                    f"{args.board}"))
-    glove = _glove(args, profile) if args.glove else None  # a bad one fails before the pty
-    master, slave = os.openpty()
-    path = os.ttyname(slave)
-    tty.setraw(slave)
-    os.close(slave)
-    print(f"{path}", flush=True)
-    print(f"{PROG}: board {board_cfg.id} ({board_cfg.name}) of profile '{profile.name}' on "
-          f"{path} at {board_cfg.baud} baud; Ctrl-C stops", file=sys.stderr, flush=True)
+    # what can fail does before the pty; the log is there before the path is printed
+    glove = _glove(args, profile) if args.glove else None
     view = None
-    if glove is not None:
-        print(f"{PROG}: a glove performing '{args.glove}' from the moment the port opens",
-              file=sys.stderr, flush=True)
-    elif args.view:
+    if glove is None and args.view:
         view = _HandView(profile, board_cfg)
-    elif sys.stderr.isatty() and not args.quiet:
+    elif glove is None and sys.stderr.isatty() and not args.quiet:
         view = _View(profile, board_cfg)
     log = open(args.log, "w", encoding="utf-8") if args.log else None  # noqa: SIM115
+    master, slave = os.openpty()
     try:
+        path = os.ttyname(slave)
+        tty.setraw(slave)
+        os.close(slave)
+        print(f"{path}", flush=True)
+        print(f"{PROG}: board {board_cfg.id} ({board_cfg.name}) of profile "
+              f"'{profile.name}' on {path} at {board_cfg.baud} baud; Ctrl-C stops",
+              file=sys.stderr, flush=True)
+        if glove is not None:
+            print(f"{PROG}: a glove performing '{args.glove}' from the moment the port "
+                  f"opens", file=sys.stderr, flush=True)
         _Pty(master, args.boot, glove, view, log, lambda ready_at: VirtualBoard(
             BoardCore.from_profile(profile, board_cfg), board_cfg.baud, ready_at=ready_at)
              ).serve()

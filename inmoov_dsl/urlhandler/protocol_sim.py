@@ -3,8 +3,8 @@
 PROFILE defaults to ``rhand``, the board to the profile's first, ``boot`` (the time
 the bootloader swallows bytes after a reset, as an Uno or Nano does) to 0.2 s.
 The player completes a bare ``sim://`` with the profile and board it plays for.
-The board runs in real time on this process's clock: what the host writes arrives at
-the board's baud, and replies come back the same way.
+The board runs in real time on ``clock.now`` (the clock every tool reads): what the
+host writes arrives at the board's baud, and replies come back the same way.
 
 A board stays on the desk for the life of the process: opening the same URL again
 finds it as it was left. Like an Uno, it resets when an open raises DTR: the first
@@ -15,12 +15,12 @@ port on POSIX).
 
 from __future__ import annotations
 
-import time
 import urllib.parse
 from pathlib import Path
 
 from serial.serialutil import PortNotOpenError, SerialBase, SerialException
 
+from .. import clock
 from ..board import BoardCore
 from ..errors import GestError
 from ..profile import Profile, builtin_profiles, find_profile, load_profile
@@ -68,6 +68,7 @@ class Serial(SerialBase):
     hupcl = True  #: drop DTR on closing (the POSIX default)
 
     def open(self) -> None:
+        """Connect to the board of this URL, powering it up or resetting it as DTR rises."""
         if self.is_open:
             raise SerialException("Port is already open.")
         if self._port is None:
@@ -77,11 +78,11 @@ class Serial(SerialBase):
         board = _Desk.boards.get(url)
         if board is None:  # powered up: the board boots, with DTR rising
             board = _Desk.boards[url] = self._board_from_url(url)
-            board.ready_at = time.monotonic() + boot
+            board.ready_at = clock.now() + boot
             _Desk.lines[url] = DtrLine()
             _Desk.lines[url].opened()
         elif _Desk.lines[url].opened():  # DTR rose: an Uno resets
-            board.reset(time.monotonic(), boot)
+            board.reset(clock.now(), boot)
         self.board = board
         self.is_open = True
 
@@ -112,6 +113,7 @@ class Serial(SerialBase):
         return VirtualBoard(BoardCore.from_profile(profile, board), board.baud)
 
     def close(self) -> None:
+        """Disconnect; DTR drops unless ``hupcl`` was cleared."""
         if self.is_open:
             line = _Desk.lines[self.portstr]
             line.hupcl = self.hupcl
@@ -123,38 +125,44 @@ class Serial(SerialBase):
 
     @property
     def in_waiting(self) -> int:
+        """Bytes the board has sent and nobody has read yet."""
         self._check()
-        self._pending += self.board.read(time.monotonic())
+        self._pending += self.board.read(clock.now())
         return len(self._pending)
 
     def read(self, size: int = 1) -> bytes:
+        """Up to ``size`` bytes from the board, waiting at most the port's timeout."""
         self._check()
-        deadline = None if self._timeout is None else time.monotonic() + self._timeout
+        deadline = None if self._timeout is None else clock.now() + self._timeout
         data = bytearray(self._pending)
         self._pending.clear()
         while len(data) < size:
-            data += self.board.read(time.monotonic())
-            if len(data) >= size or (deadline is not None and time.monotonic() >= deadline):
+            data += self.board.read(clock.now())
+            if len(data) >= size or (deadline is not None and clock.now() >= deadline):
                 break
-            time.sleep(0.0005)
+            clock.sleep(0.0005)
         self._pending += data[size:]
         return bytes(data[:size])
 
     def write(self, data: bytes) -> int:
+        """Send ``data`` to the board now; returns the bytes written."""
         self._check()
         data = bytes(data)
-        self.board.write(data, time.monotonic())
+        self.board.write(data, clock.now())
         return len(data)
 
     def reset_input_buffer(self) -> None:
+        """Drop what the board has sent so far."""
         self._check()
         self._pending.clear()
-        self.board.read(time.monotonic())
+        self.board.read(clock.now())
 
     def reset_output_buffer(self) -> None:
+        """Nothing waits to be sent: writes reach the link at once."""
         self._check()
 
     def flush(self) -> None:
+        """Nothing waits to be sent: writes reach the link at once."""
         self._check()
 
     def _check(self) -> None:

@@ -1,0 +1,110 @@
+"""gestplay repl as a timeline: typed lines at given times, the virtual board on the
+same clock. No real time passes: the REPL's clock, its sleep and its wait for a line
+are the test's."""
+
+import numpy as np
+import pytest
+
+from inmoov_dsl.board import BoardCore
+from inmoov_dsl.cli.gestplay.repl import repl
+from inmoov_dsl.player import Link
+from inmoov_dsl.profile import load_profile
+from inmoov_dsl.sim import VirtualBoard
+
+RHAND = load_profile("rhand")
+INDEX_ID = RHAND.servos[RHAND.index("index")].id
+
+
+class Timeline:
+    """A clock that moves only when the REPL waits, and a typist on it."""
+
+    def __init__(self, script: list[tuple[float, str]]):
+        self.t = 0.0
+        self.script = [*script, (max((t for t, _ in script), default=0.0), None)]
+        self.waits = 0
+
+    def now(self) -> float:
+        return self.t
+
+    def sleep(self, seconds: float) -> None:
+        """Time passes; a sleep of nothing spins for a tenth of a millisecond."""
+        self.t += max(seconds, 1e-4)
+
+    def next_line(self, timeout: float):
+        """The next line if it is typed within ``timeout``; else False, that much later
+        (a wait with nothing left spins: a tenth of a millisecond)."""
+        self.waits += 1
+        if self.script and self.script[0][0] <= self.t + max(timeout, 0.0):
+            at, line = self.script.pop(0)
+            self.t = max(self.t, at)
+            return line
+        self.t += max(timeout, 1e-4)
+        return False
+
+
+class ClockedPort:
+    """The virtual board as a port on the timeline's clock."""
+
+    def __init__(self, board: VirtualBoard, timeline: Timeline):
+        self.board, self.timeline = board, timeline
+
+    def write(self, data: bytes) -> int:
+        self.board.write(data, self.timeline.t)
+        return len(data)
+
+    def read(self, size: int = 1) -> bytes:
+        return self.board.read(self.timeline.t)[:size]
+
+
+def run_repl(script, take_over=True):
+    """Play timed lines [(seconds, line)] into the REPL; the board and its log."""
+    timeline = Timeline(script)
+    board = VirtualBoard(BoardCore.from_profile(RHAND, RHAND.boards[0]), 9600)
+    link = Link(181, ClockedPort(board, timeline), "timeline")
+    assert repl([link], RHAND, {}, timeline.next_line, take_over, now=timeline.now,
+                sleep=timeline.sleep) == 0
+    board.advance(timeline.t + 1)
+    return board, board.log
+
+
+def test_the_repl_takes_over_on_the_board_without_a_jump():
+    board, log = run_repl([(0.0, "index 90 over 0.6s"), (0.3, "index 180")])
+    index = [(t, w.value) for t, w in log if w.id == INDEX_ID]
+    values = [v for _, v in index]
+    assert values[-1] == 180 and board.positions()[INDEX_ID] == 180
+    assert values == sorted(values)  # never went back
+    vmax = RHAND.servos[RHAND.index("index")].max_velocity
+    gaps = np.diff([t for t, _ in index])
+    assert np.all(np.diff(values) <= vmax * np.maximum(gaps, 0.02) + 1)  # no jump
+    # around the takeover (0.3 s) the finger keeps moving: every frame a new value
+    around = [v for t, v in index if 0.2 < t < 0.5]
+    assert len(around) >= 12 and len(set(around)) == len(around)
+    # before the takeover the first move was on its way to 90, not yet there
+    before = [v for t, v in index if t < 0.3]
+    assert 0 < before[-1] < 90
+
+
+def test_the_repl_runs_library_gestures_and_reports_errors(capsys):
+    board, _ = run_repl([(0.0, "indx 3"), (0.0, "peace"), (0.0, "where")])
+    out, err = capsys.readouterr()
+    assert "<repl>:1:1: error: unknown servo or group 'indx'" in err
+    assert "hint: did you mean 'index'?" in err
+    assert out.startswith("wrist 0  thumb 0  index 0")
+    assert board.positions() == {0: 0, 1: 180, 2: 0, 3: 0, 4: 180, 5: 180}
+
+
+@pytest.mark.parametrize(("take_over", "peak"), [(False, 90), (True, 0)])
+def test_typed_lines_take_over_and_scripts_wait(take_over, peak):
+    board, log = run_repl([(0.0, "index 90 over 0.3s"), (0.0, "index 0")], take_over)
+    index = [w.value for _, w in log if w.id == INDEX_ID]
+    assert max(index, default=0) == peak and board.positions()[INDEX_ID] == 0
+
+
+def test_a_wait_typed_while_the_hand_moves_starts_when_the_move_ends():
+    board, log = run_repl([(0.0, "index 90 over 0.4s"), (0.1, "wait 1s"), (0.2, "index 0")],
+                          take_over=False)
+    index = [(t, w.value) for t, w in log if w.id == INDEX_ID]
+    reached = next(t for t, v in index if v == 90)
+    leaves = next(t for t, v in index if t > reached and v < 90)
+    assert 1.0 <= leaves - reached < 1.1  # the wait, after the move, before the next one
+    assert board.positions()[INDEX_ID] == 0
