@@ -1,4 +1,5 @@
-"""Calibration found at the bench, written into the profile (pure: text in, text out).
+"""Calibration found at the bench, written into the profile (pure: text in, text out,
+through tomlkit so that the user's comments and layout stay).
 
 The board maps command values 0..180 onto a servo's calibration (its angles at
 straight and at curled). At the bench a person moves one servo until the finger is
@@ -10,11 +11,14 @@ servo's real speed.
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
+
+import tomlkit
+import tomlkit.exceptions
 
 from .errors import Diagnostic, GestError
 from .profile import Servo
+from .profile_keys import KeyIndex
 
 
 @dataclass(frozen=True)
@@ -41,22 +45,28 @@ def found(servo: Servo, straight: int, curled: int) -> Found:
 
 
 def _number(x: float) -> str:
+    """A limit as the profile writes it: whole from 10 up, three digits below."""
     return str(int(round(x))) if abs(x) >= 10 else f"{x:.3g}"
 
 
 def edit_profile(text: str, name: str, new: Found) -> str:
-    """``text`` with servo ``name``'s table (``[servo.NAME]``) carrying ``new``;
-    comments and everything else stay as they were."""
-    lines = text.splitlines(keepends=True)
-    header = re.compile(rf"\s*\[\s*servo\s*\.\s*{re.escape(name)}\s*\]")
-    start = next((k for k, line in enumerate(lines) if header.match(line)), None)
-    if start is None:
+    """``text`` with servo ``name``'s table (``[servo.NAME]``) carrying ``new``: its
+    calibration and reversed (added when missing) and its limits (where it has them).
+    tomlkit edits that table, keeping its comments, key order and spacing; the rest of
+    the text is not touched."""
+    span = KeyIndex(text, "<profile>").table(("servo", name))
+    if span is None:
         raise GestError(Diagnostic("error", f"no [servo.{name}] table in the profile",
                                    hint=f"set calibration = [{new.calibration[0]}, "
                                    f"{new.calibration[1]}] and reversed = "
                                    f"{str(new.reversed).lower()} by hand"))
-    end = next((k for k in range(start + 1, len(lines))
-                if lines[k].lstrip().startswith("[")), len(lines))
+    start, end = span
+    table, tail = _without_tail(text[start:end])
+    try:
+        doc = tomlkit.parse(table)
+    except tomlkit.exceptions.TOMLKitError as exc:
+        raise GestError(Diagnostic("error", f"cannot edit [servo.{name}]: {exc}")) from None
+    servo = doc["servo"][name]
     values = {
         "calibration": f"[{new.calibration[0]}, {new.calibration[1]}]",
         "reversed": str(new.reversed).lower(),
@@ -64,19 +74,18 @@ def edit_profile(text: str, name: str, new: Found) -> str:
         "max_acceleration": _number(new.max_acceleration),
         "max_jerk": _number(new.max_jerk),
     }
-    last = start
-    for k in range(start + 1, end):
-        m = re.match(r"(\s*)([A-Za-z_]+)(\s*=\s*)([^#\r\n]*?)(\s*(#.*)?)(\r?\n)?$", lines[k])
-        if m is None:
-            continue
-        last = k
-        if m.group(2) in values:
-            value = values.pop(m.group(2))
-            lines[k] = f"{m.group(1)}{m.group(2)}{m.group(3)}{value}{m.group(5)}" \
-                       f"{m.group(7) or ''}"
-    added = [f"{key} = {value}\n" for key, value in values.items()
-             if key in ("calibration", "reversed")]
-    if added and not lines[last].endswith("\n"):
-        lines[last] += "\n"
-    lines[last + 1:last + 1] = added
-    return "".join(lines)
+    for key, value in values.items():
+        if key in servo or key in ("calibration", "reversed"):
+            servo[key] = tomlkit.value(value)  # in place: its comment and spacing stay
+    return text[:start] + tomlkit.dumps(doc) + tail + text[end:]
+
+
+def _without_tail(table: str) -> tuple[str, str]:
+    """A table's text, and the blank and comment lines at its end (often the next
+    table's introduction), where keys added to the table must not go."""
+    lines = table.split("\n")
+    k = len(lines)
+    while k > 1 and (not lines[k - 1].strip() or lines[k - 1].lstrip().startswith("#")):
+        k -= 1
+    body = "\n".join(lines[:k]) + ("\n" if k < len(lines) else "")
+    return body, table[len(body):]

@@ -53,6 +53,73 @@ def test_missing_keys_are_added_and_a_missing_table_is_a_clear_error():
         edit_profile(text, "b", found(parse_profile(text).servos[0], 10, 170))
 
 
+# a profile as a person writes one: comments, blank lines, odd spacing, tables board by
+# board (which tomlkit alone would reorder: only the servo's table goes through it)
+MINE = """\
+# my hand   (comments stay)
+name   =   "mine"
+
+[[board]]          # the right hand
+id = 181
+servos = [
+    "a",   # one
+]
+
+[servo.a]\t\t# first
+id=0
+  calibration   =   [ 30 , 150 ]    # at the bench, 2024
+max_velocity = 400   # real 240 deg/s
+max_acceleration=8000
+
+max_jerk = 160000
+reversed = false
+
+[[board]]
+id = 183
+servos = ["b"]
+
+[servo.b]
+id = 1
+max_velocity = 400
+max_acceleration = 8000
+max_jerk = 160000
+
+# the glove of the hand, below
+"""
+A, B = parse_profile(MINE).servos
+
+
+def test_comments_blank_lines_and_spacing_stay_only_the_values_change():
+    edited = edit_profile(MINE, "a", found(A, 20, 160))
+    assert edited == MINE.replace(
+        "[ 30 , 150 ]    #", "[20, 160]    #").replace(
+        "max_velocity = 400   #", "max_velocity = 343   #").replace(
+        "max_acceleration=8000\n", "max_acceleration=6857\n").replace(
+        "max_jerk = 160000\nreversed", "max_jerk = 137143\nreversed")
+    assert parse_profile(edited).servos[0].calibration == (20, 160)
+
+
+def test_keys_added_go_after_the_last_key_not_after_the_next_tables_comment():
+    edited = edit_profile(MINE, "b", found(B, 150, 40))
+    assert edited == MINE[:MINE.index("[servo.b]")] + (
+        "[servo.b]\nid = 1\nmax_velocity = 655\nmax_acceleration = 13091\n"
+        "max_jerk = 261818\ncalibration = [40, 150]\nreversed = true\n\n"
+        "# the glove of the hand, below\n")
+    crlf = MINE.replace("\n", "\r\n")
+    assert edit_profile(crlf, "b", found(B, 150, 40)).replace("\r\n", "\n") == edited
+    unended = MINE[:MINE.index("\n\n# the glove")]
+    assert edit_profile(unended, "b", found(B, 150, 40)) == edited[:edited.index("\n# the")]
+
+
+def test_a_servo_without_a_table_of_its_own_is_a_clear_error():
+    text = MINE.replace("[servo.a]\t\t# first\n", "[servo]\na = { id = 0 }\n[servo.z]\n")
+    with pytest.raises(GestError) as info:
+        edit_profile(text, "a", found(A, 10, 170))
+    assert info.value.format() == ("error: no [servo.a] table in the profile\n"
+                                   "  hint: set calibration = [10, 170] and reversed = false "
+                                   "by hand")
+
+
 def calibrate(tmp_path, keys, *argv):
     """Run gestplay calibrate on sim:// at a real pseudo-terminal, pressing ``keys``."""
     term = AtTerminal([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "calibrate",

@@ -260,3 +260,371 @@ def test_a_board_knows_where_it_is_defined(rhand):
     lines = Path(rhand.path).read_text(encoding="utf-8").split("\n")
     (board,) = rhand.boards
     assert lines[board.pos.line - 1] == "id = 181"
+
+
+# Every error at its key: one profile with every table, and for each kind of error one
+# change to it, the message, where it is (line:column) and the text the caret is under.
+HAND = """\
+name = "test"
+description = "a hand"
+
+[[board]]
+id = 181
+name = "right"
+baud = 9600
+servos = ["a", "b"]
+
+[servo.a]   # the first
+id = 0
+range = [0, 180]
+rest = 0
+max_velocity = 400
+max_acceleration = 8000
+max_jerk = 160000
+calibration = [10, 170]
+reversed = false
+pin = 2
+
+[servo.b]
+id = 1
+max_velocity = 400
+max_acceleration = 8000
+max_jerk = 160000
+
+[[glove]]
+id = 182
+board = 181
+command_pins = [10, 11]
+deadband = 2
+frame_ms = 20
+sensors = [
+    { servo = "a", pin = 14, calibration = [500, 700] },
+    { servo = "b", pin = 15, calibration = [500, 700], reversed = true },
+]
+
+[groups]
+pair = ["a", "b"]
+"""
+
+
+def test_the_hand_of_the_key_tests_is_a_good_profile():
+    profile = parse_profile(HAND, "bad.toml")
+    assert profile.names == ("a", "b") and profile.groups["pair"] == ("a", "b")
+    assert [s.reversed for s in profile.gloves[0].sensors] == [False, True]
+
+
+def changed(old, new):
+    assert HAND.count(old) == 1, old
+    return HAND.replace(old, new)
+
+
+def first_error_at(text, message, where, under):
+    """The first error of ``text`` is ``message`` at ``where`` (line:column), and the
+    caret is under ``under``."""
+    with pytest.raises(GestError) as info:
+        parse_profile(text, "bad.toml")
+    first = info.value.first
+    assert first.format().splitlines()[0] == f"bad.toml:{where}: error: {message}"
+    line, column = map(int, where.split(":"))
+    assert text.split("\n")[line - 1] == first.source_line
+    assert first.source_line[column - 1:].startswith(under)
+    return first
+
+
+TOP_ERRORS = {
+    "wrong type of name": (changed('name = "test"', "name = 5"),
+                           "'name' must be a string, got 5", "1:1", "name"),
+    "wrong type of description": (changed('description = "a hand"', "description = []"),
+                                  "'description' must be a string, got []", "2:1",
+                                  "description"),
+    "no board": ('name = "x"\n[servo.a]\nid = 0\n', "a profile needs at least one [[board]]",
+                 "1:1", "name"),
+    "board not an array of tables": ('name = "x"\n\nboard = 5\n',
+                                     "a profile needs at least one [[board]]", "3:1", "board"),
+    "servo not a table": ('servo = 3\n[[board]]\nid = 181\n', "[servo.NAME] tables expected",
+                          "1:1", "servo"),
+    "groups not a table": ('groups = 3\n' + HAND.replace("[groups]\npair", "[more]\npair"),
+                           "[groups] must map a group name to a list of servo names", "1:1",
+                           "groups"),
+    "gloves not tables": ('glove = [1]\n' + HAND.replace("[[glove]]", "[what]"),
+                          "[[glove]] tables expected", "1:1", "glove"),
+}
+
+BOARD_ERRORS = {
+    "id out of range": (changed("id = 181", "id = 12"),
+                        "board id must be a whole number in 181..247, got 12", "5:1", "id"),
+    "id of the wrong type": (changed("id = 181", 'id = "181"'),
+                             "board id must be a whole number in 181..247, got '181'", "5:1",
+                             "id"),
+    "missing id": (changed("id = 181\n", ""),
+                   "board id must be a whole number in 181..247, got None", "4:1",
+                   "[[board]]"),
+    "duplicate id": (changed("\n[servo.a]", '\n[[board]]\nid = 181\nservos = []\n[servo.a]'),
+                     "board 181 is declared twice", "11:1", "id"),
+    "not a table": (HAND.replace("[[board]]\n", "board = [5]\n[what]\n"),
+                    "board 1: expected a [[board]] table, got 5", "4:10", "5"),
+    "baud of the wrong type": (changed("baud = 9600", "baud = 1.5"),
+                               "board 181: 'baud' must be a whole number in 1..2,000,000, "
+                               "got 1.5", "7:1", "baud"),
+    "baud too slow": (changed("baud = 9600", "baud = 300"),
+                      "board 181: baud 300 is too slow: not one servo command fits in a 20 "
+                      "ms servo frame", "7:1", "baud"),
+    "servos not a list": (changed('servos = ["a", "b"]', 'servos = "a"'),
+                          "board 181: 'servos' must be a list of servo names", "8:1",
+                          "servos"),
+    "unknown servo": (changed('servos = ["a", "b"]', 'servos = ["a", "b", "c"]'),
+                      "board 181 lists servo 'c' but there is no [servo.c]", "8:21", '"c"'),
+    "servo listed twice": (changed('servos = ["a", "b"]', 'servos = ["a", "b", "a"]'),
+                           "servo 'a' is on board 181 and board 181", "8:21", '"a"'),
+    "servo on two boards": (changed("\n[servo.a]", '\n[[board]]\nid = 183\nservos = ["b"]\n'
+                                    '[servo.a]'),
+                            "servo 'b' is on board 181 and board 183", "12:11", '"b"'),
+    "name of the wrong type": (changed('name = "right"', "name = 1"),
+                               "board 181: 'name' must be a string, got 1", "6:1", "name"),
+}
+
+SERVO_ERRORS = {
+    "id out of range": (changed("id = 0\n", "id = 300\n"),
+                        "servo 'a': 'id' must be a whole number in 0..180, got 300", "11:1",
+                        "id"),
+    "missing id": (changed("id = 0\n", ""),
+                   "servo 'a': 'id' must be a whole number in 0..180, got None", "10:1",
+                   "[servo.a]"),
+    "duplicate id": (changed("id = 1\n", "id = 0\n"),
+                     "servo 'b': id 0 is already used by servo 'a'", "22:1", "id"),
+    "range out of range": (changed("range = [0, 180]", "range = [0, 200]"),
+                           "servo 'a': 'range' must be [low, high] with 0 <= low <= high <= "
+                           "180, got [0, 200]", "12:1", "range"),
+    "rest outside its range": (changed("range = [0, 180]\nrest = 0",
+                                       "range = [10, 180]\nrest = 0"),
+                               "servo 'a': 'rest' must be a whole number in its range "
+                               "10..180, got 0", "13:1", "rest"),
+    "missing limit": (changed("id = 1\nmax_velocity = 400\n", "id = 1\n"),
+                      "servo 'b': missing 'max_velocity'", "21:1", "[servo.b]"),
+    "limit of the wrong type": (changed("max_jerk = 160000\ncal", "max_jerk = true\ncal"),
+                                "servo 'a': 'max_jerk' must be a number, got True", "16:1",
+                                "max_jerk"),
+    "limit not above 0": (changed("max_acceleration = 8000\nmax_jerk = 160000\ncal",
+                                  "max_acceleration = 0\nmax_jerk = 160000\ncal"),
+                          "servo 'a': 'max_acceleration' must be greater than 0, got 0",
+                          "15:1", "max_acceleration"),
+    "limit out of range": (changed("max_velocity = 400\nmax_acceleration = 8000\nmax_jerk = "
+                                   "160000\ncal", "max_velocity = 1e6\nmax_acceleration = "
+                                   "8000\nmax_jerk = 160000\ncal"),
+                           "servo 'a': 'max_velocity' must be in 1..100,000, got 1000000.0",
+                           "14:1", "max_velocity"),
+    "calibration out of range": (changed("calibration = [10, 170]", "calibration = [170, 10]"),
+                                 "servo 'a': 'calibration' must be [low, high] with 0 <= low "
+                                 "<= high <= 180, got [170, 10]", "17:1", "calibration"),
+    "reversed of the wrong type": (changed("reversed = false", 'reversed = "no"'),
+                                   "servo 'a': 'reversed' must be true or false, got 'no'",
+                                   "18:1", "reversed"),
+    "pin out of range": (changed("pin = 2", "pin = 256"),
+                         "servo 'a': 'pin' must be a whole number in 0..255, got 256", "19:1",
+                         "pin"),
+    "a keyword as a name": (HAND.replace('"b"]', '"wait"]', 1).replace("[servo.b]",
+                                                                      "[servo.wait]"),
+                            "servo 'wait': a servo name must be a word (letters, digits, _) "
+                            "and not a keyword of the language", "21:1", "[servo.wait]"),
+    "not a table": (board_toml(181, ["a"]) + "\n[servo]\na = 3\n",
+                    "servo 'a': expected a [servo.a] table, got 3", "7:1", "a"),
+    "on no board": (changed("\n[[glove]]", "[servo.c]\nid = 9\n\n[[glove]]"),
+                    "servo 'c' is on no board", "26:1", "[servo.c]"),
+}
+
+GROUP_ERRORS = {
+    "not a list": (changed('pair = ["a", "b"]', 'pair = "a"'),
+                   "group 'pair' must be a list of servo names", "39:1", "pair"),
+    "unknown servo": (changed('pair = ["a", "b"]', 'pair = ["a", "z"]'),
+                      "group 'pair' names unknown servo 'z'", "39:14", '"z"'),
+    "a servo's name": (changed('pair = ["a", "b"]', 'a = ["b"]'),
+                       "group 'a' has the name of a servo", "39:1", "a"),
+    "a keyword as a name": (changed('pair = ["a", "b"]', 'wait = ["b"]'),
+                            "group 'wait': a group name must be a word (letters, digits, _) "
+                            "and not a keyword of the language", "39:1", "wait"),
+}
+
+GLOVE_ERRORS = {
+    "id of a board": (changed("id = 182", "id = 181"),
+                      "glove id must be a board ID in 181..247 that no other board has, "
+                      "got 181", "28:1", "id"),
+    "missing id": (changed("id = 182\n", ""),
+                   "glove id must be a board ID in 181..247 that no other board has, "
+                   "got None", "27:1", "[[glove]]"),
+    "unknown board": (changed("board = 181", "board = 183"),
+                      "glove 182: 'board' must be the ID of a servo board of the profile, "
+                      "got 183", "29:1", "board"),
+    "command pins": (changed("command_pins = [10, 11]", "command_pins = [10]"),
+                     "glove 182: 'command_pins' must be [rx, tx], got [10]", "30:1",
+                     "command_pins"),
+    "deadband out of range": (changed("deadband = 2", "deadband = 200"),
+                              "glove 182: 'deadband' must be a whole number in 0..180, got "
+                              "200", "31:1", "deadband"),
+    "frame of the wrong type": (changed("frame_ms = 20", "frame_ms = 20.0"),
+                                "glove 182: 'frame_ms' must be a whole number in 1..1000, got "
+                                "20.0", "32:1", "frame_ms"),
+    "baud too slow": (changed("frame_ms = 20", "frame_ms = 20\nbaud = 100"),
+                      "glove 182: 'baud' must be a whole number in 300..2000000, got 100",
+                      "33:1", "baud"),
+    "name of the wrong type": (changed("board = 181", "board = 181\nname = false"),
+                               "glove 182: 'name' must be a string, got False", "30:1",
+                               "name"),
+    "sensors not a list": (changed("sensors = [", "sensors = 1\nx = ["),
+                           "glove 182: 'sensors' must be a list of { servo = ..., pin = ..., "
+                           "calibration = [low, high] }", "33:1", "sensors"),
+    "no sensor": (HAND.replace(HAND[HAND.index("sensors = ["):HAND.index("\n\n[groups]")],
+                               "sensors = []"),
+                  "glove 182: a glove needs at least one sensor", "33:1", "sensors"),
+}
+
+SENSOR_ERRORS = {
+    "not a table": (changed('{ servo = "b", pin = 15, calibration = [500, 700], reversed = '
+                            'true }', "[1]"),
+                    "glove 182, sensor 2: expected { servo = ..., pin = ..., calibration = "
+                    "[low, high] }", "35:5", "[1]"),
+    "unknown servo": (changed('servo = "a"', 'servo = "aa"'),
+                      "glove 182, sensor 1: 'servo' must be a servo of board 181, got 'aa'",
+                      "34:7", "servo"),
+    "missing servo": (changed('servo = "a", ', ""),
+                      "glove 182, sensor 1: 'servo' must be a servo of board 181, got None",
+                      "34:5", "{"),
+    "calibration": (changed("pin = 15, calibration = [500, 700]",
+                            "pin = 15, calibration = [700, 500]"),
+                    "glove 182, sensor 2: 'calibration' must be [low, high] readings with 0 "
+                    "<= low < high <= 1023, got [700, 500]", "35:30", "calibration"),
+    "pin out of range": (changed("pin = 14", "pin = -1"),
+                         "glove 182, sensor 1: 'pin' must be a whole number in 0..255, got -1",
+                         "34:20", "pin"),
+    "reversed of the wrong type": (changed("reversed = true", "reversed = 1"),
+                                   "glove 182, sensor 2: 'reversed' must be true or false, "
+                                   "got 1", "35:56", "reversed"),
+}
+
+
+@pytest.mark.parametrize(("text", "message", "where", "under"), TOP_ERRORS.values(),
+                         ids=TOP_ERRORS)
+def test_the_top_level_keys_errors_are_at_their_key(text, message, where, under):
+    first_error_at(text, message, where, under)
+
+
+@pytest.mark.parametrize(("text", "message", "where", "under"), BOARD_ERRORS.values(),
+                         ids=BOARD_ERRORS)
+def test_board_errors_are_at_their_key(text, message, where, under):
+    first_error_at(text, message, where, under)
+
+
+@pytest.mark.parametrize(("text", "message", "where", "under"), SERVO_ERRORS.values(),
+                         ids=SERVO_ERRORS)
+def test_servo_errors_are_at_their_key(text, message, where, under):
+    first_error_at(text, message, where, under)
+
+
+@pytest.mark.parametrize(("text", "message", "where", "under"), GROUP_ERRORS.values(),
+                         ids=GROUP_ERRORS)
+def test_group_errors_are_at_their_key(text, message, where, under):
+    first_error_at(text, message, where, under)
+
+
+@pytest.mark.parametrize(("text", "message", "where", "under"), GLOVE_ERRORS.values(),
+                         ids=GLOVE_ERRORS)
+def test_glove_errors_are_at_their_key(text, message, where, under):
+    first_error_at(text, message, where, under)
+
+
+@pytest.mark.parametrize(("text", "message", "where", "under"), SENSOR_ERRORS.values(),
+                         ids=SENSOR_ERRORS)
+def test_sensor_errors_are_at_their_key(text, message, where, under):
+    first_error_at(text, message, where, under)
+
+
+def test_hints_are_kept_with_the_errors_at_their_key():
+    slow = first_error_at(*BOARD_ERRORS["baud too slow"])
+    assert slow.hint == "use 9600 or more"
+    missing = first_error_at(*SERVO_ERRORS["missing limit"])
+    assert missing.hint == "add max_velocity = N, in command degrees per second"
+    typo = changed('servos = ["a", "b"]', 'servos = ["a", "bb"]')
+    assert first_error_at(typo, "board 181 lists servo 'bb' but there is no [servo.bb]",
+                          "8:16", '"bb"').hint == "did you mean 'b'?"
+
+
+def test_the_caret_underlines_the_key():
+    error = first_error_at(*SERVO_ERRORS["limit out of range"])
+    assert error.format().splitlines()[1:3] == ["    max_velocity = 1e6", "    ^" + "~" * 11]
+
+
+def test_all_the_errors_are_reported_each_at_its_key():
+    text = changed("baud = 9600", "baud = 1").replace("pin = 2", "pin = -2") \
+        .replace("deadband = 2", "deadband = -2")
+    with pytest.raises(GestError) as info:
+        parse_profile(text, "bad.toml")
+    assert [(d.pos.line, d.pos.column, d.message.split(":")[0])
+            for d in info.value.diagnostics] == [
+        (7, 1, "board 181"), (19, 1, "servo 'a'"), (31, 1, "glove 182")]
+
+
+# TOML's other ways of writing the same tables: the key is found in each
+KEY_LAYOUTS = {
+    "dotted keys": ('[[board]]\nid = 181\nservos = ["a"]\n[servo]\na.id = 0\n'
+                    'a.max_velocity = 1\na.max_acceleration = 1\na.max_jerk = -1\n',
+                    "servo 'a': 'max_jerk' must be greater than 0, got -1", "8:1", "a.max_jerk"),
+    "an inline table": ('[[board]]\nid = 181\nservos = ["a"]\n[servo]\na = { id = 0, '
+                        'max_velocity = 1, max_acceleration = 1, max_jerk = 1, rest = 300 }\n',
+                        "servo 'a': 'rest' must be a whole number in its range 0..180, got 300",
+                        "5:69", "rest"),
+    "quoted keys and spaces": ('[[ board ]]\n"id" = 181\nservos = [ "a" ]\n[ servo . "a" ]\n'
+                               "  'id'   =  400\n",
+                               "servo 'a': 'id' must be a whole number in 0..180, got 400",
+                               "5:3", "'id'"),
+    "a string that looks like tables": ('description = """\n[[board]]\nid = 5\n"""\n'
+                                        '[[board]]\nid = 5\n',
+                                        "board id must be a whole number in 181..247, got 5",
+                                        "6:1", "id"),
+    "comments with brackets": ('[[board]]  # [[board]] ]\nid = 181  # id = 1 ]\nservos = [ # [\n'
+                               '  "a", # "b" }\n  "c",\n]\n[servo.a]\nid = 0\nmax_velocity = 1\n'
+                               'max_acceleration = 1\nmax_jerk = 1\n',
+                               "board 181 lists servo 'c' but there is no [servo.c]", "5:3",
+                               '"c"'),
+    "CRLF line ends": (HAND.replace("\n", "\r\n").replace("pin = 2", "pin = 2.5"),
+                       "servo 'a': 'pin' must be a whole number in 0..255, got 2.5", "19:1",
+                       "pin"),
+}
+
+
+@pytest.mark.parametrize(("text", "message", "where", "under"), KEY_LAYOUTS.values(),
+                         ids=KEY_LAYOUTS)
+def test_keys_are_found_however_the_toml_writes_them(text, message, where, under):
+    first_error_at(text, message, where, under)
+
+
+def walk(value, path=()):
+    """Every key and array element of TOML data, by path, with its value."""
+    if isinstance(value, dict):
+        for key, item in value.items():
+            yield (*path, key), item
+            yield from walk(item, (*path, key))
+    elif isinstance(value, list):
+        for n, item in enumerate(value):
+            yield (*path, n), item
+            yield from walk(item, (*path, n))
+
+
+def test_every_key_and_item_of_the_built_in_profiles_is_found_where_it_is():
+    import tomllib
+
+    from inmoov_dsl.profile import find_profile
+    from inmoov_dsl.profile_keys import KeyIndex
+
+    for name in builtin_profiles():
+        text = find_profile(name).read_text(encoding="utf-8")
+        index = KeyIndex(text, name)
+        for path, value in walk(tomllib.loads(text)):
+            pos, line = index.find(path)
+            there = line[pos.column - 1:]
+            if isinstance(path[-1], str):  # the key, or the (first) header of its table
+                assert there.startswith(path[-1]) or there.startswith("[") and \
+                    path[-1] in there.split("]")[0], path
+            elif isinstance(value, dict | list):  # a [[table]]'s header, or [ or {
+                assert there[0] in "[{", path
+            else:
+                assert there.startswith(str(value) if isinstance(value, int)
+                                        else f'"{value}"'), path

@@ -12,7 +12,7 @@ from ..calibrate import edit_profile, found
 from ..errors import Diagnostic, GestError, did_you_mean
 from ..player import ask_dump, wait_ready
 from ..ports import open_port
-from ..profile import find_profile, load_profile, parse_profile
+from ..profile import Servo, find_profile, load_profile, parse_profile
 from ..protocol import MAX_VALUE, Signal
 from ..resources import profiles_dir
 from ..urlhandler import protocol_sim
@@ -29,6 +29,7 @@ STEPS = {"left": -1, "right": 1, "down": -10, "up": 10, "pagedown": -30, "pageup
 
 
 def cmd_calibrate(args: argparse.Namespace) -> int:
+    """Calibrate one servo at the keyboard and write the result into the profile."""
     source = find_profile(args.profile or "rhand")
     profile = load_profile(str(source))
     if args.servo not in profile.names:
@@ -77,17 +78,22 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
         return status_of(exc)
     finally:
         port.close()
+    _write(source, output, servo, marks)
+    return EXIT_OK
+
+
+def _write(source: Path, output: Path, servo: Servo, marks: dict[str, int]) -> None:
+    """The marked ends as the servo's calibration, in ``source``'s text written to
+    ``output``; a profile that would not load is never written."""
     new = found(servo, marks["straight"], marks["curled"])
-    text = source.read_text(encoding="utf-8")
-    edited = edit_profile(text, servo.name, new)
-    parse_profile(edited, str(output))  # never write a profile that would not load
+    edited = edit_profile(source.read_text(encoding="utf-8"), servo.name, new)
+    parse_profile(edited, str(output))
     output.write_text(edited, encoding="utf-8")
     print(f"\n{servo.name}: calibration {list(new.calibration)}, reversed "
           f"{str(new.reversed).lower()}, limits rescaled to the new range; written to "
           f"{output}")
     if output != source:
         print(f"use it with --profile {output}")
-    return EXIT_OK
 
 
 def _output(source: Path, name: str) -> Path:
@@ -104,7 +110,8 @@ def _show(name: str, value: int, mapping: BoardServo, marks: dict[str, int]) -> 
     status_line(f"{name}: value {value:>3}  angle {mapping.angle(value):>3}  |  {mark}")
 
 
-def add_parser(sub) -> None:
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """``gestplay calibrate --port PORT --servo NAME``."""
     p = sub.add_parser("calibrate", help="find a servo's ends with the arrow keys and "
                        "write them into the profile", description=HELP,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
