@@ -11,13 +11,10 @@ import argparse
 import sys
 from collections.abc import Collection
 
-from .. import calibrate
 from ..common import add_version, parse_args, run
-from . import dump, play, ports, relax, repl, send, teach
+from . import calibrate, dump, play, ports, relax, repl, send, teach
 
 PROG = "gestplay"
-
-
 TOOLS = (play, ports, dump, send, relax, calibrate, repl, teach)  #: each with add_parser
 
 

@@ -7,17 +7,17 @@ import argparse
 import sys
 from pathlib import Path
 
-from ..board import BoardServo
-from ..calibrate import edit_profile, found
-from ..errors import Diagnostic, GestError, did_you_mean
-from ..player import ask_dump, wait_ready
-from ..ports import open_port
-from ..profile import Servo, find_profile, load_profile, parse_profile
-from ..protocol import MAX_VALUE, Signal
-from ..resources import profiles_dir
-from ..urlhandler import protocol_sim
-from .common import EXIT_OK, send_value, status_line, status_of, why
-from .keys import key_reader
+from ...board import BoardServo
+from ...calibrate import edit_profile, found
+from ...errors import Diagnostic, GestError, did_you_mean
+from ...player import ask_dump, wait_ready
+from ...ports import open_port
+from ...profile import Servo, find_profile, load_profile, parse_profile
+from ...protocol import MAX_VALUE, Signal
+from ...resources import profiles_dir
+from ...urlhandler import protocol_sim
+from ..common import EXIT_OK, send_value, status_line, status_of, why
+from ..keys import key_reader
 
 PROG = "gestplay calibrate"
 HELP = """\
@@ -28,7 +28,7 @@ Move the servo until the finger is straight, press s; until it is curled, press 
 STEPS = {"left": -1, "right": 1, "down": -10, "up": 10, "pagedown": -30, "pageup": 30}
 
 
-def cmd_calibrate(args: argparse.Namespace) -> int:
+def run(args: argparse.Namespace) -> int:
     """Calibrate one servo at the keyboard and write the result into the profile."""
     source = find_profile(args.profile or "rhand")
     profile = load_profile(str(source))
@@ -123,4 +123,4 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--full-range", action="store_true",
                    help="the board maps 0..180 straight onto servo angles (a calibration "
                    "sketch), not through the profile's calibration")
-    p.set_defaults(func=cmd_calibrate)
+    p.set_defaults(func=run)
