@@ -2,9 +2,10 @@
 (docs/protocol.md).
 
 A pure state machine fed one byte at a time: ``feed(byte)`` returns what the board
-does with it (servo writes, reply bytes). No clock and no I/O: the virtual board
-(``sim.py``) paces it, the metrics decode streams with it, and the firmware's host
-tests check the C++ core against the same rules.
+does with it (servo writes, reply bytes). It reads the bytes with the protocol reader
+(``decode.Reader`` with the ``BOARD`` policy) and acts on its events. No clock and no
+I/O: the virtual board (``sim.py``) paces it, the repl mirrors the hand with it, and
+the firmware's host tests check the C++ core against the same rules.
 
 - CANCEL (255) drops a half-read command; the board then expects a servo ID.
 - DUMP (253) is answered ``START BOARD_ID N (id value)*N END`` wherever it arrives, and
@@ -23,6 +24,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from .decode import BOARD, Pair, Reader
 from .profile import Board, Profile
 from .protocol import MAX_VALUE, Signal
 
@@ -44,6 +46,9 @@ def pulse_us(angle: int) -> int:
 
 @dataclass(frozen=True)
 class BoardServo:
+    """One servo as its board knows it: ID, calibration (angles for 0 and 180), whether
+    it is reversed, and the value it starts at without a stored pose."""
+
     id: int
     calibration: tuple[int, int] = (0, MAX_VALUE)
     reversed: bool = False
@@ -78,35 +83,36 @@ class BoardCore:
         self.board_id = board_id
         self.servos = tuple(servos)
         self._index = {s.id: i for i, s in enumerate(self.servos)}
+        self._reader = Reader(BOARD)
         self.values: list[int] = []  #: last value written, unscaled
-        self.pending: int | None = None  #: a servo ID waiting for its value
         self.relaxed = False  #: RELAX came: no pulses until the next servo write
         self.restore(None)
 
     @classmethod
     def from_profile(cls, profile: Profile, board: Board) -> BoardCore:
+        """The core of ``board`` of ``profile``: its servos, each resting at its rest."""
         servos = [profile.servos[profile.index(name)] for name in board.servos]
         return cls(board.id, [BoardServo(s.id, s.calibration, s.reversed, s.rest)
                               for s in servos])
 
+    @property
+    def pending(self) -> int | None:
+        """A servo ID waiting for its value, if any."""
+        return self._reader.pending
+
     def feed(self, byte: int) -> tuple[Write | None, bytes]:
         """Read one byte: the servo write it completes, if any, and the bytes to reply."""
-        if byte in (Signal.CANCEL, Signal.DUMP, Signal.RELAX):
-            self.pending = None
-            if byte == Signal.DUMP:
-                return None, self.dump()
-            if byte == Signal.RELAX:
-                self.relaxed = True
-        elif self.pending is None:
-            self.pending = byte
-        else:
-            sid, self.pending = self.pending, None
-            index = self._index.get(sid)
-            if index is not None:
-                value = min(byte, MAX_VALUE)
-                self.values[index] = value
-                self.relaxed = False
-                return Write(sid, value, self.servos[index].angle(value)), b""
+        for event in self._reader.feed(byte):
+            match event:
+                case Signal.DUMP:
+                    return None, self.dump()
+                case Signal.RELAX:
+                    self.relaxed = True
+                case Pair(id=sid, value=value) if sid in self._index:
+                    index = self._index[sid]
+                    self.values[index] = value
+                    self.relaxed = False
+                    return Write(sid, value, self.servos[index].angle(value)), b""
         return None, b""
 
     def restore(self, values: Sequence[int] | None) -> None:
@@ -114,30 +120,10 @@ class BoardCore:
         its rest value; nothing pending."""
         self.values = list(values) if values is not None else [s.default for s in
                                                                 self.servos]
-        self.pending = None
+        self._reader.reset()
         self.relaxed = False
 
     def dump(self) -> bytes:
+        """The reply to DUMP: START BOARD_ID N (id value)*N END."""
         body = [b for s, v in zip(self.servos, self.values, strict=True) for b in (s.id, v)]
         return bytes([Signal.START, self.board_id, len(self.servos), *body, Signal.END])
-
-
-def parse_dump(data: bytes, board_id: int | None = None
-               ) -> tuple[int, dict[int, int]] | None:
-    """Find a DUMP reply in bytes from a board (WAIT bytes and noise around it are
-    skipped), from board ``board_id`` if given: (board ID, servo ID -> value), or None
-    if no complete reply is there."""
-    start = 0
-    while True:
-        start = data.find(bytes([Signal.START]), start)
-        if start < 0 or start + 2 >= len(data):
-            return None
-        board, count = data[start + 1], data[start + 2]
-        end = start + 3 + 2 * count
-        if end < len(data) and data[end] == Signal.END:
-            body = data[start + 3:end]
-            pairs = dict(zip(body[0::2], body[1::2], strict=True))
-            if all(v <= MAX_VALUE for v in pairs.values()) and len(pairs) == count \
-                    and board_id in (None, board):
-                return board, pairs
-        start += 1

@@ -1,9 +1,11 @@
-"""The flex-sensor glove's rules (the firmware's GloveCore, in Python), and a virtual
-glove that performs a known motion: pure, no clock and no I/O.
+"""The flex-sensor glove: its rules (the firmware's GloveCore, in Python), a virtual
+glove that performs a known motion, and its clock recovered from the times its reports
+arrive (``on_the_clock``, for gestc record). Pure: no clock and no I/O.
 
 Every frame the glove maps each sensor's reading from its calibration onto 0..180 and
 sends ``255 id v id v ...`` with the servos that moved more than the dead-band (or
-reached 0 or 180); MIN and MAX from the computer capture the readings as the bounds.
+reached 0 or 180); MIN and MAX from the computer (read by ``decode.Reader`` with the
+``GLOVE`` policy) capture the readings as the bounds.
 The firmware's host tests drive the C++ core through the same timelines.
 """
 
@@ -15,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .decode import GLOVE, Reader
 from .plan import Plan
 from .profile import Glove, Profile
 from .protocol import MAX_VALUE, Signal
@@ -31,14 +34,18 @@ class GloveCore:
         self.deadband = deadband
         self.bounds = [list(c) for c in self.settings]
         self.sent: list[int | None] = [None] * len(self.ids)
+        self._reader = Reader(GLOVE)
 
     @classmethod
     def from_profile(cls, profile: Profile, glove: Glove) -> GloveCore:
+        """The glove of ``profile`` described by ``glove``."""
         ids = {s.name: s.id for s in profile.servos}
         return cls([ids[s.servo] for s in glove.sensors], [s.calibration for s in glove.sensors],
                    [s.reversed for s in glove.sensors], glove.deadband)
 
     def value(self, index: int, reading: int) -> int:
+        """Sensor ``index``'s reading mapped from its bounds onto 0..180 (reversed if
+        the sensor is)."""
         low, high = self.bounds[index]
         if high <= low:
             v = MAX_VALUE if reading > low else 0
@@ -47,6 +54,8 @@ class GloveCore:
         return MAX_VALUE - v if self.reversed[index] else v
 
     def update(self, readings: Sequence[int]) -> bytes:
+        """One frame: the bytes the glove sends for ``readings`` (CANCEL, then the
+        fingers that moved beyond the dead-band or reached 0 or 180), or none."""
         out = bytearray()
         for i, reading in enumerate(readings):
             v = self.value(i, reading)
@@ -61,11 +70,15 @@ class GloveCore:
         return bytes(out)
 
     def feed(self, byte: int, readings: Sequence[int]) -> None:
-        if byte not in (Signal.MIN, Signal.MAX):
-            return
-        for i, reading in enumerate(readings):
-            self.bounds[i][1 if byte == Signal.MAX else 0] = reading
-        self.sent = [None] * len(self.ids)
+        """Read a byte from the computer (``decode.GLOVE``): MIN or MAX captures
+        ``readings`` as the lower or upper bounds, and every finger is reported again;
+        any other byte is ignored."""
+        for event in self._reader.feed(byte):
+            match event:
+                case Signal.MIN | Signal.MAX:
+                    for i, reading in enumerate(readings):
+                        self.bounds[i][1 if event == Signal.MAX else 0] = reading
+                    self.sent = [None] * len(self.ids)
 
 
 @dataclass(frozen=True)
@@ -110,6 +123,24 @@ def glove_stream(plan: Plan, glove: Glove, untidy: Imperfections = Imperfections
         if data:
             out.append((t, data))
     return out
+
+
+def on_the_clock(samples: Sequence[tuple[float, int, int]], period: float
+                 ) -> list[tuple[float, int, int]]:
+    """A glove reports on its own clock, every ``period`` s; the computer sees the
+    reports late by a varying few ms (a USB-serial chip holds them up to 16 ms). When
+    the arrival times fit that clock, each is moved back onto its tick."""
+    if len(samples) < 3:
+        return list(samples)
+    t = np.asarray([s[0] for s in samples])
+    t0 = t[0]
+    shift = float(np.median(t - t0 - np.round((t - t0) / period) * period))
+    ticks = np.round((t - t0 - shift) / period)
+    off = t - t0 - shift - ticks * period
+    if np.mean(np.abs(off) < period / 3) < 0.9:
+        return list(samples)  # not a periodic sender: the arrival times as they are
+    return [(t0 + shift + k * period, sid, v)
+            for k, (_, sid, v) in zip(ticks.tolist(), samples, strict=True)]
 
 
 class VirtualGlove:

@@ -1,7 +1,8 @@
 """How well a stream follows its plan: coverage, lag, tracking error, link use.
 
-Measured from the bytes (decoded as a board reads them) against the plan, not from
-the encoder's bookkeeping, so the figures hold whatever the scheduler did.
+Measured from the bytes (read as a board reads them: ``decode.Reader`` with the
+``BOARD`` policy) against the plan, not from the encoder's bookkeeping, so the figures
+hold whatever the scheduler did.
 
 - A servo *needs* frame f when, at the frame's start, its rounded plan differs from
   the value the board holds; it is *covered* when a fresh value arrives within the
@@ -15,19 +16,23 @@ the encoder's bookkeeping, so the figures hold whatever the scheduler did.
 from __future__ import annotations
 
 import math
+from collections.abc import Collection
 from dataclasses import dataclass
 
 import numpy as np
 
 from . import protocol
-from .board import BoardCore
 from .compiled import Compiled
+from .decode import BOARD, Pair, Reader
 from .encode import Stream, frame_ends, round_values
 from .plan import Plan
+from .profile import Board, Profile
 
 
 @dataclass(frozen=True)
 class LinkReport:
+    """How one board's stream serves its plan."""
+
     board: int
     baud: int
     servos: int
@@ -45,19 +50,26 @@ class LinkReport:
 
     @property
     def coverage(self) -> float:
+        """The share of the servo-frames needing a fresh value that got one."""
         return 1.0 if self.needed == 0 else self.covered / self.needed
 
 
-def decode(stream: Stream, board: BoardCore) -> list[tuple[float, int, int]]:
-    """(arrival time, servo ID, value) of every servo write ``board`` makes from the
-    stream's bytes; a byte has arrived one byte-time after it was sent."""
+def writes(stream: Stream, ids: Collection[int]) -> list[tuple[float, int, int]]:
+    """(arrival time, servo ID, value) of every servo write a board with servos ``ids``
+    makes from the stream's bytes; a byte has arrived one byte-time after it was sent."""
     tau = stream.byte_time
+    reader = Reader(BOARD)
     out = []
     for t, b in zip(stream.times.tolist(), stream.data, strict=True):
-        write, _ = board.feed(b)
-        if write is not None:
-            out.append((t + tau, write.id, write.value))
+        for event in reader.feed(b):
+            if isinstance(event, Pair) and event.id in ids:
+                out.append((t + tau, event.id, event.value))
     return out
+
+
+def _board_ids(profile: Profile, board: Board) -> frozenset[int]:
+    """The servo IDs ``board`` drives."""
+    return frozenset(profile.servos[profile.index(name)].id for name in board.servos)
 
 
 def sent_values(plan: Plan, compiled: Compiled) -> dict[int, tuple[np.ndarray, np.ndarray]]:
@@ -67,8 +79,7 @@ def sent_values(plan: Plan, compiled: Compiled) -> dict[int, tuple[np.ndarray, n
     boards = {b.id: b for b in profile.boards}
     out: dict[int, tuple[list[float], list[int]]] = {}
     for stream in compiled.streams:
-        core = BoardCore.from_profile(profile, boards[stream.board])
-        for t, sid, value in decode(stream, core):
+        for t, sid, value in writes(stream, _board_ids(profile, boards[stream.board])):
             times, values = out.setdefault(index[sid], ([], []))
             times.append(t)
             values.append(value)
@@ -86,6 +97,7 @@ def held_at(plan: Plan, sent: dict, times: np.ndarray) -> np.ndarray:
 
 
 def measure(plan: Plan, streams: tuple[Stream, ...]) -> tuple[LinkReport, ...]:
+    """A report for each stream: how well it follows ``plan``."""
     return tuple(_measure_board(plan, s) for s in streams)
 
 
@@ -93,7 +105,7 @@ def _measure_board(plan: Plan, stream: Stream) -> LinkReport:
     profile = plan.profile
     board = next(b for b in profile.boards if b.id == stream.board)
     tau = stream.byte_time
-    events = decode(stream, BoardCore.from_profile(profile, board))
+    events = writes(stream, _board_ids(profile, board))
     end = float(stream.times[-1] + tau) if len(stream.times) else 0.0
     frames = int(max(end, plan.duration) / protocol.SERVO_FRAME) + 2
     ends = frame_ends(frames)

@@ -15,9 +15,9 @@ from dataclasses import dataclass
 from typing import Protocol
 
 from . import clock
-from .board import parse_dump
 from .clock import Clock, Sleep
 from .compiled import Compiled
+from .decode import parse_dump
 from .protocol import SERVO_FRAME, Signal
 
 READY_TIMEOUT = 2.0  #: s; the longest we wait for a board to boot (its first WAIT)
@@ -31,8 +31,13 @@ POLL = 0.2  #: s; in a long pause, look at the links this often (a pulled cable)
 
 
 class Port(Protocol):
-    def write(self, data: bytes) -> int | None: ...
-    def read(self, size: int = 1) -> bytes: ...
+    """What the player needs of a serial port (pyserial's, or a virtual board's)."""
+
+    def write(self, data: bytes) -> int | None:
+        """Send ``data``."""
+
+    def read(self, size: int = 1) -> bytes:
+        """Up to ``size`` bytes that have come (a port that never blocks: maybe none)."""
 
 
 @dataclass

@@ -1,68 +1,37 @@
 """From a recorded stream to a short gesture (``gestc record``): pure, no clock, no I/O.
 
-1. ``StreamReader`` reads the bytes as a servo board would (CANCEL, pairs, signals
-   skipped) with the time each arrived, and keeps every (time, servo, value): a glove's
-   stream, or any stream in the protocol.
+1. The samples: every (time, servo, value) of a glove's stream (``decode.StreamReader``
+   and ``glove.on_the_clock``), or of any stream in the protocol.
 2. ``traces`` cleans each servo's samples (a lone wrong one, made by a byte lost in a
    pair, is dropped) and draws a line through them, on every 20 ms servo frame: a
    glove reports a finger once it has moved more than its dead-band, so the finger is
    within that band of the line.
 3. ``keyframes`` picks the poses: a move is planned from rest to rest, so keyframes
-   belong where the motion pauses or turns; of those frames, a shortest path picks the
-   fewest whose moves, planned exactly as the compiler plans them, stay within the
-   tolerance of the recording.
-4. ``to_gest`` writes them as a gesture in the canonical layout, durations taken from
-   the recording.
+   belong where the motion pauses or turns (``Recording.candidates``); of those frames,
+   ``shortest_path`` picks the fewest whose moves (``Recording.segment``), planned
+   exactly as the compiler plans them, stay within the tolerance of the recording.
+4. ``to_gest`` writes keyframes as a gesture in the canonical layout, durations taken
+   from the recording.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
 from .fmt import format_source
 from .plan import Planner
 from .profile import Profile
-from .protocol import MAX_VALUE, SERVO_FRAME, Signal
+from .protocol import MAX_VALUE, SERVO_FRAME
 from .resolve import Action
 
 DEFAULT_TOLERANCE = 3.0  #: command degrees
 OUTLIER = 12.0  #: command degrees from both neighbours makes a lone sample an outlier
 SILENCE = 0.1  #: s without a report
 WINDOW = 40  #: a move spans at most this many candidate pauses
-
-
-@dataclass
-class StreamReader:
-    """Bytes in the protocol, as they arrive, to (time, servo ID, value) samples."""
-
-    ids: frozenset[int]  #: the servo IDs to keep
-    samples: list[tuple[float, int, int]] = field(default_factory=list)
-    skipped: int = 0  #: bytes before the first CANCEL, pairs for other IDs, signals
-    pending: int | None = None
-    synced: bool = False  #: a CANCEL has come: pairs can be told apart
-
-    def feed(self, t: float, data: Iterable[int]) -> None:
-        for byte in data:
-            if byte == Signal.CANCEL:
-                self.pending = None
-                self.synced = True
-            elif not self.synced:
-                self.skipped += 1  # joined mid-command: wait for the next CANCEL
-            elif byte > MAX_VALUE:
-                self.skipped += 1  # a signal (WAIT, DUMP...) or noise
-                if self.pending is not None and byte < min(Signal):
-                    self.pending = None  # not a value: the pair is lost
-            elif self.pending is None:
-                self.pending = byte
-            else:
-                sid, self.pending = self.pending, None
-                if sid in self.ids:
-                    self.samples.append((t, sid, byte))
-                else:
-                    self.skipped += 1
+SLOW = 1000.0  #: degrees of error a move the limits would slow down counts as
 
 
 @dataclass(frozen=True)
@@ -91,24 +60,6 @@ def _drop_spikes(t: np.ndarray, v: np.ndarray, vmax: float
     fast = np.concatenate(([speed[0]], np.minimum(speed[:-1], speed[1:]), [speed[-1]]))
     spike = (np.abs(v - median) > OUTLIER) & (fast > 3 * vmax)
     return t[~spike], v[~spike], int(spike.sum())
-
-
-def on_the_clock(samples: Sequence[tuple[float, int, int]], period: float
-                 ) -> list[tuple[float, int, int]]:
-    """A glove reports on its own clock, every ``period`` s; the computer sees the
-    reports late by a varying few ms (a USB-serial chip holds them up to 16 ms). When
-    the arrival times fit that clock, each is moved back onto its tick."""
-    if len(samples) < 3:
-        return list(samples)
-    t = np.asarray([s[0] for s in samples])
-    t0 = t[0]
-    shift = float(np.median(t - t0 - np.round((t - t0) / period) * period))
-    ticks = np.round((t - t0 - shift) / period)
-    off = t - t0 - shift - ticks * period
-    if np.mean(np.abs(off) < period / 3) < 0.9:
-        return list(samples)  # not a periodic sender: the arrival times as they are
-    return [(t0 + shift + k * period, sid, v)
-            for k, (_, sid, v) in zip(ticks.tolist(), samples, strict=True)]
 
 
 def traces(samples: Sequence[tuple[float, int, int]], profile: Profile,
@@ -163,125 +114,165 @@ class Keyframe:
 
 @dataclass(frozen=True)
 class Fit:
+    """The keyframes chosen for a recording, and how well their moves follow it."""
+
     keyframes: tuple[Keyframe, ...]
     error: float  #: degrees the planned motion strays beyond the recording's band, at most
     stretched: tuple[float, ...]  #: times of moves the limits make slower than recorded
 
 
-def keyframes(tr: Traces, profile: Profile, tolerance: float = DEFAULT_TOLERANCE) -> Fit:
-    """The fewest keyframes whose planned moves stay within ``tolerance`` of the
-    recording. A move is planned from rest to rest, so keyframes belong where the hand
-    pauses or turns: the candidates are the frames where the recorded motion is
-    slowest, and a shortest path over them (each hop one move, planned exactly as the
-    compiler plans it) picks the fewest that fit: first the least error beyond the
-    tolerance (summed over the moves; a move the limits would slow down counts a
-    thousand degrees), then the fewest moves."""
-    servos = sorted(tr.values)
-    if not servos:
-        return Fit((), 0.0, ())
-    rec = np.stack([tr.values[i] for i in servos], axis=1)  # [frame][servo]
-    poses = np.clip(np.floor(rec + 0.5), 0, MAX_VALUE).astype(int)
-    planner = Planner(profile)
-    last = len(tr.times) - 1
-    if last == 0:
-        return Fit((Keyframe(0.0, dict(zip(servos, poses[0].tolist(), strict=True))),),
-                   0.0, ())
-    frames = sorted({0, last, *_pauses(rec, [profile.servos[i].max_velocity
-                                             for i in servos])})
-    best: list[tuple[float, int, int]] = [(0.0, 0, -1)]  # (excess, hops, previous)
-    for j in range(1, len(frames)):
-        options = []
-        for i in range(max(0, j - WINDOW), j):
-            error, slow, _ = _segment(planner, servos, tr.times, rec, poses, frames[i],
-                                      frames[j], tr.band)
-            excess = max(0.0, error - tolerance) + (1000.0 if slow else 0.0)
-            options.append((best[i][0] + excess, best[i][1] + 1, i))
-        best.append(min(options))
-    path = [len(frames) - 1]
+@dataclass(frozen=True)
+class Segment:
+    """A move between two frames of a recording, planned as the compiler plans it."""
+
+    error: float  #: degrees it strays beyond the recording's band, at most
+    slow: bool  #: the limits make it slower than recorded
+    stagger: float = 0.0  #: s between its servos' starts
+    order: tuple[int, ...] = ()  #: servo indices, when staggered
+
+    def cost(self, tolerance: float) -> float:
+        """What the keyframe choice minimises: degrees beyond ``tolerance``, SLOW if slow."""
+        return max(0.0, self.error - tolerance) + (SLOW if self.slow else 0.0)
+
+
+def shortest_path(count: int, cost: Callable[[int, int], float], window: int = WINDOW
+                  ) -> list[int]:
+    """The nodes from 0 to ``count - 1`` with the least total ``cost(i, j)`` of its hops,
+    then the fewest hops (then the earliest nodes), each hop at most ``window`` ahead."""
+    best: list[tuple[float, int, int]] = [(0.0, 0, -1)]  # (cost, hops, previous)
+    for j in range(1, count):
+        best.append(min((best[i][0] + cost(i, j), best[i][1] + 1, i)
+                        for i in range(max(0, j - window), j)))
+    path = [count - 1]
     while best[path[-1]][2] >= 0:
         path.append(best[path[-1]][2])
-    path.reverse()
-    cuts = [frames[k] for k in path]
-    results = [_segment(planner, servos, tr.times, rec, poses, a, b, tr.band)
-               for a, b in zip(cuts, cuts[1:], strict=False)]
-    worst = max((error for error, _, _ in results), default=0.0)
-    stretched = tuple(float(tr.times[a]) for a, (_, slow, _) in zip(cuts, results, strict=False)
-                      if slow)
-    staggers = [(0.0, ())] + [wave for _, _, wave in results]
-    keys = tuple(Keyframe(float(tr.times[k]), dict(zip(servos, poses[k].tolist(), strict=True)),
-                          *wave) for k, wave in zip(cuts, staggers, strict=True))
-    return Fit(keys, worst, stretched)
+    return path[::-1]
 
 
-def _pauses(rec: np.ndarray, limits: list[float]) -> list[int]:
-    """Frames where the recorded motion is slowest: near the local minima of its speed
-    (each servo's share of its velocity limit, the largest of them, smoothed over 5
-    frames); of a still stretch, near its first and last frame."""
-    if len(rec) < 3:
-        return []
-    velocity = np.gradient(rec, SERVO_FRAME, axis=0) / np.asarray(limits)
-    speed = np.convolve(np.abs(velocity).max(axis=1), np.ones(5) / 5, mode="same")
-    low = (speed[1:-1] <= speed[:-2] + 1e-9) & (speed[1:-1] <= speed[2:] + 1e-9)
-    frames = np.flatnonzero(low) + 1
-    # a run of equal minima (a hold) counts by its ends, and the frames around them:
-    # smoothing shortens a hold by two frames at each end
-    out: set[int] = set()
-    for n, k in enumerate(frames):
-        inner = 0 < n < len(frames) - 1 and frames[n - 1] == k - 1 and frames[n + 1] == k + 1
-        if not inner:
-            out.update(range(max(0, k - 2), min(len(rec), k + 3)))
-    return sorted(out)
+def keyframes(tr: Traces, profile: Profile, tolerance: float = DEFAULT_TOLERANCE) -> Fit:
+    """The fewest keyframes whose planned moves stay within ``tolerance`` of the
+    recording: first the least error beyond the tolerance (summed over the moves; a
+    move the limits would slow down counts SLOW degrees), then the fewest moves."""
+    return Recording(tr, profile, tolerance).fit()
 
 
-def _segment(planner: Planner, servos: list[int], times: np.ndarray, rec: np.ndarray,
-             poses: np.ndarray, a: int, b: int, band: float
-             ) -> tuple[float, bool, tuple[float, tuple[int, ...]]]:
-    """Plan the move from frame a's pose to frame b's over their time, all servos
-    together, or (if that follows the recording better) one after another in the order
-    they started, ``stagger`` apart: (how far it strays beyond ``band`` of the
-    recording, whether the limits stretch it, (stagger, order))."""
-    start = [s.rest for s in planner.profile.servos]
-    for k, i in enumerate(servos):
-        start[i] = int(poses[a][k])
-    span = times[a:b + 1] - times[a]
-    total = float(span[-1])
+class Recording:
+    """A recording's traces, ready for the keyframe choice: the recorded values and
+    their poses (whole degrees) on every frame, for the servos it has."""
 
-    def try_plan(targets, stagger=0.0):
-        over = total - stagger * (len(targets) - 1)
-        plan = planner.plan([Action(tuple(targets), over=over, stagger=stagger)], start)
-        planned = np.stack([plan.tracks[i].position(span) for i in servos], axis=1)
-        error = max(0.0, float(np.abs(planned - rec[a:b + 1]).max()) - band)
-        return error, plan.duration > total + 1e-6
+    def __init__(self, traces: Traces, profile: Profile, tolerance: float = DEFAULT_TOLERANCE):
+        self.traces, self.profile, self.tolerance = traces, profile, tolerance
+        self.servos = sorted(traces.values)  #: servo indices
+        self.values = np.stack([traces.values[i] for i in self.servos], axis=1) \
+            if self.servos else np.zeros((len(traces.times), 0))  #: [frame][servo]
+        self.poses = np.clip(np.floor(self.values + 0.5), 0, MAX_VALUE).astype(int)
+        self.planner = Planner(profile)
 
-    changed = [k for k in range(len(servos)) if poses[b][k] != poses[a][k]]
-    best = (*try_plan([(servos[k], int(poses[b][k])) for k in changed]), (0.0, ()))
-    if len(changed) > 1 and best[0] > 0:
-        moved = np.abs(rec[a:b + 1, changed] - rec[a, changed]) > band + 1
+    def fit(self) -> Fit:
+        """The keyframes: those of ``candidates`` that ``shortest_path`` picks."""
+        if not self.servos:
+            return Fit((), 0.0, ())
+        if len(self.traces.times) == 1:
+            return Fit((self.keyframe(0),), 0.0, ())
+        frames = self.candidates()
+        path = shortest_path(len(frames), lambda i, j: self.segment(
+            frames[i], frames[j]).cost(self.tolerance))
+        cuts = [frames[k] for k in path]
+        moves = [self.segment(a, b) for a, b in zip(cuts, cuts[1:], strict=False)]
+        keys = (self.keyframe(cuts[0]),
+                *(self.keyframe(b, move) for b, move in zip(cuts[1:], moves, strict=True)))
+        stretched = tuple(float(self.traces.times[a])
+                          for a, move in zip(cuts, moves, strict=False) if move.slow)
+        return Fit(keys, max((move.error for move in moves), default=0.0), stretched)
+
+    def candidates(self) -> list[int]:
+        """The frames a keyframe may fall on: the first, the last, and where the motion
+        is slowest: near the local minima of its speed (each servo's share of its
+        velocity limit, the largest of them, smoothed over 5 frames); of a still
+        stretch, near its first and last frame."""
+        rec = self.values
+        out = {0, len(rec) - 1}
+        if len(rec) < 3:
+            return sorted(out)
+        limits = [self.profile.servos[i].max_velocity for i in self.servos]
+        velocity = np.gradient(rec, SERVO_FRAME, axis=0) / np.asarray(limits)
+        speed = np.convolve(np.abs(velocity).max(axis=1), np.ones(5) / 5, mode="same")
+        low = (speed[1:-1] <= speed[:-2] + 1e-9) & (speed[1:-1] <= speed[2:] + 1e-9)
+        frames = np.flatnonzero(low) + 1
+        # a run of equal minima (a hold) counts by its ends, and the frames around
+        # them: smoothing shortens a hold by two frames at each end
+        for n, k in enumerate(frames):
+            if not (0 < n < len(frames) - 1 and frames[n - 1] == k - 1
+                    and frames[n + 1] == k + 1):
+                out.update(range(max(0, k - 2), min(len(rec), k + 3)))
+        return sorted(out)
+
+    def keyframe(self, k: int, into: Segment = Segment(0.0, False)) -> Keyframe:
+        """Frame ``k``'s pose as a keyframe, reached by the move ``into``."""
+        return Keyframe(float(self.traces.times[k]),
+                        dict(zip(self.servos, self.poses[k].tolist(), strict=True)),
+                        into.stagger, into.order)
+
+    def segment(self, a: int, b: int) -> Segment:
+        """The move from frame a's pose to frame b's over their time, all servos
+        together, or (if that follows the recording better) one after another in the
+        order they started."""
+        changed = [k for k in range(len(self.servos)) if self.poses[b][k] != self.poses[a][k]]
+        together = self._plan(a, b, [(self.servos[k], int(self.poses[b][k]))
+                                     for k in changed])
+        if len(changed) > 1 and together.error > 0:
+            staggered = self._staggered(a, b, changed)
+            if staggered is not None and \
+                    (staggered.slow, staggered.error) < (together.slow, together.error):
+                return staggered
+        return together
+
+    def _staggered(self, a: int, b: int, changed: list[int]) -> Segment | None:
+        """The move with the ``changed`` servos started ``stagger`` apart in the order
+        the recording moved them, or None if they moved together."""
+        moved = np.abs(self.values[a:b + 1, changed] - self.values[a, changed]) \
+            > self.traces.band + 1
         first = [int(np.argmax(m)) if m.any() else 0 for m in moved.T]
         order = sorted(range(len(changed)), key=lambda n: first[n])
         spread = (first[order[-1]] - first[order[0]]) * SERVO_FRAME
         stagger = round(spread / (len(changed) - 1), 2)
-        if stagger >= SERVO_FRAME and total - stagger * (len(changed) - 1) > SERVO_FRAME:
-            targets = [(servos[changed[n]], int(poses[b][changed[n]])) for n in order]
-            error, slow = try_plan(targets, stagger)
-            if (slow, error) < (best[1], best[0]):
-                best = (error, slow, (stagger, tuple(i for i, _ in targets)))
-    return best
+        total = float(self.traces.times[b] - self.traces.times[a])
+        if stagger < SERVO_FRAME or total - stagger * (len(changed) - 1) <= SERVO_FRAME:
+            return None
+        targets = [(self.servos[changed[n]], int(self.poses[b][changed[n]])) for n in order]
+        return self._plan(a, b, targets, stagger)
+
+    def _plan(self, a: int, b: int, targets: list[tuple[int, int]], stagger: float = 0.0
+              ) -> Segment:
+        """``targets`` planned from frame a's pose over the time to frame b, as recorded."""
+        start = [s.rest for s in self.profile.servos]
+        for k, i in enumerate(self.servos):
+            start[i] = int(self.poses[a][k])
+        span = self.traces.times[a:b + 1] - self.traces.times[a]
+        total = float(span[-1])
+        over = total - stagger * (len(targets) - 1)
+        plan = self.planner.plan([Action(tuple(targets), over=over, stagger=stagger)], start)
+        planned = np.stack([plan.tracks[i].position(span) for i in self.servos], axis=1)
+        error = max(0.0, float(np.abs(planned - self.values[a:b + 1]).max()) - self.traces.band)
+        return Segment(error, plan.duration > total + 1e-6, stagger,
+                       tuple(i for i, _ in targets) if stagger else ())
 
 
-def to_gest(name: str, fit: Fit, profile: Profile, about: Sequence[str] = ()) -> str:
+def to_gest(name: str, keys: Sequence[Keyframe], profile: Profile,
+            about: Sequence[str] = ()) -> str:
     """The keyframes as a gesture: the first pose, then each move (only the servos that
-    change, ``over`` the recorded time) or hold, in the canonical layout."""
-    if not fit.keyframes:
+    change, ``over`` the recorded time) or hold, in the canonical layout; ``about`` are
+    comment lines above it."""
+    if not keys:
         raise ValueError("nothing was recorded")
     names = [s.name for s in profile.servos]
-    first = fit.keyframes[0]
+    first = keys[0]
     lines = [f"# {line}" for line in about]
     lines.append(f"{name}:")
     lines.append("    " + ", ".join(f"{names[i]} {v}" for i, v in first.pose.items()))
     hold = 0.0
     previous = first
-    for key in fit.keyframes[1:]:
+    for key in keys[1:]:
         ms = round((key.at - previous.at) * 1000)
         changed = {i: v for i, v in key.pose.items() if previous.pose[i] != v}
         if not changed:
@@ -304,6 +295,6 @@ def to_gest(name: str, fit: Fit, profile: Profile, about: Sequence[str] = ()) ->
     return format_source("\n".join(lines) + "\n")
 
 
-def start_pose(fit: Fit, profile: Profile) -> Mapping[str, int]:
-    """The first recorded pose by servo name: where the recording starts."""
-    return {profile.servos[i].name: v for i, v in fit.keyframes[0].pose.items()}
+def start_pose(keys: Sequence[Keyframe], profile: Profile) -> Mapping[str, int]:
+    """The first keyframe's pose by servo name: where the recording starts."""
+    return {profile.servos[i].name: v for i, v in keys[0].pose.items()}

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 from .profile import Profile
 from .protocol import MAX_VALUE
-from .record import Fit, Keyframe, to_gest
+from .record import Keyframe, to_gest
 
 STEPS = {"up": 1, "down": -1, "pageup": 10, "pagedown": -10}
 MIN_OVER, MAX_OVER, OVER_STEP = 0.1, 10.0, 0.1  #: s
@@ -92,7 +92,7 @@ class Teach:
             at += over
             keyframes.append(Keyframe(at, dict(enumerate(pose))))
         about = [f"{name}: taught with gestplay teach, {len(self.keys)} keyframes"]
-        return to_gest(name, Fit(tuple(keyframes), 0.0, ()), self.profile, about)
+        return to_gest(name, keyframes, self.profile, about)
 
 
 def _keyframes(n: int) -> str:

@@ -1,22 +1,13 @@
 """The board's rules: the conformance vectors (shared with the firmware), the
-calibration mapping, and finding a DUMP reply among other bytes."""
-
-import json
-from pathlib import Path
+calibration mapping, and the original firmware's reading of RELAX."""
 
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
+from vectors import BOARD as VECTORS
+from vectors import vector_board
 
-from inmoov_dsl.board import BoardCore, BoardServo, parse_dump
-
-VECTORS = json.loads((Path(__file__).parent / "vectors" / "board.json").read_text())
-
-
-def vector_board():
-    return BoardCore(VECTORS["board"], [
-        BoardServo(s["id"], tuple(s["calibration"]), s["reversed"], s["default"])
-        for s in VECTORS["servos"]])
+from inmoov_dsl.board import BoardCore
 
 
 @pytest.mark.parametrize("case", VECTORS["cases"], ids=lambda c: c["name"])
@@ -67,11 +58,3 @@ def test_the_original_firmware_ignores_the_relax_bytes_and_stays_in_step():
     ours = vector_board()
     writes = [w for w in (ours.feed(b)[0] for b in data) if w]
     assert [(w.id, w.value) for w in writes] == [(2, 90), (3, 60), (4, 30)]
-
-
-def test_a_dump_is_found_among_wait_bytes_and_noise():
-    reply = bytes([252, 181, 2, 0, 10, 1, 20, 251])
-    assert parse_dump(bytes([254, 254, 7]) + reply + bytes([254])) == (181, {0: 10, 1: 20})
-    assert parse_dump(bytes([252, 254]) + reply) == (181, {0: 10, 1: 20})
-    assert parse_dump(reply[:-1]) is None
-    assert parse_dump(bytes([254, 254])) is None

@@ -13,10 +13,11 @@ import pytest
 from boardmodel import final_values, read_stream
 
 from inmoov_dsl import compile_file, load_library
-from inmoov_dsl.cli import gestplay
+from inmoov_dsl.cli import gestplay, hand
 from inmoov_dsl.compiler import compile_program, load
-from inmoov_dsl.player import Link, play, schedule
+from inmoov_dsl.player import Link, play, schedule, wait_ready
 from inmoov_dsl.ports import open_port
+from inmoov_dsl.profile import load_profile
 
 ROOT = Path(__file__).resolve().parent.parent
 TWO = ROOT / "tests" / "data" / "two.toml"
@@ -105,7 +106,7 @@ class NoisyBoard:
 def test_a_noisy_board_is_understood_and_never_crashes_the_player():
     port = NoisyBoard()
     link = Link(181, port, "noisy")
-    pose = gestplay.board_pose([link], gestplay.load_profile("rhand"))
+    pose = hand.board_pose([link], load_profile("rhand"))
     assert pose == {"wrist": 0, "thumb": 0, "index": 90, "middle": 0, "ring": 0, "pinky": 30}
     program = load(str(load_library()["peace"]))
     compiled, _ = compile_program(program, "peace", "rhand", pose)
@@ -123,7 +124,7 @@ def sim_links(url="sim://?boot=0.05", board=181):
 def test_play_to_the_virtual_board_in_process():
     link = sim_links()
     board = link.port.board
-    gestplay.board_pose([link], gestplay.load_profile("rhand"))
+    hand.board_pose([link], load_profile("rhand"))
     compiled = compile_file(load_library()["peace"])
     start = time.monotonic()
     play(compiled, [link])
@@ -142,10 +143,10 @@ def test_play_to_the_virtual_board_in_process():
 
 def test_the_gesture_is_planned_from_the_pose_the_board_reports():
     link = sim_links()
-    gestplay.wait_ready(link.port)
+    wait_ready(link.port)
     link.port.write(bytes([255, 2, 90, 5, 30]))  # someone left the index and pinky bent
     time.sleep(0.02)
-    pose = gestplay.board_pose([link], gestplay.load_profile("rhand"))
+    pose = hand.board_pose([link], load_profile("rhand"))
     assert pose == {"wrist": 0, "thumb": 0, "index": 90, "middle": 0, "ring": 0, "pinky": 30}
     program = load(str(load_library()["peace"]))
     compiled, _ = compile_program(program, "peace", "rhand", pose)
@@ -220,7 +221,7 @@ class SilentPort:
 @pytest.mark.parametrize("tool", [[], ["repl"], ["teach"], ["relax"]])
 def test_no_board_is_an_error_before_any_gesture_byte(capsys, monkeypatch, tool):
     port = SilentPort()
-    monkeypatch.setattr(gestplay, "open_port", lambda name, baud: port)
+    monkeypatch.setattr(hand, "open_port", lambda name, baud: port)
     code, _, err = run(capsys, *(tool or ["peace"]), "--port", "COM7")
     assert code == 1
     assert err.startswith("gestplay: error: no board answered on COM7 (board 181, 9600 baud)")
@@ -230,7 +231,7 @@ def test_no_board_is_an_error_before_any_gesture_byte(capsys, monkeypatch, tool)
 
 def test_blind_plays_on_a_link_that_cannot_answer(capsys, monkeypatch):
     port = SilentPort()
-    monkeypatch.setattr(gestplay, "open_port", lambda name, baud: port)
+    monkeypatch.setattr(hand, "open_port", lambda name, baud: port)
     code, _, err = run(capsys, "peace", "--port", "COM7", "--blind")
     assert code == 0
     assert ("gestplay: warning: board 181 on COM7 did not answer (--blind): starting from "

@@ -10,9 +10,11 @@ import pytest
 
 from inmoov_dsl import load_profile
 from inmoov_dsl.compiler import compile_program, load
-from inmoov_dsl.glove import GloveCore, Imperfections, glove_stream
+from inmoov_dsl.decode import StreamReader
+from inmoov_dsl.glove import GloveCore, Imperfections, glove_stream, on_the_clock
 from inmoov_dsl.library import scan_library
-from inmoov_dsl.record import StreamReader, keyframes, on_the_clock, start_pose, to_gest, traces
+from inmoov_dsl.protocol import SERVO_FRAME
+from inmoov_dsl.record import Recording, keyframes, shortest_path, start_pose, to_gest, traces
 
 RHAND = load_profile("rhand")
 GLOVE = RHAND.gloves[0]
@@ -31,9 +33,9 @@ def record(stream, tolerance=3.0):
         reader.feed(t, data)
     tr = traces(reader.samples, RHAND, GLOVE.deadband)
     fit = keyframes(tr, RHAND, tolerance)
-    text = to_gest("again", fit, RHAND, ["a test"])
+    text = to_gest("again", fit.keyframes, RHAND, ["a test"])
     _, plan = compile_program(load("again.gest", text), "again", RHAND,
-                              dict(start_pose(fit, RHAND)))
+                              dict(start_pose(fit.keyframes, RHAND)))
     return reader, tr, fit, text, plan
 
 
@@ -74,6 +76,22 @@ def test_fingers_that_start_one_after_another_become_a_stagger():
     assert fit.error <= 3.0
     assert "stagger" in text
     assert worst(plan, motion, tr, reader.samples[0][0]) <= 3.0 + GLOVE.deadband
+    # each keyframe is reached by the recording's segment from the one before
+    recording = Recording(tr, RHAND, 3.0)
+    cuts = [round(key.at / SERVO_FRAME) for key in fit.keyframes]
+    moves = [recording.segment(a, b) for a, b in zip(cuts, cuts[1:], strict=False)]
+    assert [(m.stagger, m.order) for m in moves] == [(k.stagger, k.order)
+                                                     for k in fit.keyframes[1:]]
+    assert any(m.order for m in moves) and max(m.error for m in moves) == fit.error
+
+
+def test_the_shortest_path_costs_least_then_takes_fewest_hops():
+    def cost(i, j):
+        return {(0, 3): 5.0, (0, 2): 1.0}.get((i, j), 0.0)
+
+    assert shortest_path(4, cost) == [0, 1, 3]  # as cheap as 0 1 2 3, in fewer hops
+    assert shortest_path(4, cost, window=1) == [0, 1, 2, 3]
+    assert shortest_path(1, cost) == [0]
 
 
 def test_noise_lost_bytes_a_gap_and_a_mid_command_start_do_not_break_it():

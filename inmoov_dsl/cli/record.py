@@ -9,24 +9,34 @@ from __future__ import annotations
 
 import argparse
 import sys
-import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
+from .. import clock
+from ..clock import Clock
 from ..errors import Diagnostic, GestError
 from .common import EXIT_OK, gesture_name, number
+
+if TYPE_CHECKING:
+    import serial
+
+    from ..decode import StreamReader
+    from ..profile import Glove, Profile
+    from ..record import Fit
 
 PROG = "gestc record"
 
 
 def cmd_record(args: argparse.Namespace) -> int:
+    """Record from ``--port`` into ``--output``: listen, choose keyframes, write them."""
+    from ..decode import StreamReader
+    from ..glove import on_the_clock
     from ..ports import open_port
     from ..profile import load_profile
-    from ..record import DEFAULT_TOLERANCE, StreamReader, keyframes, on_the_clock, to_gest, traces
+    from ..record import DEFAULT_TOLERANCE, keyframes, to_gest, traces
     from ..urlhandler import protocol_sim
 
-    if args.tolerance is None:
-        args.tolerance = DEFAULT_TOLERANCE
-
+    tolerance = DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance
     profile = load_profile(args.profile)
     glove = profile.gloves[0] if profile.gloves else None
     baud = args.baud or (glove.baud if glove else profile.boards[0].baud)
@@ -34,29 +44,9 @@ def cmd_record(args: argparse.Namespace) -> int:
     name = gesture_name(args.name or Path(args.output).stem)
     first = profile.boards[0].id
     port = open_port(protocol_sim.complete(args.port, profile, first), baud, timeout=0.05)
-    # a glove reports its own fingers: a pair for another servo is a byte lost
-    ids = {s.id for s in profile.servos}
-    if glove is not None:
-        ids = {s.id for s in profile.servos if s.name in {x.servo for x in glove.sensors}}
-    reader = StreamReader(frozenset(ids))
-    live = sys.stderr.isatty()
+    reader = StreamReader(recorded_ids(profile, glove))
     print(f"{PROG}: listening on {args.port} at {baud} baud; Ctrl-C stops", file=sys.stderr)
-    start = time.monotonic()
-    try:
-        while args.seconds is None or time.monotonic() - start < args.seconds:
-            data = port.read(max(1, port.in_waiting))  # at once: each byte's own time
-            if data:
-                reader.feed(time.monotonic(), data)
-            if live:
-                sys.stderr.write(f"\r{time.monotonic() - start:6.1f} s  "
-                                 f"{len(reader.samples):,} samples ")
-                sys.stderr.flush()
-    except KeyboardInterrupt:
-        pass
-    finally:
-        port.close()
-        if live:
-            sys.stderr.write("\n")
+    listen(port, reader, args.seconds)
     if not reader.samples:
         raise GestError(Diagnostic(
             "error", f"no servo command for profile '{profile.name}' came from {args.port}",
@@ -65,27 +55,67 @@ def cmd_record(args: argparse.Namespace) -> int:
     if glove is not None:
         samples = on_the_clock(samples, glove.frame_ms / 1000)
     tr = traces(samples, profile, deadband)
-    fit = keyframes(tr, profile, args.tolerance)
-    span = tr.times[-1]
-    about = [f"{name}: recorded on {args.port}, {span:.2f} s, {tr.samples:,} samples, "
-             f"{len(fit.keyframes)} keyframes (tolerance {args.tolerance:g} degrees)"]
-    Path(args.output).write_text(to_gest(name, fit, profile, about), encoding="utf-8")
-    print(f"wrote {args.output}: {name}, {span:.2f} s, {len(fit.keyframes)} keyframes from "
-          f"{tr.samples:,} samples ({tr.dropped} dropped as noise, {reader.skipped} bytes "
-          f"skipped); it follows the recording within {fit.error:.1f} degrees beyond the "
-          f"glove's dead-band of {deadband:g}", file=sys.stderr)
-    if fit.error > args.tolerance:
-        print(f"{PROG}: warning: {fit.error:.1f} degrees is more than the tolerance: the "
-              f"recording has motion that moves from rest to rest cannot follow (fingers "
-              f"moving at different times, or lost reports)", file=sys.stderr)
-    if fit.stretched:
-        times = ", ".join(f"{t:.2f} s" for t in fit.stretched)
-        print(f"{PROG}: warning: the recording moves faster than {profile.name}'s limits "
-              f"at {times}: those moves will take longer", file=sys.stderr)
+    fit = keyframes(tr, profile, tolerance)
+    about = [f"{name}: recorded on {args.port}, {tr.times[-1]:.2f} s, {tr.samples:,} "
+             f"samples, {len(fit.keyframes)} keyframes (tolerance {tolerance:g} degrees)"]
+    Path(args.output).write_text(to_gest(name, fit.keyframes, profile, about),
+                                 encoding="utf-8")
+    print(f"wrote {args.output}: {name}, {tr.times[-1]:.2f} s, {len(fit.keyframes)} keyframes "
+          f"from {tr.samples:,} samples ({tr.dropped} dropped as noise, {reader.skipped} "
+          f"bytes skipped); it follows the recording within {fit.error:.1f} degrees beyond "
+          f"the glove's dead-band of {deadband:g}", file=sys.stderr)
+    for warning in _warnings(fit, tolerance, profile):
+        print(f"{PROG}: warning: {warning}", file=sys.stderr)
     return EXIT_OK
 
 
-def add_parser(sub) -> None:
+def recorded_ids(profile: Profile, glove: Glove | None) -> frozenset[int]:
+    """The servo IDs to record: a glove reports its own fingers (a pair for another
+    servo is a byte lost); without a glove, every servo of the profile."""
+    if glove is None:
+        return frozenset(s.id for s in profile.servos)
+    fingers = {x.servo for x in glove.sensors}
+    return frozenset(s.id for s in profile.servos if s.name in fingers)
+
+
+def listen(port: serial.SerialBase, reader: StreamReader, seconds: float | None,
+           now: Clock = clock.now) -> None:
+    """Feed ``reader`` what comes from ``port``, each read with the time it came, for
+    ``seconds`` (None: until Ctrl-C), counting on the terminal; then close the port."""
+    live = sys.stderr.isatty()
+    start = now()
+    try:
+        while seconds is None or now() - start < seconds:
+            data = port.read(max(1, port.in_waiting))  # at once: each byte's own time
+            if data:
+                reader.feed(now(), data)
+            if live:
+                sys.stderr.write(f"\r{now() - start:6.1f} s  {len(reader.samples):,} samples ")
+                sys.stderr.flush()
+    except KeyboardInterrupt:
+        pass
+    finally:
+        port.close()
+        if live:
+            sys.stderr.write("\n")
+
+
+def _warnings(fit: Fit, tolerance: float, profile: Profile) -> list[str]:
+    """What the gesture cannot follow of the recording."""
+    out = []
+    if fit.error > tolerance:
+        out.append(f"{fit.error:.1f} degrees is more than the tolerance: the recording has "
+                   f"motion that moves from rest to rest cannot follow (fingers moving at "
+                   f"different times, or lost reports)")
+    if fit.stretched:
+        times = ", ".join(f"{t:.2f} s" for t in fit.stretched)
+        out.append(f"the recording moves faster than {profile.name}'s limits at {times}: "
+                   f"those moves will take longer")
+    return out
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """Add ``record`` to gestc's subcommands."""
     p = sub.add_parser("record", help="record a glove's motion as a gesture")
     p.add_argument("--port", required=True, help="the glove's port (or any stream in the "
                    "protocol): COM3, /dev/ttyUSB0, a pyserial URL")
