@@ -9,9 +9,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-from .. import record
 from ..common import add_version, parse_args, run
-from . import check, export, firmware, fmt, listing, plot, preview, show, upload
+from . import check, export, firmware, fmt, listing, plot, preview, record, show, upload
 from . import compile as compile_cmd
 from .target import PROG
 

@@ -12,29 +12,29 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from .. import clock
-from ..clock import Clock
-from ..errors import Diagnostic, GestError
-from .common import EXIT_OK, gesture_name, number
+from ... import clock
+from ...clock import Clock
+from ...errors import Diagnostic, GestError
+from ..common import EXIT_OK, gesture_name, number
 
 if TYPE_CHECKING:
     import serial
 
-    from ..decode import StreamReader
-    from ..profile import Glove, Profile
-    from ..record import Fit
+    from ...decode import StreamReader
+    from ...profile import Glove, Profile
+    from ...record import Fit
 
 PROG = "gestc record"
 
 
-def cmd_record(args: argparse.Namespace) -> int:
+def run(args: argparse.Namespace) -> int:
     """Record from ``--port`` into ``--output``: listen, choose keyframes, write them."""
-    from ..decode import StreamReader
-    from ..glove import on_the_clock
-    from ..ports import open_port
-    from ..profile import load_profile
-    from ..record import DEFAULT_TOLERANCE, keyframes, to_gest, traces
-    from ..urlhandler import protocol_sim
+    from ...decode import StreamReader
+    from ...glove import on_the_clock
+    from ...ports import open_port
+    from ...profile import load_profile
+    from ...record import DEFAULT_TOLERANCE, keyframes, to_gest, traces
+    from ...urlhandler import protocol_sim
 
     tolerance = DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance
     profile = load_profile(args.profile)
@@ -131,4 +131,4 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("-p", "--profile", default="rhand", help="robot profile (default rhand)")
     p.add_argument("--baud", type=int, help="the port's speed (default: the profile's "
                    "glove, else its first board)")
-    p.set_defaults(func=cmd_record)
+    p.set_defaults(func=run)
