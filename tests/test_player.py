@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 from boardmodel import final_values, read_stream
 
-from inmoov_dsl import compile_file, load_library
+from inmoov_dsl import clock, compile_file, load_library
 from inmoov_dsl.cli import gestplay, hand
 from inmoov_dsl.compiler import compile_program, load
 from inmoov_dsl.player import Link, play, schedule, wait_ready
@@ -126,10 +126,10 @@ def test_play_to_the_virtual_board_in_process():
     board = link.port.board
     hand.board_pose([link], load_profile("rhand"))
     compiled = compile_file(load_library()["peace"])
-    start = time.monotonic()
+    start = clock.now()
     play(compiled, [link])
     link.port.close()
-    board.advance(time.monotonic())
+    board.advance(clock.now())
     assert board.positions() == dict(enumerate(compiled.final))
     # each write happened when the plan said its pair arrives (a byte-time after its
     # last byte left), give or take the host's scheduling
@@ -152,7 +152,7 @@ def test_the_gesture_is_planned_from_the_pose_the_board_reports():
     compiled, _ = compile_program(program, "peace", "rhand", pose)
     assert compiled.start == (0, 0, 90, 0, 0, 30)
     play(compiled, [link])
-    link.port.board.advance(time.monotonic())
+    link.port.board.advance(clock.now())
     assert link.port.board.positions() == dict(enumerate(compiled.final))
     link.port.close()
 
@@ -165,7 +165,7 @@ def test_two_boards_in_lockstep():
     play(compiled, links)
     right, left = (link.port.board for link in links)
     for board in (right, left):
-        board.advance(time.monotonic())
+        board.advance(clock.now())
     assert right.positions() == {1: 0, 2: 90}
     assert left.positions() == {11: 0, 12: 45}
     # both boards finished their last move within a few milliseconds of each other
