@@ -14,7 +14,8 @@ from .library import library_dirs
 from .parse import MAX_SOURCE
 from .plan import Plan, Planner
 from .profile import Profile, load_profile, profiles_with
-from .resolve import Program, Reader, load_program, resolve_start, resolver
+from .program import Program, Reader, load_program
+from .resolve import resolve_start, resolver
 from .resources import read_regular
 
 
@@ -45,6 +46,7 @@ def source_digests(program: Program) -> tuple[tuple[str, str], ...]:
 
 
 def as_profile(profile: str | Profile) -> Profile:
+    """``profile`` itself, or the profile of that name or path, loaded."""
     return profile if isinstance(profile, Profile) else load_profile(profile)
 
 
@@ -90,6 +92,8 @@ Start = str | Mapping[str, int] | None  #: ``--from`` text, or servo name -> val
 
 def plan_gesture(program: Program, gesture: str, profile: Profile, start: Start = None,
                  strict: bool = False) -> Plan:
+    """Resolve and plan gesture ``gesture`` of ``program`` for ``profile``, from the
+    ``start`` pose (see resolve_start); ``strict``: a stretched move is an error."""
     steps = resolver(program, profile, profiles_with).gesture(gesture)
     pose = resolve_start(program, profile, start)
     return Planner(profile, program.sources).plan(steps, pose, strict)

@@ -15,12 +15,13 @@ from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
+from . import snippet
 from .encode import Stream, encode
-from .errors import Diagnostic, GestError, Pos, SourceMap
-from .parse import parse
+from .errors import Diagnostic, SourceMap
 from .plan import MotionState, Plan, Planner
 from .profile import Profile
-from .resolve import Action, Program, Resolver
+from .program import Program
+from .resolve import Action, Resolver
 from .syntax import GestureDef
 
 LINE = "<repl>"  #: the file name diagnostics give for a typed line
@@ -51,6 +52,7 @@ class Session:
         self.queue: deque[tuple[Action, SourceMap | None]] = deque()
 
     def state(self, now: float) -> MotionState:
+        """Where the current plan has the hand at ``now``."""
         return MotionState.at(self.current.plan, now - self.current.origin)
 
     def busy(self, now: float) -> bool:
@@ -59,6 +61,7 @@ class Session:
 
     @property
     def end(self) -> float:
+        """When the current segment ends (the caller's clock, s)."""
         return self.current.origin + self.current.plan.duration
 
     def submit(self, steps: Sequence[Action], now: float, held: Sequence[int],
@@ -104,24 +107,12 @@ class Session:
 def line_steps(line: str, program: Program, profile: Profile) -> tuple[list[Action], SourceMap]:
     """The steps of one typed line, e.g. ``index 90, middle 45 over 0.5s``, ``wait 1s``
     or the name of a gesture or pose of ``program``. Errors point into the line."""
-    text = f"{_PREFIX}{line}\n"
     sources = SourceMap()
     for file, source in program.texts.items():
         sources.add(file, source)
     sources.add(LINE, line)
-    try:
-        gesture = next(item for item in parse(text, LINE).items
-                       if isinstance(item, GestureDef))
+    with snippet.parsed(line, LINE, _PREFIX) as module:
+        gesture = next(item for item in module.items if isinstance(item, GestureDef))
         typed = Program(LINE, sources, program.texts, {**program.gestures, _NAME: gesture},
                         program.poses, program.groups, [_NAME])
         return list(Resolver(typed, profile).gesture(_NAME)), sources
-    except GestError as exc:
-        raise GestError([_in_line(d, line) for d in exc.diagnostics]) from None
-
-
-def _in_line(d: Diagnostic, line: str) -> Diagnostic:
-    """A diagnostic about the wrapped text, moved back onto the typed line."""
-    if d.pos is None or d.pos.file != LINE:
-        return d
-    column = max(1, min(d.pos.column - len(_PREFIX), len(line) + 1))
-    return replace(d, pos=Pos(LINE, 1, column, d.pos.width), source_line=line)

@@ -11,14 +11,23 @@ import hashlib
 import math
 import sys
 import threading
+from collections.abc import Iterator
 
-from lark import Lark, Token, Transformer, UnexpectedCharacters, UnexpectedInput, v_args
+from lark import Lark, Token, Transformer, UnexpectedInput, v_args
 from lark import __version__ as lark_version
-from lark.exceptions import UnexpectedEOF, UnexpectedToken
 from lark.indenter import Indenter
 
 from . import syntax as ast
-from .errors import Diagnostic, GestError, Pos
+from .errors import Pos
+from .parse_errors import (
+    Span,
+    SyntaxProblem,
+    keyword_problem,
+    lark_problem,
+    pos_span,
+    shown,
+    tok_span,
+)
 from .resources import grammar_path, private_cache_dir, private_file
 from .syntax import KEYWORDS
 
@@ -29,21 +38,10 @@ MAX_LINE = 10_000  #: characters in one line, checked before parsing
 MAX_DEPTH = 100  #: repeats within repeats
 UNITS = {"s": 1.0, "ms": 0.001}
 
-_WORDS = {
-    "NAME": "a name",
-    "NUMBER": "a number",
-    "UNIT": "a unit (s or ms)",
-    "STRING": 'a file name in quotes ("other.gest")',
-    "_NL": "the end of the line",
-    "_INDENT": "an indented line",
-    "_DEDENT": "the end of the indented block",
-    "COMMA": "','",
-    "COLON": "':'",
-    "$END": "the end of the file",
-}
-
 
 class _Indenter(Indenter):
+    """Lark's indenter, which also refuses mixed indentation and keywords as names."""
+
     NL_type = "_NL"
     OPEN_PAREN_types: list[str] = []
     CLOSE_PAREN_types: list[str] = []
@@ -51,27 +49,27 @@ class _Indenter(Indenter):
     DEDENT_type = "_DEDENT"
     tab_len = 8
 
-    def process(self, stream):
+    def process(self, stream: Iterator[Token]) -> Iterator[Token]:
         self.style: tuple[str, int] | None = None  # the first indentation: its char, line
         return self._no_keyword_names(super().process(stream))
 
-    def _no_keyword_names(self, tokens):
+    def _no_keyword_names(self, tokens: Iterator[Token]) -> Iterator[Token]:
         """Where the grammar takes a name and not a keyword, the lexer makes a keyword a
         NAME (``wait: index 90``): an error here, before it means anything."""
         before = None
         for tok in tokens:
             if tok.type == "NAME" and str(tok) in KEYWORDS:
-                raise _keyword_problem(tok, before, self.indent_level[-1] == 0)
+                raise keyword_problem(tok, before, self.indent_level[-1] == 0)
             before = tok
             yield tok
 
-    def handle_NL(self, token: Token):
+    def handle_NL(self, token: Token) -> Iterator[Token]:
         indent_str = token.rsplit("\n", 1)[1]
         if indent_str:
             self._check_style(token, indent_str)
         indent = indent_str.count(" ") + indent_str.count("\t") * self.tab_len
         if indent < self.indent_level[-1] and indent not in self.indent_level:
-            raise _SyntaxProblem(
+            raise SyntaxProblem(
                 "this line's indentation matches no enclosing block",
                 _next_line_pos(token, indent_str),
                 "indent each step of a block by the same amount",
@@ -84,38 +82,20 @@ class _Indenter(Indenter):
         pos = _next_line_pos(token, indent_str)
         hint = "indent with spaces only (four per level), or with tabs only"
         if " " in indent_str and "\t" in indent_str:
-            raise _SyntaxProblem("this line's indentation mixes tabs and spaces",
-                                 (pos[0], 1, len(indent_str)), hint)
+            raise SyntaxProblem("this line's indentation mixes tabs and spaces",
+                                (pos[0], 1, len(indent_str)), hint)
         char = indent_str[0]
         if self.style is None:
             self.style = (char, pos[0])
         elif self.style[0] != char:
             kinds = {" ": "spaces", "\t": "tabs"}
-            raise _SyntaxProblem(f"this line is indented with {kinds[char]}, line "
-                                 f"{self.style[1]} with {kinds[self.style[0]]}",
-                                 (pos[0], 1, len(indent_str)), hint)
+            raise SyntaxProblem(f"this line is indented with {kinds[char]}, line "
+                                f"{self.style[1]} with {kinds[self.style[0]]}",
+                                (pos[0], 1, len(indent_str)), hint)
 
 
-def _keyword_problem(tok: Token, before: Token | None, top: bool) -> _SyntaxProblem:
-    """A keyword where a name is: a definition's (what starts a line at the top level,
-    or follows 'pose' or 'group'), or a reference."""
-    if top and (before is None or before.type in ("_NL", "_DEDENT", "POSE", "GROUP")):
-        what = {"POSE": "pose", "GROUP": "group"}.get(before.type if before else "",
-                                                      "gesture")
-        return _SyntaxProblem(f"'{tok}' is a keyword and cannot name a {what}",
-                              _tok_tuple(tok),
-                              f"choose another name (the keywords: {_KEYWORD_LIST})")
-    return _SyntaxProblem(f"'{tok}' is a keyword, not a servo, group, pose or gesture",
-                          _tok_tuple(tok), _KEYWORD_HINTS.get(str(tok)))
-
-
-class _SyntaxProblem(Exception):
-    def __init__(self, message: str, pos: tuple[int, int, int], hint: str | None = None):
-        super().__init__(message)
-        self.message, self.pos, self.hint = message, pos, hint
-
-
-def _next_line_pos(token: Token, indent_str: str) -> tuple[int, int, int]:
+def _next_line_pos(token: Token, indent_str: str) -> Span:
+    """The start of the line after the newline ``token``, indented by ``indent_str``."""
     return (token.end_line or token.line, len(indent_str.expandtabs(1)) + 1, 1)
 
 
@@ -196,8 +176,8 @@ class _ToAst(Transformer):
         tree, the formatter say, may recurse)."""
         depth = 1 + max((self.depths.get(id(s), 0) for s in body), default=0)
         if depth > MAX_DEPTH:
-            raise _SyntaxProblem(f"repeats are nested more than {MAX_DEPTH} deep",
-                                 _tok_tuple(count))
+            raise SyntaxProblem(f"repeats are nested more than {MAX_DEPTH} deep",
+                                tok_span(count))
         node = ast.Repeat(self._count(count), body, self._pos(count))
         self.depths[id(node)] = depth
         return node
@@ -208,8 +188,8 @@ class _ToAst(Transformer):
         # a count with more digits than MAX_REPEAT is too large before int() sees it
         if not digits.isdigit() or len(digits.lstrip("0")) > len(str(MAX_REPEAT)) \
                 or not 1 <= int(text) <= MAX_REPEAT:
-            raise _SyntaxProblem(f"repeat count must be a whole number from 1 to "
-                                 f"{MAX_REPEAT}, got {_shown(text)}", _tok_tuple(tok))
+            raise SyntaxProblem(f"repeat count must be a whole number from 1 to "
+                                f"{MAX_REPEAT}, got {shown(text)}", tok_span(tok))
         return int(text)
 
     def wait(self, duration: ast.Duration):
@@ -224,13 +204,13 @@ class _ToAst(Transformer):
         for kind, duration in (p for p in parts if isinstance(p, tuple)):
             if kind == "over":
                 if over is not None:
-                    raise _SyntaxProblem("'over' is given twice in this step",
-                                         _pos_tuple(duration.pos))
+                    raise SyntaxProblem("'over' is given twice in this step",
+                                        pos_span(duration.pos))
                 over = duration
             else:
                 if stagger is not None:
-                    raise _SyntaxProblem("'stagger' is given twice in this step",
-                                         _pos_tuple(duration.pos))
+                    raise SyntaxProblem("'stagger' is given twice in this step",
+                                        pos_span(duration.pos))
                 stagger = duration
         return ast.Move(targets, over, stagger, targets[0].name.pos)
 
@@ -245,14 +225,14 @@ class _ToAst(Transformer):
             return ast.Target(self._name(name), None, None)
         text = str(value)
         number = float(text)  # inf when it has hundreds of digits
-        outside = _SyntaxProblem(f"value {_shown(text)} is outside 0..180", _tok_tuple(value),
-                                 "0 is straight, 180 is curled")
+        outside = SyntaxProblem(f"value {shown(text)} is outside 0..180", tok_span(value),
+                                "0 is straight, 180 is curled")
         if not math.isfinite(number) or abs(number) > 1e9:
             raise outside
         if number != int(number) or "." in text:
             lo, hi = int(number // 1), int(number // 1) + 1
-            raise _SyntaxProblem(f"values are whole degrees, got {_shown(text)}",
-                                 _tok_tuple(value), f"use {lo} or {hi}")
+            raise SyntaxProblem(f"values are whole degrees, got {shown(text)}",
+                                tok_span(value), f"use {lo} or {hi}")
         if not 0 <= number <= 180:
             raise outside
         return ast.Target(self._name(name), int(number), self._pos(value))
@@ -261,49 +241,27 @@ class _ToAst(Transformer):
         text = str(number)
         pos = self._pos(number)
         if unit is None:
-            raise _SyntaxProblem(f"the duration {_shown(text)} needs a unit",
-                                 _tok_tuple(number),
-                                 f"write {_shown(text)}s or {_shown(text)}ms")
+            raise SyntaxProblem(f"the duration {shown(text)} needs a unit",
+                                tok_span(number),
+                                f"write {shown(text)}s or {shown(text)}ms")
         if str(unit) not in UNITS:
-            raise _SyntaxProblem(f"unknown unit '{_shown(str(unit))}'", _tok_tuple(unit),
-                                 f"use s or ms, as in {_shown(text)}s or {_shown(text)}ms")
+            raise SyntaxProblem(f"unknown unit '{shown(str(unit))}'", tok_span(unit),
+                                f"use s or ms, as in {shown(text)}s or {shown(text)}ms")
         seconds = float(text) * UNITS[str(unit)]  # inf when it has hundreds of digits
         span = (number.line, number.column, len(text) + len(str(unit)))
         if not seconds > 0:
-            raise _SyntaxProblem(f"a duration must be greater than 0, got {_shown(text)}{unit}",
-                                 span)
+            raise SyntaxProblem(f"a duration must be greater than 0, got {shown(text)}{unit}",
+                                span)
         if seconds > MAX_DURATION:
-            raise _SyntaxProblem(f"duration {_shown(text)}{unit} is too long (at most "
-                                 f"{MAX_DURATION:g} s per step)", span,
-                                 "split a long hold into several waits")
+            raise SyntaxProblem(f"duration {shown(text)}{unit} is too long (at most "
+                                f"{MAX_DURATION:g} s per step)", span,
+                                "split a long hold into several waits")
         return ast.Duration(seconds, Pos(pos.file, pos.line, pos.column, span[2]), text,
                             str(unit))
 
 
 _TO_AST = _ToAst()
 _LOCK = threading.Lock()  # the parser and its transformer are shared
-_KEYWORD_LIST = ", ".join(sorted(KEYWORDS))
-_KEYWORD_HINTS = {
-    "over": "a step's timing follows its targets, without a comma: index 90 over 0.5s",
-    "stagger": "a step's timing follows its targets, without a comma: "
-               "index 90, middle 90 stagger 50ms",
-    "wait": "a wait is a step on a line of its own: wait 0.5s",
-    "hold": "a hold is a step on a line of its own: hold 0.5s",
-    "repeat": "a repeat is a step on a line of its own: repeat 2: index 90",
-}
-
-
-def _shown(text: str, most: int = 24) -> str:
-    """``text`` as a message quotes it: a long number or name is cut short."""
-    return text if len(text) <= most else f"{text[:most - 12]}...{text[-6:]}"
-
-
-def _tok_tuple(tok: Token) -> tuple[int, int, int]:
-    return (tok.line, tok.column, max(1, len(str(tok))))
-
-
-def _pos_tuple(pos: Pos) -> tuple[int, int, int]:
-    return (pos.line, pos.column, pos.width)
 
 
 def parse(text: str, file: str = "<string>") -> ast.Module:
@@ -314,94 +272,29 @@ def parse(text: str, file: str = "<string>") -> ast.Module:
     if not text.endswith("\n"):
         text += "\n"
     lines = text[:-1].split("\n")  # Lark counts lines by \n only
-
-    def fail(message: str, line: int, column: int, width: int = 1, hint: str | None = None):
-        source = lines[line - 1] if 1 <= line <= len(lines) else None
-        return GestError(Diagnostic("error", message, Pos(file, line, column, width), hint,
-                                    source))
-
-    if size > MAX_SOURCE:
-        line = text.count("\n", 0, MAX_SOURCE) + 1
-        column = MAX_SOURCE - (text.rfind("\n", 0, MAX_SOURCE) + 1) + 1
-        raise fail(f"the file is longer than {MAX_SOURCE:,} characters ({size:,}): "
-                   f"it is not parsed", line, column,
-                   hint="split it into several files joined with 'use'")
-    for number, line_text in enumerate(lines, 1):
-        if len(line_text) > MAX_LINE:
-            raise fail(f"this line is longer than {MAX_LINE:,} characters "
-                       f"({len(line_text):,})", number, MAX_LINE + 1,
-                       hint="put one step on each line; build a long pose from smaller "
-                       "poses")
     try:
+        _check_size(text, size, lines)
         with _LOCK:
             _TO_AST.file, _TO_AST.depths = file, {}
             return parser().parse(text)
-    except _SyntaxProblem as problem:  # tree-less mode: callbacks' exceptions come as they are
-        raise fail(problem.message, *problem.pos, hint=problem.hint) from None
+    except SyntaxProblem as problem:  # tree-less mode: callbacks' exceptions come as they are
+        raise problem.error(file, lines) from None
     except UnexpectedInput as exc:
-        message, hint, width = _explain(exc, text)
-        line, column = max(1, exc.line), max(1, exc.column)
-        token = getattr(exc, "token", None)
-        if token is not None and token.type in ("_INDENT", "_DEDENT"):
-            # the indenter's tokens borrow the newline's position: point at the next line
-            line = token.end_line or token.line + 1
-            column = len(str(token).expandtabs(1)) + 1
-        elif isinstance(exc, UnexpectedEOF) or exc.line < 0:
-            line, column = len(lines), len(lines[-1]) + 1 if lines else 1
-        raise fail(message, line, column, width, hint) from None
+        raise lark_problem(exc, text, lines).error(file, lines) from None
 
 
-def _explain(exc: UnexpectedInput, text: str) -> tuple[str, str | None, int]:
-    """A sentence for a syntax error: what was found, what was expected, a hint."""
-    if isinstance(exc, UnexpectedCharacters):
-        char = text[exc.pos_in_stream]
-        shown = f"'{char}'" if char.isprintable() else f"U+{ord(char):04X}"
-        return f"unexpected character {shown}", None, 1
-    if isinstance(exc, UnexpectedToken):
-        tok = exc.token
-        expected = sorted(exc.accepts or exc.expected)
-        found = _describe(tok)
-        layout = tok.type in ("_NL", "_INDENT", "_DEDENT", "$END")
-        width = 1 if layout else max(1, len(str(tok)))
-        hint = _hint(tok, set(expected))
-        wanted = _or([_WORDS.get(e, f"'{e.lower()}'") for e in expected if e in _WORDS or
-                      e.isupper()])
-        return f"unexpected {found}; expected {wanted}", hint, width
-    return "syntax error", None, 1
-
-
-def _describe(tok: Token) -> str:
-    if tok.type == "_NL":
-        return "end of line"
-    if tok.type == "$END":
-        return "end of the file"
-    if tok.type in ("_INDENT",):
-        return "indentation"
-    if tok.type == "_DEDENT":
-        return "end of block"
-    if tok.type == "NUMBER":
-        return f"number {_shown(str(tok))}"
-    if tok.type in ("NAME", "UNIT"):
-        return f"name '{_shown(str(tok))}'"
-    return f"'{_shown(str(tok))}'"
-
-
-def _hint(tok: Token, expected: set[str]) -> str | None:
-    if "COMMA" in expected and tok.type == "NAME":
-        return "separate the servos of a step with ',': index 90, middle 90"
-    if "COLON" in expected and tok.type in ("NAME", "NUMBER"):
-        return "a gesture starts with its name and ':', as in  peace: index 180"
-    if expected == {"NUMBER"}:
-        return "durations are written 0.4s or 400ms"
-    if expected == {"_INDENT"}:
-        return "indent the steps under the gesture's name, or write them after ':'"
-    if tok.type == "_INDENT":
-        return "only the steps under 'name:' or 'repeat N:' are indented"
-    return None
-
-
-def _or(words: list[str]) -> str:
-    words = list(dict.fromkeys(words))
-    if len(words) <= 1:
-        return words[0] if words else "something else"
-    return ", ".join(words[:-1]) + " or " + words[-1]
+def _check_size(text: str, size: int, lines: list[str]) -> None:
+    """Refuse a text of more than MAX_SOURCE characters (``size``), or with a line of
+    more than MAX_LINE, before Lark sees it."""
+    if size > MAX_SOURCE:
+        line = text.count("\n", 0, MAX_SOURCE) + 1
+        column = MAX_SOURCE - (text.rfind("\n", 0, MAX_SOURCE) + 1) + 1
+        raise SyntaxProblem(f"the file is longer than {MAX_SOURCE:,} characters ({size:,}): "
+                            f"it is not parsed", (line, column, 1),
+                            "split it into several files joined with 'use'")
+    for number, line_text in enumerate(lines, 1):
+        if len(line_text) > MAX_LINE:
+            raise SyntaxProblem(f"this line is longer than {MAX_LINE:,} characters "
+                                f"({len(line_text):,})", (number, MAX_LINE + 1, 1),
+                                "put one step on each line; build a long pose from smaller "
+                                "poses")

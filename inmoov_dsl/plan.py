@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 from ruckig import InputParameter, Result, Ruckig, Synchronization, Trajectory
+from ruckig import Profile as RuckigProfile
 
 from .errors import Diagnostic, GestError, Pos, SourceMap
 from .profile import Profile
@@ -48,11 +49,13 @@ class Track:
         return np.round(p + dt * (v + dt * (a / 2 + dt * j / 6)), POSITION_DECIMALS)
 
     def velocity(self, t: np.ndarray | float) -> np.ndarray:
+        """The planned velocity at ``t`` (degrees per second)."""
         k, dt = self._locate(t)
         _, v, a, j = self.coefs[k].T
         return v + dt * (a + dt * j / 2)
 
     def acceleration(self, t: np.ndarray | float) -> np.ndarray:
+        """The planned acceleration at ``t`` (degrees per second squared)."""
         k, dt = self._locate(t)
         _, _, a, j = self.coefs[k].T
         return a + dt * j
@@ -74,6 +77,9 @@ class PlannedStep:
 
 @dataclass(frozen=True)
 class Plan:
+    """A planned gesture: every servo's track, what became of each step, its length (s)
+    and what the planner warns about."""
+
     profile: Profile
     tracks: tuple[Track, ...]  #: one per profile servo
     steps: tuple[PlannedStep, ...]
@@ -95,7 +101,7 @@ class _TrackBuilder:
         self.breaks.append(max(t, self.breaks[-1]))
         self.coefs.extend((value, 0.0, 0.0, 0.0))
 
-    def phases(self, t0: float, profile) -> None:
+    def phases(self, t0: float, profile: RuckigProfile) -> None:
         """Append ruckig's phases (after its brake phases, when it had to brake)."""
         t = t0
         parts = [profile.brake, profile] if profile.brake.duration > 0 else [profile]
@@ -158,6 +164,26 @@ class Planner:
         return Plan(self.profile, tuple(b.build() for b in builders), tuple(reports),
                     tuple(start), tuple(pose), now, () if strict else told)
 
+    def _trajectory(self, servos: list[int], start: MotionState, target: Sequence[float],
+                    over: float | None, step: Action | None) -> Trajectory:
+        """One ruckig trajectory for ``servos`` (indices), from their state in ``start``
+        to ``target`` (one value each) at rest, all arriving together no sooner than
+        ``over``, within each servo's limits."""
+        ruckig, inp, traj = self._solver(len(servos))
+        limits = [self.profile.servos[i] for i in servos]
+        inp.current_position = [float(start.position[i]) for i in servos]
+        inp.current_velocity = [float(start.velocity[i]) for i in servos]
+        inp.current_acceleration = [float(start.acceleration[i]) for i in servos]
+        inp.target_position = [float(v) for v in target]
+        inp.target_velocity = inp.target_acceleration = [0.0] * len(servos)
+        inp.max_velocity = [s.max_velocity for s in limits]
+        inp.max_acceleration = [s.max_acceleration for s in limits]
+        inp.max_jerk = [s.max_jerk for s in limits]
+        inp.synchronization = Synchronization.Time
+        inp.minimum_duration = over
+        self._calculate(ruckig, inp, traj, step)
+        return traj
+
     def _calculate(self, ruckig: Ruckig, inp: InputParameter, traj: Trajectory,
                    step: Action | None) -> None:
         """ruckig's trajectory for ``inp``; any failure of ruckig (a result that is not
@@ -185,24 +211,14 @@ class Planner:
         """One ruckig trajectory for every servo the step moves, from rest to rest;
         appends it to the servos' tracks and updates ``pose``. Also returns how long
         each servo's move takes (the step is longer by its stagger)."""
-        servos = self.profile.servos
         moving = [(k, i, v) for k, (i, v) in enumerate(step.targets) if v != pose[i]]
         if not moving:
             hold = step.over or 0.0
             return PlannedStep(step.where, step.pos, "move", now, now + hold, step.over,
                                False, ()), hold
-        ruckig, inp, traj = self._solver(len(moving))
         idx = [i for _, i, _ in moving]
-        inp.current_position = [float(pose[i]) for i in idx]
-        inp.target_position = [float(v) for _, _, v in moving]
-        inp.current_velocity = inp.current_acceleration = [0.0] * len(idx)
-        inp.target_velocity = inp.target_acceleration = [0.0] * len(idx)
-        inp.max_velocity = [servos[i].max_velocity for i in idx]
-        inp.max_acceleration = [servos[i].max_acceleration for i in idx]
-        inp.max_jerk = [servos[i].max_jerk for i in idx]
-        inp.synchronization = Synchronization.Time
-        inp.minimum_duration = step.over
-        self._calculate(ruckig, inp, traj, step)
+        traj = self._trajectory(idx, MotionState.resting(pose), [v for _, _, v in moving],
+                                step.over, step)
         move_time = traj.duration
         duration = max(k for k, _, _ in moving) * step.stagger + move_time
         for dof, (k, i, v) in enumerate(moving):
@@ -220,7 +236,6 @@ class Planner:
         """Plan from a moving state to ``targets`` (one per servo), all arriving together,
         at rest, no sooner than ``over``: a new step takes over a running move with the
         hand's current position, velocity and acceleration (no jump, no stop first)."""
-        servos = self.profile.servos
         moving = [i for i, x in enumerate(state.position)
                   if abs(x - targets[i]) > _EPS or abs(state.velocity[i]) > _EPS
                   or abs(state.acceleration[i]) > _EPS]
@@ -228,18 +243,7 @@ class Planner:
         duration = over or 0.0
         move_time = 0.0
         if moving:
-            ruckig, inp, traj = self._solver(len(moving))
-            inp.current_position = [float(state.position[i]) for i in moving]
-            inp.current_velocity = [float(state.velocity[i]) for i in moving]
-            inp.current_acceleration = [float(state.acceleration[i]) for i in moving]
-            inp.target_position = [float(targets[i]) for i in moving]
-            inp.target_velocity = inp.target_acceleration = [0.0] * len(moving)
-            inp.max_velocity = [servos[i].max_velocity for i in moving]
-            inp.max_acceleration = [servos[i].max_acceleration for i in moving]
-            inp.max_jerk = [servos[i].max_jerk for i in moving]
-            inp.synchronization = Synchronization.Time
-            inp.minimum_duration = over
-            self._calculate(ruckig, inp, traj, step)
+            traj = self._trajectory(moving, state, [targets[i] for i in moving], over, step)
             move_time = traj.duration
             duration = max(duration, move_time)
             for dof, i in enumerate(moving):
@@ -278,6 +282,12 @@ class MotionState:
     position: tuple[float, ...]
     velocity: tuple[float, ...]
     acceleration: tuple[float, ...]
+
+    @classmethod
+    def resting(cls, pose: Sequence[float]) -> MotionState:
+        """Every servo standing still at ``pose``."""
+        still = (0.0,) * len(pose)
+        return cls(tuple(float(x) for x in pose), still, still)
 
     @classmethod
     def at(cls, plan: Plan, t: float) -> MotionState:

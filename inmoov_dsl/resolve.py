@@ -1,20 +1,23 @@
-"""Resolve names (stage 2): files and their imports, poses, groups, calls and repeats.
+"""Resolve names (stage 2): poses, groups, calls and repeats, for one profile.
 
-A gesture becomes a flat tuple of Actions over the profile's servos. File access
-goes through an injected ``read`` function, so the stage stays testable.
+A gesture of a Program (see ``program``) becomes a flat tuple of Actions over the
+profile's servos. Every name is looked up in one table (``Resolver.lookup``); a
+gesture is expanded in one pass, within a step budget.
 """
 
 from __future__ import annotations
 
-import os
+import functools
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field, replace
-from pathlib import Path
+from dataclasses import dataclass
+from typing import NoReturn
 
+from . import snippet
 from . import syntax as ast
-from .errors import Diagnostic, GestError, Pos, SourceMap, did_you_mean
-from .parse import parse
+from .errors import Diagnostic, GestError, Pos
+from .names import ANYTHING, Entity, Gesture, Group, NameTable, Pose, Servo
 from .profile import Profile
+from .program import Program
 
 MAX_STEPS = 100_000  #: the most steps one gesture may expand to
 MAX_NESTING = 100  #: the deepest chain of calls and repeats, or of poses within poses
@@ -39,112 +42,14 @@ class Action:
     where: str = ""  #: the call chain, e.g. "demo > peace"
 
 
-@dataclass
-class Program:
-    """A .gest file with everything it imports, and the names they define."""
+@dataclass(frozen=True)
+class _Frame:
+    """Where the expansion is: the gestures called (outermost first), the call chain as
+    shown, and how deep calls and repeats nest here."""
 
-    root: str
-    sources: SourceMap = field(default_factory=SourceMap)
-    texts: dict[str, str] = field(default_factory=dict)
-    gestures: dict[str, ast.GestureDef] = field(default_factory=dict)
-    poses: dict[str, ast.PoseDef] = field(default_factory=dict)
-    groups: dict[str, ast.GroupDef] = field(default_factory=dict)
-    own: list[str] = field(default_factory=list)  #: gestures defined in the root file
-    #: one Resolver per profile (see ``resolver``), and the SHA-256 of every text
-    resolvers: dict[int, Resolver] = field(default_factory=dict, repr=False)
-    digests: dict[str, str] = field(default_factory=dict, repr=False)
-
-    def names(self) -> dict[str, Pos]:
-        found: dict[str, Pos] = {}
-        for table in (self.groups, self.poses, self.gestures):
-            for name, node in table.items():
-                found[name] = node.name.pos
-        return found
-
-
-Reader = Callable[[str], str]
-
-
-def load_program(path: str, read: Reader, search: Sequence[str] = (),
-                 text: str | None = None, first_wins: bool = False) -> Program:
-    """Parse ``path`` (or ``text`` under that name) and every file it ``use``s.
-
-    Imports are looked up beside the importing file, then in ``search``; each file is
-    read once. Duplicate definitions are errors naming both places, unless
-    ``first_wins`` (a library along its search path): then a name already defined by
-    another file is shadowed, and only one file defining it twice is an error.
-    """
-    program = Program(path)
-    seen: set[str] = set()
-    defined: dict[str, Pos] = {}
-    errors: list[Diagnostic] = []
-
-    def visit(file: str, source: str, is_root: bool) -> None:
-        seen.add(os.path.normcase(os.path.abspath(file)))
-        program.sources.add(file, source)
-        program.texts[file] = source
-        module = parse(source, file)
-        for item in module.items:
-            if isinstance(item, ast.Use):
-                found = _find_import(item, file, search, read, program.sources)
-                key = os.path.normcase(os.path.abspath(found[0]))
-                if key not in seen:
-                    visit(found[0], found[1], False)
-                continue
-            name = item.name.text
-            if name in defined and first_wins and defined[name].file != file:
-                continue  # shadowed by a file earlier on the search path
-            if name in defined:
-                first = defined[name]
-                errors.append(program.sources.error(
-                    f"'{name}' is defined twice", item.name.pos,
-                    f"first defined at {first.file}:{first.line}"))
-                continue
-            defined[name] = item.name.pos
-            if isinstance(item, ast.GestureDef):
-                program.gestures[name] = item
-                if is_root:
-                    program.own.append(name)
-            elif isinstance(item, ast.PoseDef):
-                program.poses[name] = item
-            else:
-                program.groups[name] = item
-
-    visit(path, read(path) if text is None else text, True)
-    if errors:
-        raise GestError(errors)
-    return program
-
-
-GEST_SUFFIX = ".gest"
-
-
-def _find_import(use: ast.Use, importer: str, search: Sequence[str], read: Reader,
-                 sources: SourceMap) -> tuple[str, str]:
-    """The file ``use`` names: relative to the importing file's directory, then to each
-    directory of the search path (an absolute path as it is). It must be a gesture file,
-    its name and (through any symlink) its target's name ending in .gest: so a gesture
-    file from someone else cannot make the tools open, or quote a line of, anything else
-    (docs/security.md)."""
-    if not use.path.endswith(GEST_SUFFIX):
-        raise GestError(sources.error(f"use takes a {GEST_SUFFIX} file, not '{use.path}'",
-                                      use.pos, f'use "{Path(use.path).stem}{GEST_SUFFIX}"'))
-    places = [os.path.join(os.path.dirname(importer), use.path)]
-    places += [os.path.join(d, use.path) for d in search]
-    for place in places:
-        try:
-            target = os.path.realpath(place)
-            if not target.endswith(GEST_SUFFIX) and os.path.exists(place):
-                raise ValueError(f"it links to '{target}', which is not a {GEST_SUFFIX} "
-                                 f"file")
-            return place, read(place)
-        except FileNotFoundError:
-            continue
-        except (OSError, ValueError) as exc:  # a NUL in the path, not UTF-8, too large
-            raise GestError(sources.error(f"cannot read '{place}': {exc}", use.pos)) from None
-    raise GestError(sources.error(
-        f"cannot find '{use.path}'", use.pos,
-        "looked in " + ", ".join(os.path.dirname(p) or "." for p in places)))
+    chain: tuple[str, ...]
+    where: str
+    depth: int = 0
 
 
 class Resolver:
@@ -156,229 +61,204 @@ class Resolver:
         (asked only to word an error)."""
         self.program = program
         self.profile = profile
-        self.elsewhere = elsewhere
         self.src = program.sources
-        self._sizes: dict[str, tuple[int, int]] = {}
+        self.names = NameTable(program, profile, elsewhere)
         # what is expanded once and kept: each pose's targets and nesting height, each
-        # move's targets (by the node's id; the program keeps the nodes), call chains
+        # gesture's nesting height, each move's targets (by the node's id; the program
+        # keeps the nodes), and the gestures counted against MAX_TOTAL_STEPS
         self._poses: dict[str, tuple[dict[int, int], int]] = {}
+        self._heights: dict[str, int] = {}
         self._moves: dict[int, tuple[tuple[int, int], ...]] = {}
-        self._wheres: dict[tuple[str, str], str] = {}
-        self._counted: set[str] = set()  # gestures expanded, and their steps in all
+        self._counted: set[str] = set()
         self._total = 0
-        self._check_names()
+        # while one gesture expands: (callee, where) -> where its Actions are in the
+        # output, so a gesture called again from the same place is copied, not walked
+        self._spans: dict[tuple[str, str], tuple[int, int]] = {}
 
-    def _check_names(self) -> None:
-        errors = []
-        servo_names = set(self.profile.names)
-        for name, pos in self.program.names().items():
-            if name in servo_names:
-                errors.append(self.src.error(f"'{name}' is the name of a servo of profile "
-                                             f"'{self.profile.name}'", pos))
-            elif name in self.profile.groups and name not in self.program.groups:
-                errors.append(self.src.error(f"'{name}' is the name of a group of profile "
-                                             f"'{self.profile.name}'", pos))
-        for group in self.program.groups.values():
-            for member in group.members:
-                if member.text not in servo_names:
-                    errors.append(self.src.error(
-                        f"unknown servo '{member.text}' in group '{group.name.text}'",
-                        member.pos, did_you_mean(member.text, servo_names)))
-        if errors:
-            raise GestError(errors)
+    def fail(self, message: str, pos: Pos | None, hint: str | None = None) -> NoReturn:
+        """Raise the GestError ``message`` at ``pos``, with the line it points into."""
+        raise GestError(self.src.error(message, pos, hint))
 
-    # -- names ------------------------------------------------------------------
-    def known(self) -> list[str]:
-        return [*self.profile.names, *self.profile.groups, *self.program.names()]
-
-    def group(self, name: str) -> tuple[str, ...] | None:
-        if name in self.program.groups:
-            return tuple(m.text for m in self.program.groups[name].members)
-        return self.profile.groups.get(name)
-
-    def unknown(self, name: ast.Name, what: str = "servo, group, pose or gesture") -> GestError:
-        others = [p for p in self.elsewhere(name.text) if p != self.profile.name] \
-            if self.elsewhere else []
-        hint = (f"'{name.text}' is in profile '{others[0]}': add --profile {others[0]}"
-                if others else did_you_mean(name.text, self.known()))
-        return GestError(self.src.error(f"unknown {what} '{name.text}'", name.pos, hint))
+    def lookup(self, name: ast.Name, what: str = ANYTHING) -> Entity:
+        """What ``name`` is; an unknown name fails, as an unknown ``what``, with a hint:
+        the profile that has it, or the closest known name."""
+        found = self.names.get(name.text)
+        if found is None:
+            self.fail(f"unknown {what} '{name.text}'", name.pos, self.names.hint(name.text))
+        return found
 
     # -- targets ----------------------------------------------------------------
     def targets(self, targets: Sequence[ast.Target], chain: tuple[str, ...] = ()
                 ) -> dict[int, int]:
-        """Servo index -> value, in order of first mention; later mentions win."""
-        return self._targets(targets, chain)[0]
-
-    def _pose(self, t: ast.Target, chain: tuple[str, ...]) -> dict[int, int]:
-        """The targets of the pose ``t`` names, expanded once: poses built from poses
-        cost the size of their text, not 2^depth."""
-        name = t.name.text
-        if t.value is not None:
-            raise GestError(self.src.error(f"'{name}' is a pose; it takes no value",
-                                           t.value_pos, f"write just '{name}'"))
-        if name in chain:
-            cycle = " -> ".join([*chain[chain.index(name):], name])
-            raise GestError(self.src.error(f"pose '{name}' refers to itself: {cycle}",
-                                           t.name.pos))
-        if name not in self._poses:
-            if len(chain) >= MAX_NESTING:
-                raise self._poses_too_deep(t)
-            inner, height = self._targets(self.program.poses[name].targets, (*chain, name))
-            self._poses[name] = (inner, height + 1)
-        inner, height = self._poses[name]
-        if len(chain) + height > MAX_NESTING:
-            raise self._poses_too_deep(t)
-        return inner
-
-    def _poses_too_deep(self, t: ast.Target) -> GestError:
-        return GestError(self.src.error(f"poses are nested more than {MAX_NESTING} deep",
-                                        t.name.pos))
-
-    def _targets(self, targets: Sequence[ast.Target], chain: tuple[str, ...]
-                 ) -> tuple[dict[int, int], int]:
-        """The targets, and how deep the poses among them nest."""
+        """Servo index -> value, in order of first mention; later mentions win
+        (``chain``: the poses being expanded, outermost first)."""
         out: dict[int, int] = {}
         direct: set[str] = set()
-        height = 0
         for t in targets:
-            name = t.name.text
-            if name in self.program.poses:
-                out.update(self._pose(t, chain))
-                height = max(height, self._poses[name][1])
-                continue
-            if name in self.program.gestures:
-                raise GestError(self.src.error(
-                    f"'{name}' is a gesture: call it on a line of its own", t.name.pos,
-                    "a step can mix servos, groups and poses, not gestures"))
-            members = (name,) if name in self.profile.names else self.group(name)
-            if members is None:
-                what = "servo or group" if t.value is not None else None
-                raise self.unknown(t.name, *([what] if what else []))
-            kind = "servo" if name in self.profile.names else "group"
-            if t.value is None:
-                raise GestError(self.src.error(f"{kind} '{name}' needs a value", t.name.pos,
-                                               f"for example '{name} 90'"))
-            if name in direct:
-                raise GestError(self.src.error(f"'{name}' is set twice in this step",
-                                               t.name.pos))
-            direct.add(name)
-            for member in members:
-                servo = self.profile.servos[self.profile.index(member)]
-                if not servo.lo <= t.value <= servo.hi:
-                    raise GestError(self.src.error(
-                        f"value {t.value} is outside the range of '{member}' "
-                        f"({servo.lo}..{servo.hi})", t.value_pos))
-                out[self.profile.index(member)] = t.value
-        return out, height
+            match self.lookup(t.name, "servo or group" if t.value is not None else ANYTHING):
+                case Pose():
+                    out.update(self._pose(t, chain))
+                case Gesture():
+                    self.fail(f"'{t.name.text}' is a gesture: call it on a line of its own",
+                              t.name.pos, "a step can mix servos, groups and poses, not "
+                              "gestures")
+                case Servo() | Group() as found:
+                    self._set(t, found, direct, out)
+        return out
+
+    def _pose(self, t: ast.Target, chain: tuple[str, ...]) -> dict[int, int]:
+        """The targets of the pose ``t`` names, expanded once (with how deep poses nest
+        in it): poses built from poses cost the size of their text, not 2^depth."""
+        name = t.name.text
+        if t.value is not None:
+            self.fail(f"'{name}' is a pose; it takes no value", t.value_pos,
+                      f"write just '{name}'")
+        if name in chain:
+            cycle = " -> ".join([*chain[chain.index(name):], name])
+            self.fail(f"pose '{name}' refers to itself: {cycle}", t.name.pos)
+        if name not in self._poses:
+            if len(chain) >= MAX_NESTING:
+                self.fail(f"poses are nested more than {MAX_NESTING} deep", t.name.pos)
+            node = self.program.poses[name]
+            inner = self.targets(node.targets, (*chain, name))
+            below = [self._poses[x.name.text][1] for x in node.targets if x.name.text in
+                     self._poses]  # the poses among its targets, all expanded now
+            self._poses[name] = (inner, max(below, default=0) + 1)
+        inner, height = self._poses[name]
+        if len(chain) + height > MAX_NESTING:
+            self.fail(f"poses are nested more than {MAX_NESTING} deep", t.name.pos)
+        return inner
+
+    def _set(self, t: ast.Target, found: Servo | Group, direct: set[str],
+             out: dict[int, int]) -> None:
+        """Set the servo or the group's servos ``t`` names to its value, in ``out``."""
+        name = t.name.text
+        kind, members = ("servo", (found.name,)) if isinstance(found, Servo) \
+            else ("group", found.members)
+        if t.value is None:
+            self.fail(f"{kind} '{name}' needs a value", t.name.pos, f"for example '{name} 90'")
+        if name in direct:
+            self.fail(f"'{name}' is set twice in this step", t.name.pos)
+        direct.add(name)
+        for member in members:
+            index = self.profile.index(member)
+            servo = self.profile.servos[index]
+            if not servo.lo <= t.value <= servo.hi:
+                self.fail(f"value {t.value} is outside the range of '{member}' "
+                          f"({servo.lo}..{servo.hi})", t.value_pos)
+            out[index] = t.value
 
     # -- steps ------------------------------------------------------------------
     def gesture(self, name: str) -> tuple[Action, ...]:
-        """The steps of gesture ``name``, with calls and repeats expanded."""
+        """The steps of gesture ``name``, with calls and repeats expanded: at most
+        MAX_STEPS of them, and MAX_TOTAL_STEPS for all the gestures of the program."""
         node = self.program.gestures[name]
-        size, _ = self.measure(name, (name,))
-        if size > MAX_STEPS:
-            raise GestError(self.src.error(
-                f"gesture '{name}' expands to more than {MAX_STEPS:,} steps",
-                node.name.pos, "lower a repeat count"))
-        if name not in self._counted:
-            if self._total + size > MAX_TOTAL_STEPS:
-                raise GestError(self.src.error(
-                    f"with '{name}', the gestures of this program expand to more than "
-                    f"{MAX_TOTAL_STEPS:,} steps in all", node.name.pos,
-                    "split the file: each gesture's calls and repeats are expanded"))
-            self._counted.add(name)
-            self._total += size
         out: list[Action] = []
-        self._emit(node.steps, name, out)
+        self._spans = {}
+        self._heights[name] = self._expand(node.steps, _Frame((name,), name), out)
+        if name not in self._counted:
+            if self._total + len(out) > MAX_TOTAL_STEPS:
+                self.fail(f"with '{name}', the gestures of this program expand to more "
+                          f"than {MAX_TOTAL_STEPS:,} steps in all", node.name.pos,
+                          "split the file: each gesture's calls and repeats are expanded")
+            self._counted.add(name)
+            self._total += len(out)
         return tuple(out)
 
-    def _call(self, move: ast.Move) -> str | None:
-        if len(move.targets) == 1 and move.targets[0].name.text in self.program.gestures:
-            target = move.targets[0]
-            if target.value is not None:
-                raise GestError(self.src.error(f"'{target.name.text}' is a gesture; it takes "
-                                               f"no value", target.value_pos))
-            for timing in (move.over, move.stagger):
-                if timing is not None:
-                    raise GestError(self.src.error(
-                        f"a gesture call takes no timing: '{target.name.text}' sets its own",
-                        timing.pos, "give the durations inside the gesture"))
-            return target.name.text
-        return None
-
-    def measure(self, name: str, chain: tuple[str, ...], depth: int = 0) -> tuple[int, int]:
-        """(steps, nesting height) of gesture ``name``; detects call cycles and nesting
-        too deep, so that expanding a gesture is bounded whatever the input."""
-        if name not in self._sizes:
-            self._sizes[name] = self._measure(self.program.gestures[name].steps, chain, depth)
-        return self._sizes[name]
-
-    def _measure(self, steps: Sequence[ast.Step], chain: tuple[str, ...], depth: int
-                 ) -> tuple[int, int]:
-        total = height = 0
+    def _expand(self, steps: Sequence[ast.Step], at: _Frame, out: list[Action]) -> int:
+        """Append the Actions of ``steps`` to ``out``; return how deep the calls and
+        repeats among them nest."""
+        height = 0
         for step in steps:
-            inner = 0
-            callee = self._call(step) if isinstance(step, ast.Move) else None
-            if isinstance(step, ast.Repeat) or callee is not None:
-                if depth + 1 > MAX_NESTING:
-                    raise self._too_deep(step.pos)
-                if isinstance(step, ast.Repeat):
-                    size, below = self._measure(step.body, chain, depth + 1)
-                    size *= step.count
-                else:
-                    if callee in chain:
-                        cycle = " -> ".join([*chain[chain.index(callee):], callee])
-                        raise GestError(self.src.error(
-                            f"gesture '{callee}' calls itself: {cycle}", step.pos))
-                    size, below = self.measure(callee, (*chain, callee), depth + 1)
-                inner = below + 1
-                if depth + inner > MAX_NESTING:
-                    raise self._too_deep(step.pos)
-            else:
-                size = 1
-            total = min(total + size, MAX_STEPS + 1)  # enough to report; stays bounded
-            height = max(height, inner)
-        return total, height
+            match step:
+                case ast.Wait():
+                    out.append(Action((), hold=step.duration.seconds, pos=step.pos,
+                                      where=at.where))
+                case ast.Repeat():
+                    height = max(height, self._repeat(step, at, out))
+                case ast.Move() if (callee := self._callee(step)) is not None:
+                    height = max(height, self._call(step, callee, at, out))
+                case ast.Move():
+                    out.append(self._move(step, at.where))
+            self._within_budget(len(out), at)
+        return height
 
-    def _too_deep(self, pos: Pos | None) -> GestError:
-        return GestError(self.src.error(
-            f"calls and repeats are nested more than {MAX_NESTING} deep", pos))
+    def _within_budget(self, steps: int, at: _Frame) -> None:
+        if steps > MAX_STEPS:
+            node = self.program.gestures[at.chain[0]]
+            self.fail(f"gesture '{node.name.text}' expands to more than {MAX_STEPS:,} steps",
+                      node.name.pos, "lower a repeat count")
 
-    def _emit(self, steps: Sequence[ast.Step], where: str, out: list[Action]) -> None:
-        for step in steps:
-            if isinstance(step, ast.Repeat):
-                for _ in range(step.count):
-                    self._emit(step.body, where, out)
-            elif isinstance(step, ast.Wait):
-                out.append(Action((), hold=step.duration.seconds, pos=step.pos, where=where))
-            elif (callee := self._call(step)) is not None:
-                self._emit(self.program.gestures[callee].steps, self._where(where, callee),
-                           out)
-            else:
-                key = id(step)
-                if key not in self._moves:
-                    self._moves[key] = tuple(self.targets(step.targets).items())
-                out.append(Action(
-                    self._moves[key],
-                    over=step.over.seconds if step.over else None,
-                    stagger=step.stagger.seconds if step.stagger else 0.0,
-                    pos=step.pos,
-                    over_pos=step.over.pos if step.over else None,
-                    where=where,
-                ))
+    def _nest(self, step: ast.Step, depth: int) -> None:
+        if depth > MAX_NESTING:
+            self.fail(f"calls and repeats are nested more than {MAX_NESTING} deep", step.pos)
 
-    def _where(self, where: str, callee: str) -> str:
-        """``where > callee``, made once per pair; a chain longer than MAX_WHERE keeps
-        its first and last names."""
-        key = (where, callee)
-        if key not in self._wheres:
-            text = f"{where} > {callee}"
-            if len(text) > MAX_WHERE:
-                root = where.split(" > ", 1)[0]
-                half = (MAX_WHERE - 9) // 2
-                text = f"{_cut(root, half)} > ... > {_cut(callee, half)}"
-            self._wheres[key] = text
-        return self._wheres[key]
+    def _repeat(self, step: ast.Repeat, at: _Frame, out: list[Action]) -> int:
+        """Expand the body once and copy it; return its nesting height."""
+        self._nest(step, at.depth + 1)
+        start = len(out)
+        below = self._expand(step.body, _Frame(at.chain, at.where, at.depth + 1), out)
+        self._within_budget(start + (len(out) - start) * step.count, at)
+        out.extend(out[start:] * (step.count - 1))
+        return below + 1
+
+    def _call(self, step: ast.Move, callee: str, at: _Frame, out: list[Action]) -> int:
+        """Expand the gesture ``callee``; return its nesting height (which is kept, so a
+        gesture reached again further down is too deep at the call)."""
+        self._nest(step, at.depth + 1)
+        if callee in at.chain:
+            cycle = " -> ".join([*at.chain[at.chain.index(callee):], callee])
+            self.fail(f"gesture '{callee}' calls itself: {cycle}", step.pos)
+        if callee in self._heights:
+            self._nest(step, at.depth + 1 + self._heights[callee])
+        inner = _Frame((*at.chain, callee), _where(at.where, callee), at.depth + 1)
+        span = self._spans.get((callee, inner.where))
+        if span is not None:  # the same Actions again (a cycle would have failed before)
+            self._within_budget(len(out) + span[1] - span[0], at)
+            out.extend(out[span[0]:span[1]])
+        else:
+            start = len(out)
+            self._heights[callee] = self._expand(self.program.gestures[callee].steps, inner,
+                                                 out)
+            self._spans[(callee, inner.where)] = (start, len(out))
+        return self._heights[callee] + 1
+
+    def _callee(self, move: ast.Move) -> str | None:
+        """The gesture ``move`` calls, if it is a call: a gesture's name alone."""
+        if len(move.targets) != 1:
+            return None
+        target = move.targets[0]
+        what = "servo or group" if target.value is not None else ANYTHING
+        if not isinstance(self.lookup(target.name, what), Gesture):
+            return None
+        name = target.name.text
+        if target.value is not None:
+            self.fail(f"'{name}' is a gesture; it takes no value", target.value_pos)
+        for timing in (move.over, move.stagger):
+            if timing is not None:
+                self.fail(f"a gesture call takes no timing: '{name}' sets its own",
+                          timing.pos, "give the durations inside the gesture")
+        return name
+
+    def _move(self, step: ast.Move, where: str) -> Action:
+        """The Action of a move (its targets resolved once, however often it is played)."""
+        key = id(step)
+        if key not in self._moves:
+            self._moves[key] = tuple(self.targets(step.targets).items())
+        return Action(self._moves[key], over=step.over.seconds if step.over else None,
+                      stagger=step.stagger.seconds if step.stagger else 0.0, pos=step.pos,
+                      over_pos=step.over.pos if step.over else None, where=where)
+
+
+@functools.lru_cache(maxsize=4096)
+def _where(where: str, callee: str) -> str:
+    """``where > callee``; a chain longer than MAX_WHERE keeps its first and last names."""
+    text = f"{where} > {callee}"
+    if len(text) > MAX_WHERE:
+        root = where.split(" > ", 1)[0]
+        half = (MAX_WHERE - 9) // 2
+        text = f"{_cut(root, half)} > ... > {_cut(callee, half)}"
+    return text
 
 
 def _cut(name: str, most: int) -> str:
@@ -412,19 +292,9 @@ def resolve_start(program: Program, profile: Profile,
         raise GestError(Diagnostic("error", "--from takes one line: a pose name or targets",
                                    hint='--from "fingers 90, wrist 45"'))
     program.sources.add(file, prefix + text)
-    try:
-        (item,) = parse(prefix + text, file).items
+    with snippet.parsed(text, file, prefix) as module:
+        (item,) = module.items
         targets = resolver(program, profile).targets(item.targets)
-    except GestError as exc:
-        raise GestError([_unwrap(d, file, prefix, text) for d in exc.diagnostics]) from None
     for index, value in targets.items():
         pose[index] = value
     return tuple(pose)
-
-
-def _unwrap(d: Diagnostic, file: str, prefix: str, text: str) -> Diagnostic:
-    """Point a diagnostic about ``--from`` at what the user typed, not at our wrapper."""
-    if d.pos is None or d.pos.file != file:
-        return d
-    column = max(1, d.pos.column - len(prefix))
-    return replace(d, pos=replace(d.pos, column=column), source_line=text)

@@ -12,6 +12,8 @@ KEYWORDS = frozenset({"use", "group", "pose", "wait", "hold", "repeat", "over", 
 
 @dataclass(frozen=True)
 class Name:
+    """A name as written, and where."""
+
     text: str
     pos: Pos
 
@@ -27,6 +29,8 @@ class Target:
 
 @dataclass(frozen=True)
 class Duration:
+    """A duration (``over``, ``stagger``, ``wait``) in seconds, as written."""
+
     seconds: float
     pos: Pos
     number: str = ""  #: as written, e.g. ``.5``
@@ -35,6 +39,8 @@ class Duration:
 
 @dataclass(frozen=True)
 class Move:
+    """A step that sets targets (or calls a gesture: a gesture's name alone)."""
+
     targets: tuple[Target, ...]
     over: Duration | None
     stagger: Duration | None
@@ -43,6 +49,8 @@ class Move:
 
 @dataclass(frozen=True)
 class Wait:
+    """A step that holds the pose: ``wait`` or ``hold``."""
+
     duration: Duration
     pos: Pos
     keyword: str = "wait"  #: ``wait`` or ``hold`` (the same thing)
@@ -50,6 +58,8 @@ class Wait:
 
 @dataclass(frozen=True)
 class Repeat:
+    """``repeat N:`` and the steps it repeats."""
+
     count: int
     body: tuple[Step, ...]
     pos: Pos
@@ -60,24 +70,32 @@ Step = Move | Wait | Repeat
 
 @dataclass(frozen=True)
 class Use:
+    """``use "other.gest"``: the file's definitions are imported."""
+
     path: str
     pos: Pos
 
 
 @dataclass(frozen=True)
 class GroupDef:
+    """``group NAME: servo, servo, ...``"""
+
     name: Name
     members: tuple[Name, ...]
 
 
 @dataclass(frozen=True)
 class PoseDef:
+    """``pose NAME: targets``"""
+
     name: Name
     targets: tuple[Target, ...]
 
 
 @dataclass(frozen=True)
 class GestureDef:
+    """``NAME: step`` or ``NAME:`` and an indented block of steps."""
+
     name: Name
     steps: tuple[Step, ...]
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from terminal import AtTerminal
 
-from inmoov_dsl.cli.repl import library_program, repl
+from inmoov_dsl.cli.gestplay.repl import library_program, repl, waiting_on
 from inmoov_dsl.errors import GestError
 from inmoov_dsl.live import Session, line_steps
 from inmoov_dsl.plan import MotionState
@@ -130,7 +130,7 @@ def run_repl(script, take_over=True):
 
     threading.Thread(target=typist, daemon=True).start()
     start = time.monotonic()
-    assert repl([link], RHAND, {}, lines, take_over) == 0
+    assert repl([link], RHAND, {}, waiting_on(lines), take_over) == 0
     board = link.port.board
     board.advance(time.monotonic())
     return board, [(t - start, w) for t, w in board.log]

@@ -7,7 +7,8 @@ import pytest
 from inmoov_dsl import compile_source
 from inmoov_dsl.compiler import load, plan_gesture, read_text
 from inmoov_dsl.errors import GestError
-from inmoov_dsl.resolve import Resolver, load_program
+from inmoov_dsl.program import load_program
+from inmoov_dsl.resolve import Resolver
 
 
 def steps_of(source, rhand, gesture="g", read=None):
@@ -74,6 +75,23 @@ def test_start_pose_from_a_pose_or_targets(rhand):
     assert plan_gesture(program, "g", rhand, start="half").start == (0, 90, 90, 90, 90, 90)
     assert plan_gesture(program, "g", rhand, start="wrist 30, thumb 10").start == (
         30, 10, 0, 0, 0, 0)
+
+
+def test_lookup_says_what_a_name_is(rhand):
+    from inmoov_dsl.errors import Pos
+    from inmoov_dsl.names import Gesture, Group, Pose, Servo
+    from inmoov_dsl.syntax import Name
+    program = load_program("main.gest", {"main.gest": (
+        "group pair: index, middle\npose fist: fingers 180\ng: pair 9\n")}.__getitem__)
+    resolver = Resolver(program, rhand)
+    at = Pos("main.gest", 1, 1)
+    assert resolver.lookup(Name("index", at)) == Servo("index", 2)
+    assert resolver.lookup(Name("pair", at)) == Group("pair", ("index", "middle"))
+    assert isinstance(resolver.lookup(Name("fingers", at)), Group)  # the profile's
+    assert isinstance(resolver.lookup(Name("fist", at)), Pose)
+    assert isinstance(resolver.lookup(Name("g", at)), Gesture)
+    with pytest.raises(GestError, match="unknown servo, group, pose or gesture 'fits'"):
+        resolver.lookup(Name("fits", at))
 
 
 RESOLVE_ERRORS = [
@@ -176,6 +194,40 @@ def test_poses_built_from_each_other_cost_their_text_not_two_to_the_depth(rhand)
     (step,) = steps_of("\n".join([*lines, "g: p59"]), rhand)
     assert time.perf_counter() - started < 1.0  # 2^59 expansions before
     assert names(step, rhand)[:2] == [("index", 2), ("thumb", 59)]
+
+
+def test_gestures_calling_each_other_twice_cost_their_output_not_two_to_the_depth(rhand):
+    # one expansion pass within the step budget: 2^59 steps fail at the budget, fast
+    import time
+    lines = ["g0: index 1"] + [f"g{i}:\n    g{i - 1}\n    g{i - 1}" for i in range(1, 60)]
+    started = time.perf_counter()
+    assert error_of("\n".join(lines), rhand, "g59")[0] == (
+        "main.gest:176:1: error: gesture 'g59' expands to more than 100,000 steps")
+    steps = steps_of("\n".join(lines), rhand, "g16")  # 65,536 steps: within the budget
+    assert time.perf_counter() - started < 1.0
+    assert len(steps) == 2 ** 16 and {s.targets for s in steps} == {((2, 1),)}
+    assert steps[0].where == steps[-1].where == "g16 > g15 > g14 > g13 > g12 > g11 > g10 > " \
+        "g9 > g8 > g7 > g6 > g5 > g4 > g3 > g2 > g1 > g0"
+
+
+def test_a_call_made_again_from_the_same_place_gives_the_same_steps(rhand):
+    source = ("up: index 90\nupdown:\n    up\n    index 0\n"
+              "g:\n    updown\n    updown\n    repeat 2: updown\n    up\n")
+    steps = steps_of(source, rhand)
+    assert [(s.targets, s.where) for s in steps] == [
+        (((2, 90),), "g > updown > up"), (((2, 0),), "g > updown")] * 4 + [
+        (((2, 90),), "g > up")]
+
+
+def test_a_start_pose_error_points_into_what_was_typed(rhand):
+    program = load("s.gest", "g: index 0\n")
+    for start, first, caret in [
+            ("wrist 30, indx 9", "--from:1:11: error: unknown servo or group 'indx'",
+             "              ^~~~"),
+            ("wrist 300", "--from:1:7: error: value 300 is outside 0..180", "          ^~~")]:
+        with pytest.raises(GestError) as info:
+            plan_gesture(program, "g", rhand, start=start)
+        assert info.value.format().splitlines()[:3] == [first, f"    {start}", caret]
 
 
 def test_a_deep_pose_reached_again_from_further_down_is_still_too_deep(rhand):
