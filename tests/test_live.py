@@ -1,22 +1,13 @@
 """Live motion: typed steps, and a new step taking over a running move."""
 
-import os
-import queue
-import subprocess
-import sys
-import threading
-import time
 
 import numpy as np
 import pytest
-from terminal import AtTerminal
 
-from inmoov_dsl.cli.gestplay.repl import library_program, repl, waiting_on
+from inmoov_dsl.cli.gestplay.repl import library_program
 from inmoov_dsl.errors import GestError
 from inmoov_dsl.live import Session, line_steps
 from inmoov_dsl.plan import MotionState
-from inmoov_dsl.player import Link
-from inmoov_dsl.ports import open_port
 from inmoov_dsl.profile import load_profile
 
 RHAND = load_profile("rhand")
@@ -113,83 +104,6 @@ def test_a_segment_sends_only_what_the_board_does_not_hold(program):
     data = segment.streams[0].data
     assert data[0] == 255
     assert set(data[1::2]) == {RHAND.servos[RHAND.index("middle")].id}
-
-
-# -- the REPL against the virtual board ----------------------------------------------
-def run_repl(script, take_over=True):
-    """Play timed lines [(seconds, line)] into the REPL on sim://; the board's log."""
-    link = Link(181, open_port("sim://?boot=0", 9600), "sim://")
-    lines: queue.Queue = queue.Queue()
-
-    def typist():
-        start = time.perf_counter()
-        for at, line in script:
-            time.sleep(max(0, at - (time.perf_counter() - start)))
-            lines.put(line)
-        lines.put(None)
-
-    threading.Thread(target=typist, daemon=True).start()
-    start = time.monotonic()
-    assert repl([link], RHAND, {}, waiting_on(lines), take_over) == 0
-    board = link.port.board
-    board.advance(time.monotonic())
-    return board, [(t - start, w) for t, w in board.log]
-
-
-def test_the_repl_takes_over_on_the_board_without_a_jump():
-    board, log = run_repl([(0.0, "index 90 over 0.6s"), (0.3, "index 180")])
-    index = [(t, w.value) for t, w in log if w.id == 2]
-    values = [v for _, v in index]
-    assert values[-1] == 180 and board.positions()[2] == 180
-    assert values == sorted(values)  # never went back
-    vmax = RHAND.servos[INDEX].max_velocity
-    gaps = np.diff([t for t, _ in index])
-    steps_ = np.diff(values)
-    assert np.all(steps_ <= vmax * np.maximum(gaps, 0.02) + 1)  # no jump
-    # around the takeover (0.3 s) the finger keeps moving: every frame a new value
-    around = [v for t, v in index if 0.2 < t < 0.5]
-    assert len(around) >= 12 and len(set(around)) == len(around)
-
-
-def test_the_repl_runs_library_gestures_and_reports_errors(capsys):
-    board, _ = run_repl([(0.0, "indx 3"), (0.0, "peace"), (0.0, "where")])
-    out, err = capsys.readouterr()
-    assert "<repl>:1:1: error: unknown servo or group 'indx'" in err
-    assert "hint: did you mean 'index'?" in err
-    assert out.startswith("wrist 0  thumb 0  index 0")
-    assert board.positions() == {0: 0, 1: 180, 2: 0, 3: 0, 4: 180, 5: 180}
-
-
-def test_gestplay_repl_reads_steps_from_a_pipe():
-    done = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "repl", "--port",
-                           "sim://?boot=0.05"], input="ring 45 over 0.2s\nwhere\nquit\n",
-                          capture_output=True, text=True, timeout=60)
-    assert done.returncode == 0, done.stderr
-    assert done.stdout.startswith("wrist 0  thumb 0  index 0  middle 0  ring 0  pinky 0")
-
-
-@pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
-def test_at_a_terminal_each_reply_comes_before_the_next_prompt():
-    term = AtTerminal([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "repl", "--port",
-                       "sim://?boot=0"])
-    term.read_until(b"gest> ")
-    term.press("indx 3\r")
-    term.read_until(b"did you mean 'index'?")
-    term.press("where\r")
-    term.read_until(b"pinky 0")
-    term.press("\x04")
-    code, screen = term.finish()
-    assert code == 0, screen
-    typed, answer = screen.split("gest> indx 3", 1)[1], screen.split("gest> where", 1)[1]
-    assert typed.index("error: unknown servo or group 'indx'") < typed.index("gest> ")
-    assert answer.index("wrist 0  thumb 0") < answer.index("gest> ")
-
-
-@pytest.mark.parametrize(("take_over", "peak"), [(False, 90), (True, 0)])
-def test_typed_lines_take_over_and_scripts_wait(take_over, peak):
-    board, log = run_repl([(0.0, "index 90 over 0.3s"), (0.0, "index 0")], take_over)
-    index = [w.value for _, w in log if w.id == 2]
-    assert max(index, default=0) == peak and board.positions()[2] == 0
 
 
 def test_a_script_waits_for_each_step(program):

@@ -2,8 +2,13 @@
 same clock. No real time passes: the REPL's clock, its sleep and its wait for a line
 are the test's."""
 
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
+from terminal import AtTerminal
 
 from inmoov_dsl.board import BoardCore
 from inmoov_dsl.cli.gestplay.repl import repl
@@ -108,3 +113,29 @@ def test_a_wait_typed_while_the_hand_moves_starts_when_the_move_ends():
     leaves = next(t for t, v in index if t > reached and v < 90)
     assert 1.0 <= leaves - reached < 1.1  # the wait, after the move, before the next one
     assert board.positions()[INDEX_ID] == 0
+
+
+# -- gestplay repl as a person or a script uses it --------------------------------------
+def test_gestplay_repl_reads_steps_from_a_pipe():
+    done = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "repl", "--port",
+                           "sim://?boot=0.05"], input="ring 45 over 0.2s\nwhere\nquit\n",
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("wrist 0  thumb 0  index 0  middle 0  ring 0  pinky 0")
+
+
+@pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
+def test_at_a_terminal_each_reply_comes_before_the_next_prompt():
+    term = AtTerminal([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "repl", "--port",
+                       "sim://?boot=0"])
+    term.read_until(b"gest> ")
+    term.press("indx 3\r")
+    term.read_until(b"did you mean 'index'?")
+    term.press("where\r")
+    term.read_until(b"pinky 0")
+    term.press("\x04")
+    code, screen = term.finish()
+    assert code == 0, screen
+    typed, answer = screen.split("gest> indx 3", 1)[1], screen.split("gest> where", 1)[1]
+    assert typed.index("error: unknown servo or group 'indx'") < typed.index("gest> ")
+    assert answer.index("wrist 0  thumb 0") < answer.index("gest> ")
