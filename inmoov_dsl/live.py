@@ -11,6 +11,7 @@ board already holds. Times are the caller's clock, in seconds; this module has n
 
 from __future__ import annotations
 
+import functools
 from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
@@ -115,4 +116,6 @@ def line_steps(line: str, program: Program, profile: Profile) -> tuple[list[Acti
         gesture = next(item for item in module.items if isinstance(item, GestureDef))
         typed = Program(LINE, sources, program.texts, {**program.gestures, _NAME: gesture},
                         program.poses, program.groups, [_NAME])
-        return list(Resolver(typed, profile).gesture(_NAME)), sources
+        actions = Resolver(typed, profile).gesture(_NAME)
+    back = functools.partial(snippet.shift, text=line, file=LINE, prefix=_PREFIX)
+    return [replace(a, pos=back(a.pos), over_pos=back(a.over_pos)) for a in actions], sources

@@ -32,5 +32,13 @@ def unwrap(d: Diagnostic, text: str, file: str, prefix: str) -> Diagnostic:
     file stays as it is)."""
     if d.pos is None or d.pos.file != file:
         return d
-    column = max(1, min(d.pos.column - len(prefix), len(text) + 1))
-    return replace(d, pos=Pos(file, 1, column, d.pos.width), source_line=text)
+    return replace(d, pos=shift(d.pos, text, file, prefix), source_line=text)
+
+
+def shift(pos: Pos | None, text: str, file: str, prefix: str) -> Pos | None:
+    """A position in the wrapped text moved back onto ``text`` (one in another file, or
+    None, as it is)."""
+    if pos is None or pos.file != file:
+        return pos
+    column = max(1, min(pos.column - len(prefix), len(text) + 1))
+    return Pos(file, 1, column, pos.width)

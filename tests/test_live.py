@@ -113,3 +113,12 @@ def test_a_script_waits_for_each_step(program):
     second = session.next(0.31, [0, 0, 90, 0, 0, 0])
     assert first.plan.final[INDEX] == 90 and second.origin == pytest.approx(0.31)
     assert MotionState.at(second.plan, 0).velocity[INDEX] == 0
+
+
+def test_a_warning_about_a_typed_line_points_into_it(program):
+    line = "index 180 over 0.01s"
+    actions, sources = line_steps(line, program, RHAND)
+    segment = Session(RHAND, REST, 0.0, sources).submit(actions, 0.0, REST, sources)
+    (warning,) = segment.warnings
+    assert (warning.pos.line, warning.pos.column) == (1, line.index("0.01s") + 1)
+    assert warning.format().splitlines()[1:3] == [f"    {line}", " " * 19 + "^~~~~"]
