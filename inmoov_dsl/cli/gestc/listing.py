@@ -9,7 +9,7 @@ from ...compiler import load
 from ...errors import GestError
 from ...library import Entry, library_dirs, scan
 from ...profile import load_profile
-from ...resolve import Program
+from ...program import Program
 from ..common import EXIT_OK, add_lib, report
 from .target import PROG
 

@@ -11,7 +11,7 @@ from ...compiler import compile_program, load
 from ...errors import Diagnostic, GestError
 from ...library import find_gesture, library_dirs
 from ...plan import Plan
-from ...resolve import Program
+from ...program import Program
 from ..common import add_lib, report
 
 PROG = "gestc"

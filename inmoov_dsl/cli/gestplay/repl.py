@@ -25,7 +25,7 @@ from ...library import library_dirs, library_files, scan
 from ...live import Segment, Session, line_steps
 from ...player import POLL, SPIN, Link, drain
 from ...profile import Profile, load_profile
-from ...resolve import Program
+from ...program import Program
 from .. import hand
 from ..common import EXIT_OK, add_blind, add_lib, report
 
