@@ -167,17 +167,32 @@ class StreamReader:
                     self.skipped += 1
 
 
+class Replies:
+    """DUMP replies in a board's bytes as they come (``PLAYER``'s reading), from board
+    ``board_id`` if given: each byte read once, however the bytes are split."""
+
+    def __init__(self, board_id: int | None = None):
+        self.board_id = board_id
+        self.reader = Reader(PLAYER)
+        self.count = 0  #: bytes read so far
+
+    def feed(self, data: bytes) -> tuple[int, dict[int, int]] | None:
+        """The reply these bytes complete, as (board ID, servo ID -> value), or None; of
+        two that overlap, the one that starts first."""
+        found: tuple[int, Reply] | None = None
+        for byte in data:
+            self.count += 1
+            for event in self.reader.feed(byte):
+                if isinstance(event, Reply) and self.board_id in (None, event.board):
+                    start = self.count - event.size
+                    if found is None or start < found[0]:
+                        found = (start, event)
+        return None if found is None else (found[1].board, dict(found[1].pairs))
+
+
 def parse_dump(data: bytes, board_id: int | None = None
                ) -> tuple[int, dict[int, int]] | None:
     """Find a DUMP reply in bytes from a board (WAIT bytes and noise around it are
     skipped), from board ``board_id`` if given: (board ID, servo ID -> value), or None
     if no complete reply is there. Of two that overlap, the one that starts first."""
-    reader = Reader(PLAYER)
-    found: tuple[int, Reply] | None = None
-    for end, byte in enumerate(data):
-        for event in reader.feed(byte):
-            if isinstance(event, Reply) and board_id in (None, event.board):
-                start = end + 1 - event.size
-                if found is None or start < found[0]:
-                    found = (start, event)
-    return None if found is None else (found[1].board, dict(found[1].pairs))
+    return Replies(board_id).feed(data)

@@ -17,7 +17,7 @@ from typing import Protocol
 from . import clock
 from .clock import Clock, Sleep
 from .compiled import Compiled
-from .decode import parse_dump
+from .decode import Replies
 from .protocol import SERVO_FRAME, Signal
 
 READY_TIMEOUT = 2.0  #: s; the longest we wait for a board to boot (its first WAIT)
@@ -77,11 +77,10 @@ def ask_dump(port: Port, board: int, now: Clock = clock.now, sleep: Sleep = cloc
     """CANCEL, then DUMP: the board's servo values (ID -> value), or None if no reply."""
     drain(port)
     port.write(bytes([Signal.CANCEL, Signal.DUMP]))
-    received = b""
+    replies = Replies(board)
     deadline = now() + timeout
     while now() < deadline:
-        received += drain(port)
-        found = parse_dump(received, board)
+        found = replies.feed(drain(port))
         if found is not None:
             return found[1]
         sleep(0.005)

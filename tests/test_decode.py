@@ -16,6 +16,7 @@ from inmoov_dsl.decode import (
     Noise,
     Pair,
     Reader,
+    Replies,
     Reply,
     StreamReader,
     parse_dump,
@@ -202,6 +203,23 @@ def test_of_two_replies_that_overlap_parse_dump_takes_the_one_that_starts_first(
 @given(data=replies_among_noise(), board=st.sampled_from([None, 181, 183]))
 def test_parse_dump_keeps_its_rule(data, board):
     assert parse_dump(data, board) == reference_parse_dump(data, board)
+
+
+@settings(max_examples=300)
+@given(data=replies_among_noise(), board=st.sampled_from([None, 181, 183]),
+       cuts=st.lists(st.integers(0, 60), max_size=6))
+def test_a_reply_read_as_it_comes_is_the_one_the_whole_bytes_hold(data, board, cuts):
+    # ask_dump reads the board's bytes as they come, each byte once: it stops at the
+    # first read that completes a reply, which is the one parse_dump finds in the bytes
+    # up to there
+    replies, seen = Replies(board), 0
+    for cut in [*sorted(cuts), len(data)]:
+        chunk, seen = data[seen:max(cut, seen)], max(cut, seen)
+        found = replies.feed(chunk)
+        if found is not None:
+            assert found == parse_dump(data[:seen], board)
+            return
+    assert parse_dump(data, board) is None
 
 
 @given(chunks=st.lists(st.tuples(st.floats(0, 10), st.lists(
