@@ -501,39 +501,14 @@ SENSOR_ERRORS = {
 }
 
 
-@pytest.mark.parametrize(("text", "message", "where", "under"), TOP_ERRORS.values(),
-                         ids=TOP_ERRORS)
-def test_the_top_level_keys_errors_are_at_their_key(text, message, where, under):
-    first_error_at(text, message, where, under)
+ERRORS_BY_TABLE = {"top": TOP_ERRORS, "board": BOARD_ERRORS, "servo": SERVO_ERRORS,
+                   "group": GROUP_ERRORS, "glove": GLOVE_ERRORS, "sensor": SENSOR_ERRORS}
+ERRORS = {f"{table}: {case}": error for table, cases in ERRORS_BY_TABLE.items()
+          for case, error in cases.items()}
 
 
-@pytest.mark.parametrize(("text", "message", "where", "under"), BOARD_ERRORS.values(),
-                         ids=BOARD_ERRORS)
-def test_board_errors_are_at_their_key(text, message, where, under):
-    first_error_at(text, message, where, under)
-
-
-@pytest.mark.parametrize(("text", "message", "where", "under"), SERVO_ERRORS.values(),
-                         ids=SERVO_ERRORS)
-def test_servo_errors_are_at_their_key(text, message, where, under):
-    first_error_at(text, message, where, under)
-
-
-@pytest.mark.parametrize(("text", "message", "where", "under"), GROUP_ERRORS.values(),
-                         ids=GROUP_ERRORS)
-def test_group_errors_are_at_their_key(text, message, where, under):
-    first_error_at(text, message, where, under)
-
-
-@pytest.mark.parametrize(("text", "message", "where", "under"), GLOVE_ERRORS.values(),
-                         ids=GLOVE_ERRORS)
-def test_glove_errors_are_at_their_key(text, message, where, under):
-    first_error_at(text, message, where, under)
-
-
-@pytest.mark.parametrize(("text", "message", "where", "under"), SENSOR_ERRORS.values(),
-                         ids=SENSOR_ERRORS)
-def test_sensor_errors_are_at_their_key(text, message, where, under):
+@pytest.mark.parametrize(("text", "message", "where", "under"), ERRORS.values(), ids=ERRORS)
+def test_every_tables_errors_are_at_their_key(text, message, where, under):
     first_error_at(text, message, where, under)
 
 
