@@ -32,6 +32,11 @@ def report(diagnostics: Iterable[Diagnostic], prog: str) -> None:
         print(text, file=sys.stderr)
 
 
+def warn(message: str, prog: str) -> None:
+    """Print a warning that has no place in a file: ``PROG: warning: message``."""
+    report([Diagnostic("warning", message)], prog)
+
+
 class Stopped(KeyboardInterrupt):
     """A signal that stops a tool as Ctrl-C does (SIGTERM from a service manager or
     kill, SIGHUP from a closed terminal): every path that leaves the hand safe on

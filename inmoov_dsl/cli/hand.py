@@ -22,7 +22,7 @@ from ..player import Link, Port, ask_dump, cancel_all, relax_all, wait_ready
 from ..ports import open_port
 from ..profile import Profile
 from ..urlhandler import protocol_sim
-from .common import EXIT_INTERRUPTED, Exit, Stopped, status_of, why
+from .common import EXIT_INTERRUPTED, Exit, Stopped, status_of, warn, why
 
 RELAX_WINDOW = 1.5  #: s after a Ctrl-C at a terminal in which a second one relaxes the hand
 REST_POSE = "starting from the profile's rest pose"
@@ -113,11 +113,11 @@ def reach(link: Link, profile: Profile, blind: bool, going_on: str) -> dict[int,
     if values is None and not ready:
         if not blind:
             raise GestError(no_answer(link, profile))
-        _warn(f"{where} did not answer (--blind): {going_on}")
+        warn(f"{where} did not answer (--blind): {going_on}", "gestplay")
     elif values is None:
-        _warn(f"{where} did not answer DUMP: {going_on}")
+        warn(f"{where} did not answer DUMP: {going_on}", "gestplay")
     elif not ready:
-        _warn(f"{where} sent no WAIT, but answered DUMP")
+        warn(f"{where} sent no WAIT, but answered DUMP", "gestplay")
     return values
 
 
@@ -133,10 +133,6 @@ def no_answer(link: Link, profile: Profile) -> Diagnostic:
         f"Arduinos), check that the board's sketch uses {board.baud} baud, or flash it: "
         f"gestc upload {sketch} --port {link.name}; --blind plays anyway on a link "
         f"that cannot answer")
-
-
-def _warn(message: str) -> None:
-    print(f"gestplay: warning: {message}", file=sys.stderr)
 
 
 @contextmanager

@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 from ... import clock
 from ...clock import Clock
 from ...errors import Diagnostic, GestError
-from ..common import EXIT_OK, gesture_name, number
+from ..common import EXIT_OK, gesture_name, number, warn
 
 if TYPE_CHECKING:
     import serial
@@ -65,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
           f"bytes skipped); it follows the recording within {fit.error:.1f} degrees beyond "
           f"the glove's dead-band of {deadband:g}", file=sys.stderr)
     for warning in _warnings(fit, tolerance, profile):
-        print(f"{PROG}: warning: {warning}", file=sys.stderr)
+        warn(warning, PROG)
     return EXIT_OK
 
 

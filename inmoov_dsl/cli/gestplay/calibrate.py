@@ -16,7 +16,7 @@ from ...profile import Servo, find_profile, load_profile, parse_profile
 from ...protocol import MAX_VALUE, Signal
 from ...resources import profiles_dir
 from ...urlhandler import protocol_sim
-from ..common import EXIT_OK, send_value, status_line, status_of, why
+from ..common import EXIT_OK, send_value, status_line, status_of, warn, why
 from ..keys import key_reader
 
 PROG = "gestplay calibrate"
@@ -47,8 +47,8 @@ def run(args: argparse.Namespace) -> int:
         wait_ready(port)
         values = ask_dump(port, board.id)
         if values is None or servo.id not in values:
-            print(f"{PROG}: warning: no DUMP reply from board {board.id}: starting at the "
-                  f"rest value {servo.rest}", file=sys.stderr)
+            warn(f"no DUMP reply from board {board.id}: starting at the rest value "
+                 f"{servo.rest}", PROG)
         value = values.get(servo.id, servo.rest) if values else servo.rest
         marks: dict[str, int] = {}
         with key_reader() as keys:

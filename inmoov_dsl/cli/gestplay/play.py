@@ -13,7 +13,7 @@ from ...library import find_gesture, library_dirs
 from ...player import play
 from ...profile import load_profile
 from .. import hand
-from ..common import EXIT_OK, add_blind, add_lib, number, report
+from ..common import EXIT_OK, add_blind, add_lib, number, report, warn
 
 PROG = "gestplay"
 
@@ -77,8 +77,8 @@ def play_on(on: hand.Hand, target: Target, loop: int, speed: float) -> int:
         compiled = target.build(pose)
         if target.program is None and pose and pose != dict(zip(compiled.servos,
                                                                 compiled.start, strict=True)):
-            print(f"{PROG}: warning: the hand is not in the pose this compiled gesture "
-                  f"starts from: it will jump to it", file=sys.stderr)
+            warn("the hand is not in the pose this compiled gesture starts from: it will "
+                 "jump to it", PROG)
         show = _progress(compiled, speed) if sys.stderr.isatty() else None
         worst = max(worst, play(compiled, on.links, speed, progress=show))
         if show:
