@@ -1,10 +1,10 @@
 """Joint states of a compiled gesture for a ROS model (``gestc export``): pure.
 
-The original project drove a URDF model of the hand in rviz from the serial stream; its
-joints are named ``right_arm_to_wrist``, ``right_palm_to_thumb``, ... ``_to_pinky``.
-Here each row is one moment (every servo frame by default) and each column a joint:
-the value the board holds then, decoded from the stream, in radians (a command value
-of 0..180 degrees is 0..pi: 0 straight, pi curled).
+The original project drove a URDF model of the hand in rviz from the serial stream.
+Here each row is one moment (every servo frame by default) and each column a joint of
+our model (``gestc urdf``), named as in the original (``right_arm_to_wrist``,
+``right_palm_to_thumb``, ...): the value the board holds then, decoded from the stream,
+as the joint's position in radians (joints.py: 0 at rest, the servo's real angle).
 """
 
 from __future__ import annotations
@@ -13,26 +13,11 @@ import math
 
 import numpy as np
 
+from . import joints
 from .compiled import Compiled
 from .metrics import held_at, sent_values
 from .plan import Plan
 from .protocol import SERVO_FRAME
-
-#: the original model's joint of each hand servo (the right hand's)
-JOINTS = {
-    "wrist": "right_arm_to_wrist",
-    "thumb": "right_palm_to_thumb",
-    "index": "right_palm_to_index",
-    "middle": "right_palm_to_medius",
-    "ring": "right_palm_to_ring",
-    "pinky": "right_palm_to_pinky",
-}
-
-
-def joint_name(servo: str) -> str:
-    """The model's name of a servo: the right hand's joints (``thumb`` or ``r_thumb``),
-    any other servo by its own name."""
-    return JOINTS.get(servo, JOINTS.get(servo.removeprefix("r_"), servo))
 
 
 def joint_states(plan: Plan, compiled: Compiled, period: float = SERVO_FRAME
@@ -42,8 +27,8 @@ def joint_states(plan: Plan, compiled: Compiled, period: float = SERVO_FRAME
     steps = int(math.ceil(compiled.duration / period - 1e-9))
     times = np.arange(steps + 1) * period
     held = held_at(plan, sent_values(plan, compiled), times)
-    names = ["time", *(joint_name(s.name) for s in plan.profile.servos)]
-    return names, np.column_stack([times, np.radians(held)])
+    columns = [joints.position(s, held[:, i]) for i, s in enumerate(plan.profile.servos)]
+    return ["time", *joints.names(plan.profile)], np.column_stack([times, *columns])
 
 
 def to_csv(names: list[str], rows: np.ndarray) -> str:

@@ -169,16 +169,21 @@ def _boards(report: Report, data: list, servos: dict[str, Any]) -> list[Board]:
 
 
 def _servos(report: Report, boards: list[Board], data: dict[str, Any]) -> list[Servo]:
-    """The ``[servo.NAME]`` tables, board by board in each board's order; servo IDs are
-    unique in the robot."""
+    """The ``[servo.NAME]`` tables, board by board in each board's order; servo IDs and
+    joints are unique in the robot."""
     servos: list[Servo] = []
     ids: dict[int, str] = {}
+    joints: dict[str, str] = {}
     for board in boards:
         for name in board.servos:
             if name in data and (servo := tables.servo(report, name, data[name], board.id,
                                                        ids)) is not None:
+                if servo.joint in joints:
+                    report.error(("servo", name, "joint"), f"servo '{name}' turns joint "
+                                 f"'{servo.joint}', as servo '{joints[servo.joint]}' does")
                 servos.append(servo)
                 ids[servo.id] = name
+                joints[servo.joint] = name
     return servos
 
 

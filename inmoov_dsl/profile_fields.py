@@ -11,7 +11,7 @@ from typing import Any, TypeVar
 
 from . import protocol
 from .profile_keys import Key, Report
-from .profile_types import LIMITS, MAX_BAUD
+from .profile_types import LIMITS, MAX_BAUD, NAME_RE
 
 T = TypeVar("T")
 Check = Callable[[str, Any], T]  #: (key, value) -> the value kept; raises Problem
@@ -128,6 +128,14 @@ def flag(key: str, value: Any) -> bool:
     """true or false."""
     if not isinstance(value, bool):
         raise Problem(f"'{key}' must be true or false, got {shown(value)}")
+    return value
+
+
+def joint(key: str, value: Any) -> str:
+    """A joint's name in the robot's model: letters, digits and _ (as URDF and ROS want)."""
+    if not isinstance(value, str) or not NAME_RE.match(value):
+        raise Problem(f"'{key}' must be a joint name of letters, digits and _, got "
+                      f"{shown(value)}")
     return value
 
 

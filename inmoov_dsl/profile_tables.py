@@ -87,6 +87,7 @@ def servo(report: Report, name: str, data: Any, board_id: int, ids: Mapping[int,
         max_acceleration=fields.get("max_acceleration", check.limit, fallback=1.0),
         max_jerk=fields.get("max_jerk", check.limit, fallback=1.0),
         calibration=fields.get("calibration", check.span, FULL),
+        joint=fields.get("joint", check.joint, name),
     )
 
 

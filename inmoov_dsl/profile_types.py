@@ -33,6 +33,7 @@ class Servo:
     calibration: tuple[int, int]  #: board side: 0..180 is mapped onto these servo angles
     reversed: bool  #: board side: 180..0 is mapped onto the calibration instead
     pin: int | None
+    joint: str = ""  #: the model's joint this servo turns (urdf.py); the servo's name if ""
 
 
 @dataclass(frozen=True)

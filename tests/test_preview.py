@@ -82,15 +82,23 @@ def test_export_writes_joint_states_in_radians(tmp_path, capsys):
                        "right_palm_to_index", "right_palm_to_medius", "right_palm_to_ring",
                        "right_palm_to_pinky"]
     assert rows[1] == ["0.000"] + ["0.000000"] * 6
+    # curled: each servo's real travel (thumb 50..160, ring 45..145, pinky 55..145)
     assert [float(x) for x in rows[-1]] == pytest.approx(
-        [0.7, 0, math.pi, 0, 0, math.pi, math.pi], abs=1e-6)
+        [0.7, 0, math.radians(110), 0, 0, math.radians(100), math.radians(90)], abs=1e-6)
     assert len(rows) == 1 + 36  # 0.70 s at 50 rows a second, both ends
     times = [float(r[0]) for r in rows[1:]]
     assert times == pytest.approx([k * 0.02 for k in range(36)])
 
 
-def test_export_names_the_robots_right_hand_like_the_model():
+def test_export_names_the_robots_joints_like_the_model(capsys):
     assert gestc.main(["export", "peace", "--profile", "inmoov", "--joint-states", "-"]) == 0
+    header, *rows = capsys.readouterr().out.splitlines()
+    assert header.split(",")[1:8] == ["right_arm_to_wrist", "right_palm_to_thumb",
+                                      "right_palm_to_index", "right_palm_to_medius",
+                                      "right_palm_to_ring", "right_palm_to_pinky",
+                                      "left_arm_to_wrist"]
+    assert "neck" in header.split(",")
+    assert all(float(x) == 0 for x in rows[0].split(",")[1:])  # from rest: all at zero
 
 
 @POSIX
