@@ -13,12 +13,13 @@ PACKAGES = ("make g++ gcc-avr avr-libc arduino-core-avr simavr libsimavr-dev lib
             "avrdude")
 
 
-def need(*tools: str) -> None:
-    """Skip (fail under CI=true) unless every tool is on the PATH or is an existing path."""
+def need(*tools: str, packages: str = PACKAGES) -> None:
+    """Skip (fail under CI=true) unless every tool is on the PATH or is an existing path;
+    ``packages``: the Debian packages that bring them."""
     missing = [t for t in tools if shutil.which(t) is None and not Path(t).exists()]
     if not missing:
         return
-    message = f"needs {', '.join(missing)} (apt-get install {PACKAGES})"
+    message = f"needs {', '.join(missing)} (apt-get install {packages})"
     if os.environ.get("CI") == "true":
         pytest.fail(f"CI: {message}")
     pytest.skip(message)
