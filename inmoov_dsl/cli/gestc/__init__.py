@@ -10,7 +10,7 @@ import argparse
 import sys
 
 from ..common import add_version, parse_args, run
-from . import check, export, firmware, fmt, listing, plot, preview, record, show, upload
+from . import check, export, firmware, fmt, listing, plot, preview, record, show, upload, urdf
 from . import compile as compile_cmd
 from .target import PROG
 
@@ -22,7 +22,7 @@ def parser() -> argparse.ArgumentParser:
         "InMoov servo boards.")
     add_version(ap)
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for module in (compile_cmd, check, show, plot, preview, export, fmt, firmware, upload,
+    for module in (compile_cmd, check, show, plot, preview, export, urdf, fmt, firmware, upload,
                    record, listing):
         module.add_parser(sub)
     return ap
