@@ -80,10 +80,8 @@ def test_a_joint_the_model_lacks_is_a_clear_error(capsys):
     assert "right_palm_to_index" in message  # did you mean
 
 
-yourdfpy = pytest.importorskip("yourdfpy", reason="the [web] extra brings yourdfpy")
-
-
 def kinematics(name, tmp_path):
+    yourdfpy = pytest.importorskip("yourdfpy", reason="the [web] extra brings yourdfpy")
     path = tmp_path / f"{name}.urdf"
     path.write_text(model(load_profile(name)))
     return yourdfpy.URDF.load(str(path), load_meshes=False)
