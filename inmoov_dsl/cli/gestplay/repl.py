@@ -1,8 +1,9 @@
 """gestplay repl: type .gest steps and the hand does them at once.
 
-A thread reads lines; the main thread sends bytes on time and, when a line arrives,
-lets it take over the running move (live.Session). The waits between bytes are waits
-on the line queue, so a typed step starts within a millisecond.
+A thread reads lines; the main thread runs the drive loop (drive.py), which sends
+bytes on time and, when a line arrives, lets it take over the running move. The
+waits between bytes are waits on the line queue, so a typed step starts within a
+millisecond.
 """
 
 from __future__ import annotations
@@ -18,14 +19,10 @@ from pathlib import Path
 from typing import Literal
 
 from ... import clock
-from ...board import BoardCore
-from ...compiler import load
-from ...errors import GestError
-from ...library import library_dirs, library_files, scan
-from ...live import Segment, Session, line_steps
-from ...player import POLL, SPIN, Link, drain
+from ...drive import Drive, Note, library_program
+from ...library import library_dirs
+from ...player import Link
 from ...profile import Profile, load_profile
-from ...program import Program
 from .. import hand
 from ..common import EXIT_OK, add_blind, add_lib, report
 
@@ -43,42 +40,6 @@ A step typed while the hand moves takes over from there, without stopping.
 
 #: a typed line, None at the end of the input, False if none came in time
 Line = str | None | Literal[False]
-
-
-def library_program(dirs: list[Path] | None = None) -> Program:
-    """Every library gesture, pose and group, for names typed at the prompt: the first
-    definition of a name along the search path, as for gestures named on the command
-    line (files that do not parse are left out; ``gestplay repl`` warned of them)."""
-    dirs = library_dirs() if dirs is None else dirs
-    broken = scan(dirs).broken
-    uses = "".join(f'use "{f.resolve()}"\n' for f in library_files(dirs) if f not in broken)
-    return load("<library>", uses, search=[str(d) for d in dirs], first_wins=True)
-
-
-class Mirror:
-    """What each board holds, from the bytes sent to it (the board's own rules)."""
-
-    def __init__(self, profile: Profile, links: list[Link]):
-        boards = {b.id: b for b in profile.boards}
-        self.cores = [BoardCore.from_profile(profile, boards[link.board]) for link in links]
-        where = {}
-        for k, core in enumerate(self.cores):
-            for j, servo in enumerate(core.servos):
-                where[servo.id] = (k, j)
-        self._where = [where[s.id] for s in profile.servos]
-
-    def set(self, pose: list[int]) -> None:
-        """The boards hold ``pose`` (the profile's servo order)."""
-        for (k, j), v in zip(self._where, pose, strict=True):
-            self.cores[k].values[j] = v
-
-    def feed(self, k: int, byte: int) -> None:
-        """Board ``k`` reads ``byte``."""
-        self.cores[k].feed(byte)
-
-    def held(self) -> list[int]:
-        """What the boards hold, in the profile's servo order."""
-        return [self.cores[k].values[j] for k, j in self._where]
 
 
 class Screen:
@@ -148,55 +109,36 @@ def repl(links: list[Link], profile: Profile, pose: dict[str, int],
     most ``timeout`` s for a line (``waiting_on`` a queue). Each line takes over the
     running move (``take_over``, a person typing), or waits for the steps before it (a
     script). With a ``screen``, each line is answered before the next prompt."""
-    program = library_program(dirs)
-    start = [pose.get(s.name, s.rest) for s in profile.servos]
-    mirror = Mirror(profile, links)
-    mirror.set(start)
-    session = Session(profile, start, now(), program.sources)
-    events: list[tuple[float, int, int]] = []  # (clock time, link, byte), pending
-    ended = False
-    while True:
-        t = now()
-        if ended and not events and not session.busy(t):
-            return EXIT_OK
-        wait = _wait(events, session, t, ended)
-        if ended:
-            sleep(max(wait, 0))
-            line = False
-        else:
-            line = next_line(wait)
-        if not events and line is False:
-            for link in links:
-                drain(link.port)  # a pulled cable shows here
-        t = now()
-        segment = None
-        if line is None or (line and line.strip() in ("quit", "exit")):
-            ended = True
-        elif line:
-            segment = _typed(line, session, t, mirror, profile, program, take_over)
-        if segment is not None:
-            report(segment.warnings, "gestplay")
-        elif (segment := session.next(t, mirror.held())) is not None and segment.warnings:
-            say = functools.partial(report, segment.warnings, "gestplay")
-            screen.aside(say) if screen else say()
-        if line is not False and screen is not None:
-            screen.answered.set()
-        if segment is not None:
-            events = _events(segment, links)
-        while events and events[0][0] <= now():
-            _, k, byte = events.pop(0)
-            links[k].port.write(bytes([byte]))
-            mirror.feed(k, byte)
+    drive = Drive(links, profile, pose, library_program(dirs), functools.partial(
+        _tell, screen=screen), take_over, now, sleep)
+    drive.run(functools.partial(_commands, next_line, drive))
+    return EXIT_OK
 
 
-def _wait(events: list, session: Session, t: float, ended: bool) -> float:
-    """How long to wait for a line: until the next byte is nearly due (then spin),
-    until the running step ends if another is queued, and never more than POLL."""
-    if events:
-        return events[0][0] - t - SPIN
-    if session.queue or ended:
-        return min(POLL, session.end - t)
-    return POLL
+def _commands(next_line: Callable[[float], Line], drive: Drive, timeout: float) -> Line:
+    """The next line for the drive loop; the repl's own words are answered here."""
+    line = next_line(timeout)
+    words = line.strip() if isinstance(line, str) else ""
+    if words in ("quit", "exit"):
+        return None
+    if words == "help":
+        print(HELP, flush=True)
+        return ""
+    if words == "where":
+        print("  ".join(f"{s.name} {v}" for s, v in zip(drive.profile.servos,
+                                                         drive.mirror.held(), strict=True)),
+              flush=True)
+        return ""
+    return line
+
+
+def _tell(note: Note, screen: Screen | None) -> None:
+    """Errors and warnings to stderr (above the prompt when they come while it waits)."""
+    if note.kind in ("error", "warning"):
+        say = functools.partial(report, note.diagnostics, "gestplay")
+        screen.aside(say) if screen and note.aside else say()
+    elif note.kind == "answered" and screen is not None:
+        screen.answered.set()
 
 
 def waiting_on(lines: queue.Queue) -> Callable[[float], Line]:
@@ -209,34 +151,6 @@ def waiting_on(lines: queue.Queue) -> Callable[[float], Line]:
             return False
 
     return next_line
-
-
-def _typed(line: str, session: Session, t: float, mirror: Mirror, profile: Profile,
-           program: Program, take_over: bool) -> Segment | None:
-    words = line.strip()
-    if not words or words.startswith("#"):
-        return None
-    if words == "help":
-        print(HELP, flush=True)
-        return None
-    if words == "where":
-        print("  ".join(f"{s.name} {v}" for s, v in zip(profile.servos, mirror.held(),
-                                                         strict=True)), flush=True)
-        return None
-    try:
-        steps, sources = line_steps(line, program, profile)
-    except GestError as exc:
-        report(exc.diagnostics, "gestplay")
-        return None
-    run = session.submit if take_over else session.append
-    return run(steps, t, mirror.held(), sources)
-
-
-def _events(segment: Segment, links: list[Link]) -> list[tuple[float, int, int]]:
-    by_board = {link.board: k for k, link in enumerate(links)}
-    events = [(segment.origin + t, by_board[s.board], b)
-              for s in segment.streams for t, b in zip(s.times.tolist(), s.data, strict=True)]
-    return sorted(events)
 
 
 def run(args: argparse.Namespace) -> int:
