@@ -88,6 +88,7 @@ def servo(report: Report, name: str, data: Any, board_id: int, ids: Mapping[int,
         max_jerk=fields.get("max_jerk", check.limit, fallback=1.0),
         calibration=fields.get("calibration", check.span, FULL),
         joint=fields.get("joint", check.joint, name),
+        joint_at=report.index.find(("servo", name, "joint")),
     )
 
 

@@ -34,6 +34,8 @@ class Servo:
     reversed: bool  #: board side: 180..0 is mapped onto the calibration instead
     pin: int | None
     joint: str = ""  #: the model's joint this servo turns (urdf.py); the servo's name if ""
+    #: where its ``joint`` key is (its table's header when it has none), and that line
+    joint_at: tuple[Pos, str] | None = field(default=None, compare=False)
 
 
 @dataclass(frozen=True)

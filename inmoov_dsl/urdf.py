@@ -39,11 +39,12 @@ def body(profile: Profile) -> list[Part]:
 
 
 def _unknown(profile: Profile, servo: Servo, names: list[str]) -> Diagnostic:
-    return Diagnostic("error", f"profile '{profile.name}': servo '{servo.name}' turns joint "
-                      f"'{servo.joint}', which the InMoov model does not have",
-                      hint=did_you_mean(servo.joint, names) or
+    pos, line = servo.joint_at or (None, None)
+    return Diagnostic("error", f"servo '{servo.name}' turns joint '{servo.joint}', which "
+                      f"the InMoov model does not have",
+                      pos, did_you_mean(servo.joint, names) or
                       f"set joint = \"...\" in its [servo.{servo.name}] table, one of: "
-                      + ", ".join(names))
+                      + ", ".join(names), line)
 
 
 def _root(everything: list[Part], links: list[str]) -> str:

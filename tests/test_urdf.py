@@ -74,7 +74,8 @@ def test_a_joint_the_model_lacks_is_a_clear_error(capsys):
         'joint = "right_palm_to_index"', 'joint = "right_palm_to_indx"')
     with pytest.raises(GestError) as caught:
         model(parse_profile(text, "mine.toml"))
-    message = str(caught.value)
+    message = caught.value.diagnostics[0].format()
+    assert message.startswith("mine.toml:48:1: error: ")  # at its joint key
     assert "servo 'index' turns joint 'right_palm_to_indx', which the InMoov model " \
         "does not have" in message
     assert "right_palm_to_index" in message  # did you mean
