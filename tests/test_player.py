@@ -1,6 +1,7 @@
 """The player: on time against one clock, from the pose the board reports, to sim://,
 to a real pseudo-terminal, and safe when things go wrong."""
 
+import itertools
 import os
 import select
 import signal
@@ -363,6 +364,31 @@ def test_ctrl_c_or_a_stop_signal_sends_cancel(gestsim, signum, status, said):
     _, data = received(log)
     assert data[-1] == 255
     assert len(data) < len(compile_file(load_library()["count"]).stream().data)  # mid-move
+
+
+@POSIX
+def test_a_loop_without_a_count_plays_until_ctrl_c_and_counts_the_passes(gestsim, tmp_path):
+    _, path, log = gestsim
+    tap = tmp_path / "tap.gest"
+    tap.write_text("tap:\n    index 90 over 0.4s\n    index 0 over 0.4s\n")
+    player = gestplay_proc(str(tap), "--port", path, "--loop")
+    one = len(compile_file(tap).stream().data)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and len(received(log)[1]) < 2.5 * one:
+        time.sleep(0.05)  # two passes sent, the third under way
+    player.send_signal(signal.SIGINT)
+    _, err = player.communicate(timeout=10)
+    assert player.returncode == 130
+    said = next(line for line in err.splitlines() if line.startswith("played"))
+    passes = int(said.split()[2])
+    assert said.startswith(f"played tap {passes} times, then stopped in pass {passes + 1}: ")
+    assert "Traceback" not in err
+    assert passes >= 2
+    assert "CANCEL sent, the hand holds its pose" in err
+    index = [v for _, k, v in read_stream(*received(log), 9600) if k == 2]
+    curls = sum(1 for a, b in itertools.pairwise(index) if a < 90 <= b)
+    assert curls >= passes  # every pass curled the finger from where the last one left it
+    assert max(abs(b - a) for a, b in itertools.pairwise(index)) < 30  # and never jumped
 
 
 @POSIX

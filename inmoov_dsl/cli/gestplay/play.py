@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import itertools
 import sys
 from collections.abc import Callable
 
@@ -70,26 +71,53 @@ def dry_run(compiled: Compiled, speed: float) -> int:
 
 
 def play_on(on: hand.Hand, target: Target, loop: int, speed: float) -> int:
-    """Play ``loop`` times from the pose the hand holds; one line of figures after."""
-    pose = on.pose
-    seconds, sent, worst = 0.0, 0, 0.0
-    for _ in range(loop):
-        compiled = target.build(pose)
-        if target.program is None and pose and pose != dict(zip(compiled.servos,
-                                                                compiled.start, strict=True)):
-            warn("the hand is not in the pose this compiled gesture starts from: it will "
-                 "jump to it", PROG)
-        show = _progress(compiled, speed) if sys.stderr.isatty() else None
-        worst = max(worst, play(compiled, on.links, speed, progress=show))
-        if show:
-            print(file=sys.stderr)
-        pose = dict(zip(compiled.servos, compiled.final, strict=True))
-        seconds += compiled.duration / speed
-        sent += sum(len(s.data) for s in compiled.streams)
-    times = f" {loop} times" if loop > 1 else ""
-    print(f"played {compiled.gesture}{times}: {seconds:.2f} s, {sent:,} bytes, worst "
-          f"lateness {worst * 1000:.2f} ms", file=sys.stderr)
+    """Play ``loop`` times (0: until Ctrl-C) from the pose the hand holds, each pass from
+    where the last one ended; one line of figures after, interrupted or not."""
+    pose, start, compiled = on.pose, None, None
+    run = _Run()
+    try:
+        for _ in itertools.count() if loop == 0 else range(loop):
+            if compiled is None or pose != start:  # a pass from the same pose: as before
+                start, compiled = pose, target.build(pose)
+            if target.program is None and pose and pose != dict(zip(
+                    compiled.servos, compiled.start, strict=True)):
+                warn("the hand is not in the pose this compiled gesture starts from: it "
+                     "will jump to it", PROG)
+            show = _progress(compiled, speed) if sys.stderr.isatty() else None
+            run.worst = max(run.worst, play(compiled, on.links, speed, progress=show))
+            if show:
+                print(file=sys.stderr)
+            pose = dict(zip(compiled.servos, compiled.final, strict=True))
+            run.add(compiled, speed)
+    except KeyboardInterrupt:
+        if loop == 0 and compiled is not None:  # the way an endless loop ends
+            if sys.stderr.isatty():
+                print(file=sys.stderr)  # after the progress line
+            run.say(compiled.gesture, f"{run.passes} times, then stopped in pass "
+                    f"{run.passes + 1}")
+        raise
+    run.say(compiled.gesture, f"{loop} times" if loop > 1 else "")
     return EXIT_OK
+
+
+class _Run:
+    """The figures of the passes played: how many, their time and bytes, the worst
+    lateness."""
+
+    def __init__(self):
+        self.passes, self.seconds, self.sent, self.worst = 0, 0.0, 0, 0.0
+
+    def add(self, compiled: Compiled, speed: float) -> None:
+        """One more pass of ``compiled`` done."""
+        self.passes += 1
+        self.seconds += compiled.duration / speed
+        self.sent += sum(len(s.data) for s in compiled.streams)
+
+    def say(self, gesture: str, times: str) -> None:
+        """The summary line: ``played GESTURE[ times]: seconds, bytes, lateness``."""
+        times = f" {times}" if times else ""
+        print(f"played {gesture}{times}: {self.seconds:.2f} s, {self.sent:,} bytes, worst "
+              f"lateness {self.worst * 1000:.2f} ms", file=sys.stderr)
 
 
 def _progress(compiled: Compiled, speed: float) -> Callable[[float], None]:
@@ -123,7 +151,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                     help="play slower: 0.5 is half speed (0.01 to 1; faster than 1 would "
                     "break the servos' limits: change the gesture's timing instead)")
     ap.add_argument("--loop", type=number(1, 1_000_000, whole=True), default=1, metavar="N",
-                    help="play N times")
+                    nargs="?", const=0, help="play N times, each pass from where the last "
+                    "one ended; --loop alone: until Ctrl-C")
     ap.add_argument("--dry-run", action="store_true",
                     help="print the schedule ('<seconds> <byte>') without a port")
     ap.add_argument("--strict", action="store_true", help="stretched moves are errors")
