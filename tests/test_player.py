@@ -230,6 +230,21 @@ def test_no_board_is_an_error_before_any_gesture_byte(capsys, monkeypatch, tool)
     assert set(port.sent) <= {255, 253}  # CANCEL probes and a DUMP: no servo ID, no value
 
 
+def test_one_port_is_enough_for_a_gesture_on_one_board_of_many(capsys, monkeypatch):
+    opened = []
+
+    def open_port(name, baud):
+        opened.append(name)
+        return SilentPort()
+
+    monkeypatch.setattr(hand, "open_port", open_port)
+    code, _, err = run(capsys, "peace", "--profile", "inmoov", "--port", "COM7", "--blind")
+    assert code == 0, err
+    assert opened == ["COM7"]  # the right hand's board (181) only, of the robot's six
+    assert "board 181 on COM7 did not answer (--blind)" in err
+    assert err.splitlines()[-1].startswith("played peace: 0.70 s")
+
+
 def test_blind_plays_on_a_link_that_cannot_answer(capsys, monkeypatch):
     port = SilentPort()
     monkeypatch.setattr(hand, "open_port", lambda name, baud: port)
@@ -246,10 +261,13 @@ def test_blind_plays_on_a_link_that_cannot_answer(capsys, monkeypatch):
                                            "ports on this machine: "),
     (["peace"], "gestplay: error: no port given"),
     (["pece", "--port", "sim://"], "gestplay: error: no file or library gesture 'pece'"),
-    (["t.gest", "--profile", str(TWO), "--port", "loop://"],
+    (["both.gest", "--profile", str(TWO), "--port", "loop://"],
      "gestplay: error: profile 'two' has 2 boards: give a port for each"),
-    (["t.gest", "--profile", str(TWO), "--port", "181=sim://"],
+    (["both.gest", "--profile", str(TWO), "--port", "181=sim://"],
      "gestplay: error: no port for board 183"),
+    (["both.gest", "--profile", "inmoov", "--port", "loop://"],
+     "gestplay: error: this needs 2 boards: give a port for each\n"
+     "  hint: --port 181=PORT --port 183=PORT"),
     (["peace", "--port", "sim://nosuchprofile"], "gestplay: error: cannot open port "
                                                  "sim://nosuchprofile: sim://: unknown profile"),
     (["dump", "--port", "loop://"], "gestplay: error: no DUMP reply from loop://"),
@@ -257,7 +275,7 @@ def test_blind_plays_on_a_link_that_cannot_answer(capsys, monkeypatch):
 def test_bad_ports_and_options_are_one_clear_message(capsys, tmp_path, monkeypatch, argv,
                                                      message):
     monkeypatch.chdir(tmp_path)
-    (tmp_path / "t.gest").write_text("g: r_index 90\n")
+    (tmp_path / "both.gest").write_text("g: r_index 90, l_index 90\n")
     code, _, err = run(capsys, *argv)
     assert code == 1
     assert err.startswith(message)

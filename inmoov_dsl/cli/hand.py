@@ -10,7 +10,7 @@ CANCEL, says so, and leaves with the right exit status.
 from __future__ import annotations
 
 import sys
-from collections.abc import Iterator
+from collections.abc import Collection, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 
@@ -37,10 +37,14 @@ class Hand:
     pose: dict[str, int]  #: servo name -> value, for the servos whose board answered
 
 
-def parse_ports(specs: list[str], profile: Profile) -> dict[int, str]:
-    """``--port COM3`` (a one-board profile) or ``--port 181=COM3 --port 183=COM4``;
-    a bare ``--port sim://`` is a virtual board for every board of the profile."""
+def parse_ports(specs: list[str], profile: Profile,
+                needed: Collection[int] | None = None) -> dict[int, str]:
+    """``--port COM3`` (one board needed) or ``--port 181=COM3 --port 183=COM4``; a bare
+    ``--port sim://`` is a virtual board for every board. ``needed``: the boards that
+    must have a port (default: every board of the profile); a board given a port
+    without being needed is opened too."""
     boards = [b.id for b in profile.boards]
+    needed = [b for b in boards if needed is None or b in needed] or boards
     ports: dict[int, str] = {}
     for spec in specs:
         board, sep, name = spec.partition("=")
@@ -49,13 +53,15 @@ def parse_ports(specs: list[str], profile: Profile) -> dict[int, str]:
                 raise GestError(Diagnostic("error", f"--port {spec}: profile '{profile.name}' "
                                            f"has no board {board} (boards: {_ids(boards)})"))
             ports[int(board)] = protocol_sim.complete(name, profile, int(board))
-        elif len(boards) == 1 or (len(specs) == 1 and protocol_sim.bare(spec)):
-            ports.update({b: protocol_sim.complete(spec, profile, b) for b in boards})
+        elif len(needed) == 1 or (len(specs) == 1 and protocol_sim.bare(spec)):
+            ports.update({b: protocol_sim.complete(spec, profile, b) for b in needed})
         else:
+            what = f"profile '{profile.name}' has" if len(needed) == len(boards) else \
+                "this needs"
             raise GestError(Diagnostic(
-                "error", f"profile '{profile.name}' has {len(boards)} boards: give a port for "
-                f"each", hint=" ".join(f"--port {b}=PORT" for b in boards)))
-    missing = [b for b in boards if b not in ports]
+                "error", f"{what} {len(needed)} boards: give a port for each",
+                hint=" ".join(f"--port {b}=PORT" for b in needed)))
+    missing = [b for b in needed if b not in ports]
     if missing:
         raise GestError(Diagnostic("error", f"no port for board {_ids(missing)}",
                                    hint=f"add --port {missing[0]}=PORT"))
@@ -67,10 +73,10 @@ def _ids(ids: list[int]) -> str:
 
 
 def connect(ports: dict[int, str], profile: Profile) -> list[Link]:
-    """Open a link to each board of the profile (all or none)."""
+    """Open a link to each board of the profile that has a port (all or none)."""
     links: list[Link] = []
     try:
-        for board in profile.boards:
+        for board in (b for b in profile.boards if b.id in ports):
             links.append(Link(board.id, open_port(ports[board.id], board.baud), ports[board.id]))
     except GestError:
         close(links)
@@ -137,14 +143,16 @@ def no_answer(link: Link, profile: Profile) -> Diagnostic:
 
 @contextmanager
 def opened(prog: str, profile: Profile, ports: list[str], blind: bool = False,
-           going_on: str = REST_POSE) -> Iterator[Hand]:
+           going_on: str = REST_POSE, boards: Collection[int] | None = None
+           ) -> Iterator[Hand]:
     """The hand, its links open and its pose asked (``board_pose``); closed after.
+    ``boards``: those that need a port (default all; ``parse_ports``).
 
     Ctrl-C sends CANCEL, so that no half command is pending, and leaves (``Exit``) with
     status 130 and the hand holding its pose; at a terminal, a second Ctrl-C soon after
     relaxes the hand (its servos go limp). SIGTERM and SIGHUP do as Ctrl-C (exit 143,
     129). A lost link sends CANCEL where it still can and is one line of error."""
-    links = connect(parse_ports(ports, profile), profile)
+    links = connect(parse_ports(ports, profile, boards), profile)
     try:
         yield Hand(profile, links, board_pose(links, profile, blind, going_on))
     except KeyboardInterrupt as exc:

@@ -8,11 +8,12 @@ import sys
 from collections.abc import Callable
 
 from ...compiled import Compiled, check_profile, read_compiled, to_timed
-from ...compiler import compile_program, load
+from ...compiler import compile_program, load, pick_gesture
 from ...errors import Diagnostic, GestError
 from ...library import find_gesture, library_dirs
 from ...player import play
 from ...profile import load_profile
+from ...resolve import Resolver
 from .. import hand
 from ..common import EXIT_OK, add_blind, add_lib, number, report, warn
 
@@ -37,6 +38,15 @@ class Target:
         self.program = load(path, search=dirs)
         self.profile = load_profile(profile or "rhand")
 
+    def boards(self) -> set[int]:
+        """The boards the gesture drives: those of the servos it names (a compiled
+        file's: those its streams send more than a CANCEL to)."""
+        if self.program is None:
+            return {s.board for s in self.compiled.streams if len(s.data) > 1}
+        name = pick_gesture(self.program, self.gesture)
+        actions = Resolver(self.program, self.profile).gesture(name)
+        return {self.profile.servos[i].board for a in actions for i, _ in a.targets}
+
     def build(self, start: dict[str, int] | None) -> Compiled:
         """The streams, planned from ``start`` (servo name -> value) when given."""
         if self.program is None:
@@ -56,7 +66,8 @@ def run(args: argparse.Namespace) -> int:
         raise GestError(Diagnostic("error", "no port given", hint="--port COM3, "
                                    "--port /dev/ttyUSB0, or --port sim:// for the virtual "
                                    "board (--dry-run prints the schedule)"))
-    with hand.opened(PROG, target.profile, args.port, args.blind) as on:
+    with hand.opened(PROG, target.profile, args.port, args.blind,
+                     boards=target.boards()) as on:
         return play_on(on, target, args.loop, args.speed)
 
 
