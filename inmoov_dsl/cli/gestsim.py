@@ -5,8 +5,8 @@ resets when a program opening the port raises DTR: at the first open, and at any
 after a program closed the port with HUPCL set (the default; gestplay clears it, so
 DTR stays up and the board does not reset). After a reset it starts from the pose it
 had stored (the last pose that held for a second), ignores bytes for the boot time,
-then sends WAIT. With a terminal, it shows every servo's value live. POSIX only
-(Linux, macOS).
+then sends WAIT. With a terminal, it shows every servo's value live; with --web, the
+hand in 3-D on a page of its own (webview.py). POSIX only (Linux, macOS).
 """
 
 from __future__ import annotations
@@ -35,8 +35,6 @@ def serve(args: argparse.Namespace) -> int:
     if not hasattr(os, "openpty"):
         raise GestError(Diagnostic("error", "gestsim needs a POSIX system (Linux, macOS)",
                                    hint="on Windows, play to --port sim:// instead"))
-    import tty
-
     profile = load_profile(args.profile)
     board_cfg = next((b for b in profile.boards if args.board in (None, b.id)), None)
     if board_cfg is None:
@@ -44,11 +42,24 @@ def serve(args: argparse.Namespace) -> int:
                                    f"{args.board}"))
     # what can fail does before the pty; the log is there before the path is printed
     glove = _glove(args, profile) if args.glove else None
-    view = None
+    views: list = []
     if glove is None and args.view:
-        view = _HandView(profile, board_cfg)
+        views.append(_HandView(profile, board_cfg))
     elif glove is None and sys.stderr.isatty() and not args.quiet:
-        view = _View(profile, board_cfg)
+        views.append(_View(profile, board_cfg))
+    web = _web(args, profile, board_cfg)
+    views += [web] if web is not None else []
+    try:
+        return _serve(args, profile, board_cfg, glove, views, web)
+    finally:
+        if web is not None:
+            web.close()
+
+
+def _serve(args: argparse.Namespace, profile, board_cfg, glove, views: list, web) -> int:
+    """The pty, its path printed, the board on it until stopped."""
+    import tty
+
     log = open(args.log, "w", encoding="utf-8") if args.log else None  # noqa: SIM115
     master, slave = os.openpty()
     try:
@@ -62,7 +73,9 @@ def serve(args: argparse.Namespace) -> int:
         if glove is not None:
             print(f"{PROG}: a glove performing '{args.glove}' from the moment the port "
                   f"opens", file=sys.stderr, flush=True)
-        _Pty(master, args.boot, glove, view, log, lambda ready_at: VirtualBoard(
+        if web is not None:
+            print(f"{PROG}: the hand in 3-D at {web.url}", file=sys.stderr, flush=True)
+        _Pty(master, args.boot, glove, views, log, lambda ready_at: VirtualBoard(
             BoardCore.from_profile(profile, board_cfg), board_cfg.baud, ready_at=ready_at)
              ).serve()
     except KeyboardInterrupt:
@@ -79,9 +92,9 @@ class _Pty:
     program on the other side raises DTR."""
 
     def __init__(self, master: int, boot: float, glove: list[tuple[float, bytes]] | None,
-                 view: _View | None, log: TextIO | None,
+                 views: list, log: TextIO | None,
                  new_board: Callable[[float], VirtualBoard]):
-        self.master, self.boot, self.glove, self.view, self.log = master, boot, glove, view, log
+        self.master, self.boot, self.glove, self.views, self.log = master, boot, glove, views, log
         self.new_board = new_board
         self.board: VirtualBoard | VirtualGlove | None = None
         self.line = DtrLine()  # no program has the port open yet
@@ -135,8 +148,8 @@ class _Pty:
             self.board.reset(now, self.boot)
 
     def _draw(self, now: float) -> None:
-        if self.view is not None:
-            self.view.draw(self.board, now)
+        for view in self.views:
+            view.draw(self.board, now)
 
 
 def _hupcl(master: int) -> bool:
@@ -148,6 +161,18 @@ def _hupcl(master: int) -> bool:
         return bool(termios.tcgetattr(master)[2] & termios.HUPCL)
     except termios.error:
         return True
+
+
+def _web(args: argparse.Namespace, profile, board_cfg):
+    """With --web, the page where the hand moves in 3-D (webview.py), serving."""
+    if not args.web:
+        return None
+    if args.glove:
+        raise GestError(Diagnostic("error", "--web shows a board's pose; with --glove "
+                                   "gestsim is a glove", hint="leave out --web or --glove"))
+    from ..webview import WebView
+
+    return WebView(profile, board_cfg, args.http_port)
 
 
 def _glove(args: argparse.Namespace, profile) -> list[tuple[float, bytes]]:
@@ -246,6 +271,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--view", action="store_true",
                     help="draw the hand in the terminal, live (needs Pillow and a terminal "
                     "with 24-bit colour)")
+    ap.add_argument("--web", action="store_true",
+                    help="also serve a page on 127.0.0.1 where the hand moves in 3-D, live "
+                    "(needs: pip install 'inmoov-dsl[web]')")
+    ap.add_argument("--http-port", type=number(0, 65535, whole=True), default=8080,
+                    metavar="N", help="with --web: the page's port (default 8080; 0: any "
+                    "free one; a busy one: the next free)")
     args = parse_args(ap, argv)
     return run(PROG, lambda: serve(args))
 

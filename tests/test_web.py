@@ -1,0 +1,271 @@
+"""gestsim --web: the page is served from this computer, the hand is drawn in a real
+browser (Debian's chromium, headless, software WebGL) and moves when a gesture is
+played to the board; without viser, a clear error.
+
+The browser tests skip without chromium or viser, except under CI=true, where a
+missing toolchain fails them (as tests/toolchain.py does for the firmware)."""
+
+from __future__ import annotations
+
+import base64
+import io
+import json
+import os
+import re
+import selectors
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from inmoov_dsl.cli import gestsim
+
+POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="gestsim needs a pty")
+CHROMIUM = ("chromium", "chromium-browser", "google-chrome")
+#: what really gives headless chromium WebGL here (SwiftShader through ANGLE; chromium
+#: 156 answers --use-gl=swiftshader alone with "WebGL unavailable")
+BROWSER_FLAGS = ("--headless", "--no-sandbox", "--use-angle=swiftshader",
+                 "--enable-unsafe-swiftshader", "--no-first-run",
+                 "--disable-background-networking", "--disable-component-update",
+                 "--disable-sync", "--window-size=800,600",
+                 # offline: any name but this computer's fails to resolve
+                 "--host-resolver-rules=MAP * ~NOTFOUND, EXCLUDE 127.0.0.1")
+
+
+def need(what: str, found: bool, install: str) -> None:
+    """Skip (fail under CI=true) when ``what`` is missing."""
+    if found:
+        return
+    message = f"needs {what} ({install})"
+    if os.environ.get("CI") == "true":
+        pytest.fail(f"CI: {message}")
+    pytest.skip(message)
+
+
+def need_viser() -> None:
+    try:
+        import viser  # noqa: F401
+        import yourdfpy  # noqa: F401
+    except ImportError:
+        need("viser and yourdfpy", False, "pip install 'inmoov-dsl[web]'")
+
+
+def chromium() -> str:
+    found = next((path for name in CHROMIUM if (path := shutil.which(name))), None)
+    need("chromium", found is not None, "apt-get install chromium")
+    return found
+
+
+class Lines:
+    """A process's output pipe, read line by line with a deadline (no buffered reads
+    that a select() would not see)."""
+
+    def __init__(self, pipe):
+        self.fd, self.buffer, self.seen = pipe.fileno(), b"", []
+
+    def until(self, pattern: str, timeout: float) -> str:
+        """Read lines until one matches ``pattern``: its first group (a failure with
+        what was read if none does in ``timeout`` seconds or the pipe ends)."""
+        deadline = time.monotonic() + timeout
+        with selectors.DefaultSelector() as sel:
+            sel.register(self.fd, selectors.EVENT_READ)
+            while True:
+                *lines, self.buffer = self.buffer.split(b"\n")
+                for line in lines:
+                    self.seen.append(line.decode(errors="replace"))
+                    if match := re.search(pattern, self.seen[-1]):
+                        return match.group(1)
+                left = deadline - time.monotonic()
+                chunk = os.read(self.fd, 65536) if left > 0 and sel.select(left) else b""
+                if not chunk:
+                    pytest.fail(f"no {pattern!r} in {timeout} s; read: {self.seen!r}")
+                self.buffer += chunk
+
+
+@pytest.fixture
+def web_board():
+    """gestsim --web on any free port: (process, the pty's path, the page's URL)."""
+    need_viser()
+    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim", "--web",
+                             "--http-port", "0", "--quiet", "--boot", "0.1"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        path = Lines(proc.stdout).until(r"^(/dev/\S+)$", 30)
+        url = Lines(proc.stderr).until(r"the hand in 3-D at (http://\S+)", 10)
+        yield proc, path, url
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        proc.communicate(timeout=10)
+
+
+def test_without_viser_gestsim_web_says_how_to_get_it(monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "viser", None)
+    assert gestsim.main(["--web", "--http-port", "0", "--quiet"]) == 1
+    assert capsys.readouterr() == ("", (
+        "gestsim: error: gestsim --web needs viser and yourdfpy (viser is not installed)\n"
+        "  hint: pip install 'inmoov-dsl[web]'\n"))
+
+
+def test_web_with_a_glove_is_an_error(capsys):
+    assert gestsim.main(["--web", "--glove", "fist"]) == 1
+    assert "--web shows a board's pose" in capsys.readouterr().err
+
+
+@POSIX
+def test_the_page_is_served_from_here_and_sigterm_stops_it(web_board):
+    proc, path, url = web_board
+    assert url.startswith("http://127.0.0.1:")
+    with urllib.request.urlopen(url, timeout=10) as page:
+        assert page.status == 200
+        html = page.read().decode()
+    assert "<html" in html and "<script" in html  # viser's client, out of its wheel
+    assert not re.search(r"<script[^>]+src=[\"']https?:", html)  # nothing from a CDN
+    proc.send_signal(signal.SIGTERM)
+    out, err = proc.communicate(timeout=15)
+    assert proc.returncode == 0 and b"Traceback" not in err
+
+
+class Browser:
+    """Headless chromium on one page, driven through its DevTools protocol (a
+    websocket): navigate, take screenshots, list what the page asked the network for."""
+
+    def __init__(self, exe: str, profile_dir: str):
+        from websockets.sync.client import connect  # viser's dependency
+
+        self.proc = subprocess.Popen([exe, *BROWSER_FLAGS, f"--user-data-dir={profile_dir}",
+                                      "--remote-debugging-port=0", "about:blank"],
+                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            port = Path(profile_dir, "DevToolsActivePort")  # chromium writes it when ready
+            deadline = time.monotonic() + 30
+            while not (port.exists() and port.read_text().count("\n")):
+                assert self.proc.poll() is None, "chromium ended at its start"
+                assert time.monotonic() < deadline, "chromium did not start in 30 s"
+                time.sleep(0.05)
+            endpoint = f"127.0.0.1:{port.read_text().split()[0]}"
+            with urllib.request.urlopen(f"http://{endpoint}/json/list", timeout=10) as r:
+                page = next(t for t in json.load(r) if t["type"] == "page")
+            self.ws = connect(page["webSocketDebuggerUrl"], max_size=None, open_timeout=10)
+        except BaseException:
+            self.close()
+            raise
+        self.ids, self.requests = 0, []
+        self.call("Network.enable")
+        self.call("Page.enable")
+
+    def call(self, method: str, **params) -> dict:
+        """One command; its result (events that come meanwhile are noted)."""
+        self.ids += 1
+        self.ws.send(json.dumps({"id": self.ids, "method": method, "params": params}))
+        message = self.receive(lambda m: m.get("id") == self.ids)
+        assert "error" not in message, message
+        return message["result"]
+
+    def navigate(self, url: str) -> None:
+        """Open ``url`` and wait until it has loaded."""
+        self.call("Page.navigate", url=url)
+        self.receive(lambda m: m.get("method") == "Page.loadEventFired")
+
+    def receive(self, wanted, timeout: float = 20) -> dict:
+        """Read messages until ``wanted(message)``, noting the URLs the page asks for."""
+        deadline = time.monotonic() + timeout
+        while True:
+            message = json.loads(self.ws.recv(timeout=max(0.01, deadline - time.monotonic())))
+            if message.get("method") == "Network.requestWillBeSent":
+                self.requests.append(message["params"]["request"]["url"])
+            elif message.get("method") == "Network.webSocketCreated":
+                self.requests.append(message["params"]["url"])
+            if wanted(message):
+                return message
+
+    def screenshot(self):
+        """The page as it is drawn now, as a Pillow image."""
+        from PIL import Image
+
+        data = self.call("Page.captureScreenshot", format="png")["data"]
+        return Image.open(io.BytesIO(base64.b64decode(data))).convert("RGB")
+
+    def close(self) -> None:
+        if getattr(self, "ws", None) is not None:
+            self.ws.close()
+        self.proc.kill()
+        self.proc.communicate(timeout=10)
+
+
+@pytest.fixture
+def browser(tmp_path):
+    exe = chromium()
+    need_viser()
+    with tempfile.TemporaryDirectory(prefix="chromium-") as profile_dir:
+        b = Browser(exe, profile_dir)
+        try:
+            yield b
+        finally:
+            b.close()
+
+
+def settled(browser: Browser, ready, timeout: float) -> np.ndarray:
+    """The first screenshot that is the same as the one before it (the page has drawn
+    all it had to) and for which ``ready`` holds; a failure if none comes in time."""
+    deadline, before = time.monotonic() + timeout, None
+    while time.monotonic() < deadline:
+        shot = np.asarray(browser.screenshot(), dtype=int)
+        if before is not None and np.array_equal(shot, before) and ready(shot):
+            return shot
+        before = shot
+        time.sleep(0.2)
+    pytest.fail(f"the page did not settle in {timeout} s")
+
+
+def box(*masks: np.ndarray, margin: int = 10) -> tuple[slice, slice]:
+    """The rows and columns around every pixel set in ``masks``."""
+    ys, xs = np.nonzero(np.logical_or.reduce(masks))
+    return (slice(max(0, ys.min() - margin), ys.max() + margin + 1),
+            slice(max(0, xs.min() - margin), xs.max() + margin + 1))
+
+
+def ivory(shot: np.ndarray) -> np.ndarray:
+    """Where the picture has the colour of the hand's printed parts, lit or shaded: a
+    light, warm grey (red a little above blue), unlike the white page, the grey floor
+    and forearm, or the orange of a notice."""
+    r, g, b = shot[..., 0], shot[..., 1], shot[..., 2]
+    return (r > 110) & (r - b >= 6) & (r - b <= 45) & (g >= b) & (g <= r)
+
+
+@POSIX
+def test_the_hand_is_drawn_in_a_browser_and_moves_with_the_board(web_board, browser,
+                                                                   tmp_path):
+    from PIL import Image
+
+    proc, path, url = web_board
+    browser.call("Emulation.setDeviceMetricsOverride", width=800, height=600,
+                 deviceScaleFactor=1, mobile=False)
+    browser.navigate(url)
+    rest = settled(browser, lambda shot: ivory(shot).mean() > 0.03, 30)  # the hand
+
+    player = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "fist",
+                             "--port", path], capture_output=True, text=True, timeout=30)
+    assert player.returncode == 0, player.stderr
+
+    def changed(shot: np.ndarray) -> np.ndarray:
+        return np.abs(shot - rest).max(axis=2) > 40
+
+    fist = settled(browser, lambda shot: changed(shot).mean() > 0.01, 20)
+    for name, shot in (("rest", rest), ("fist", fist)):  # to look at when it fails
+        Image.fromarray(shot.astype(np.uint8)).save(tmp_path / f"{name}.png")
+    moved = changed(fist)  # where the hand is, at rest or in a fist
+    assert moved[box(ivory(rest), ivory(fist))].sum() >= 0.9 * moved.sum()
+    assert 0 < ivory(fist).sum() < 0.7 * ivory(rest).sum()  # the fingers are curled
+    # all the page asked for came from gestsim: none from a CDN
+    here = url.rstrip("/").split("//")[1]
+    assert browser.requests
+    assert all(u.startswith(("data:", "blob:")) or u.split("//")[1].startswith(here)
+               for u in browser.requests), browser.requests
