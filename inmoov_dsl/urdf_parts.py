@@ -67,10 +67,11 @@ WRIST_GAP = 0.01
 
 
 def finger(side: str, name: str, base: Vec, rpy: Vec, lengths: tuple[float, ...],
-           radius: float, axis: Vec, travel: float, curl: tuple[float, float] = (90, 60)
-           ) -> list[Part]:
-    """A finger's three phalanges from the palm; ``travel``: its first joint's full
-    travel in degrees, which the other two follow to their own full ``curl``."""
+           radius: float, axis: Vec, travel: float, curl: tuple[float, float] = (90, 60),
+           bend: Vec = (1, 0, 0)) -> list[Part]:
+    """A finger's three phalanges from the palm: the first turns about ``axis``, the
+    others bend about ``bend``; ``travel``: the first joint's full travel in degrees,
+    which the other two follow to their own full ``curl``."""
     parts = []
     parent, joint = f"{side}_palm", f"{side}_palm_to_{name}"
     for k, length in enumerate(lengths, start=1):
@@ -80,7 +81,7 @@ def finger(side: str, name: str, base: Vec, rpy: Vec, lengths: tuple[float, ...]
         shape = Shape("cylinder", (radius, length), (0, 0, length / 2))
         xyz = base if k == 1 else (0.0, 0.0, lengths[k - 2])
         parts.append(Part(joint, parent, link, shape, xyz, rpy if k == 1 else (0, 0, 0),
-                          axis, mimic))
+                          axis if k == 1 else bend, mimic))
         parent, joint = link, f"{side}_{name}_{k}_to_{k + 1}"
     return parts
 
@@ -97,10 +98,12 @@ def hand(travel: dict[str, float]) -> list[Part]:
         parts += finger("right", name, (x, 0.0, PALM[2]), (0, 0, 0), lengths, r, (1, 0, 0),
                         travel.get(f"right_palm_to_{name}", 90.0))
     lengths, r = THUMB
-    s = math.sqrt(0.5)
-    parts += finger("right", "thumb", (PALM[0] / 2 - 0.004, -0.01, 0.025), (0, 0.45, 0),
-                    lengths, r, (s, -s, 0), travel.get("right_palm_to_thumb", 90.0),
-                    THUMB_CURL)
+    # the thumb swings across the front of the palm (about the palm's length), its
+    # phalanges curling over the fingers
+    tilt = 0.45
+    parts += finger("right", "thumb", (PALM[0] / 2 - 0.004, -0.01, 0.025), (0, tilt, 0),
+                    lengths, r, (math.sin(tilt), 0, -math.cos(tilt)),
+                    travel.get("right_palm_to_thumb", 90.0), THUMB_CURL)
     return parts
 
 
