@@ -10,55 +10,18 @@ and evaluated with numpy.
 from __future__ import annotations
 
 import math
-from array import array
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-import numpy as np
 from ruckig import InputParameter, Result, Ruckig, Synchronization, Trajectory
-from ruckig import Profile as RuckigProfile
 
 from .errors import Diagnostic, GestError, Pos, SourceMap
 from .profile import Profile
 from .resolve import Action
+from .tracks import Track, TrackBuilder
 
 MAX_GESTURE_DURATION = 3600.0  #: s; a compile's work is bounded by this
-POSITION_DECIMALS = 9  #: a planned position is evaluated to 1e-9 degree
 _EPS = 1e-6  #: s; durations closer than this are equal
-
-
-@dataclass(frozen=True)
-class Track:
-    """One servo's planned position: piece k starts at ``breaks[k]`` with
-    position, velocity, acceleration and jerk ``coefs[k]``. The last piece holds."""
-
-    breaks: np.ndarray
-    coefs: np.ndarray
-
-    def _locate(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        t = np.asarray(t, dtype=float)
-        k = np.clip(np.searchsorted(self.breaks, t, side="right") - 1, 0, len(self.breaks) - 1)
-        return k, np.maximum(t - self.breaks[k], 0.0)
-
-    def position(self, t: np.ndarray | float) -> np.ndarray:
-        """The planned position at ``t``, to a nanodegree: float noise below that would
-        otherwise decide a tie at a half degree (where the encoder rounds) one way at
-        one instant and the other way a frame later, making a step one degree too big."""
-        k, dt = self._locate(t)
-        p, v, a, j = self.coefs[k].T
-        return np.round(p + dt * (v + dt * (a / 2 + dt * j / 6)), POSITION_DECIMALS)
-
-    def velocity(self, t: np.ndarray | float) -> np.ndarray:
-        """The planned velocity at ``t`` (degrees per second)."""
-        k, dt = self._locate(t)
-        _, v, a, j = self.coefs[k].T
-        return v + dt * (a + dt * j / 2)
-
-    def acceleration(self, t: np.ndarray | float) -> np.ndarray:
-        """The planned acceleration at ``t`` (degrees per second squared)."""
-        k, dt = self._locate(t)
-        _, _, a, j = self.coefs[k].T
-        return a + dt * j
 
 
 @dataclass(frozen=True)
@@ -89,34 +52,6 @@ class Plan:
     warnings: tuple[Diagnostic, ...]
 
 
-class _TrackBuilder:
-    """A track piece by piece, in flat float arrays (no object per piece: a long
-    gesture's millions of pieces would otherwise keep the garbage collector busy)."""
-
-    def __init__(self, value: float):
-        self.breaks = array("d", [0.0])
-        self.coefs = array("d", [value, 0.0, 0.0, 0.0])
-
-    def hold(self, t: float, value: float) -> None:
-        self.breaks.append(max(t, self.breaks[-1]))
-        self.coefs.extend((value, 0.0, 0.0, 0.0))
-
-    def phases(self, t0: float, profile: RuckigProfile) -> None:
-        """Append ruckig's phases (after its brake phases, when it had to brake)."""
-        t = t0
-        parts = [profile.brake, profile] if profile.brake.duration > 0 else [profile]
-        for part in parts:
-            for dt, j, a, v, p in zip(part.t, part.j, part.a, part.v, part.p, strict=False):
-                if dt > 1e-12:
-                    self.breaks.append(t)
-                    self.coefs.extend((p, v, a, j))
-                    t += dt
-
-    def build(self) -> Track:
-        return Track(np.frombuffer(self.breaks, dtype=float).copy(),
-                     np.frombuffer(self.coefs, dtype=float).reshape(-1, 4).copy())
-
-
 class Planner:
     """Plans Actions for one profile; keeps one ruckig instance per number of servos."""
 
@@ -134,7 +69,7 @@ class Planner:
         """Plan ``steps`` from the pose ``start``; a stretched move warns (or, with
         ``strict``, is an error)."""
         pose = list(start)
-        builders = [_TrackBuilder(v) for v in pose]
+        builders = [TrackBuilder(v) for v in pose]
         reports: list[PlannedStep] = []
         # a stretch is told once per place and message, however often the step is
         # played (a call in a repeat): (pos, message) -> how many times
@@ -206,7 +141,7 @@ class Planner:
                 "the servos it moves may have limits too far apart for this duration: "
                 "try another 'over', or check the profile's limits"))
 
-    def _move(self, step: Action, now: float, pose: list[int], builders: list[_TrackBuilder]
+    def _move(self, step: Action, now: float, pose: list[int], builders: list[TrackBuilder]
               ) -> tuple[PlannedStep, float]:
         """One ruckig trajectory for every servo the step moves, from rest to rest;
         appends it to the servos' tracks and updates ``pose``. Also returns how long
@@ -239,7 +174,7 @@ class Planner:
         moving = [i for i, x in enumerate(state.position)
                   if abs(x - targets[i]) > _EPS or abs(state.velocity[i]) > _EPS
                   or abs(state.acceleration[i]) > _EPS]
-        builders = [_TrackBuilder(float(x)) for x in state.position]
+        builders = [TrackBuilder(float(x)) for x in state.position]
         duration = over or 0.0
         move_time = 0.0
         if moving:
