@@ -2,8 +2,8 @@
 
 The file is parsed, so only a valid file is formatted, and printed back from its
 syntax tree with its comments: four spaces per block level, ``name value`` targets
-joined by ``", "``, ``over`` before ``stagger``, numbers without a sign or needless
-zeros (``.50s`` -> ``0.5s``), continued lines joined, trailing whitespace gone,
+joined by ``", "``, ``over``, ``stagger``, ``through`` in that order, numbers without a
+sign or needless zeros (``.50s`` -> ``0.5s``), continued lines joined, trailing whitespace gone,
 trailing comments two spaces after the longest line of their run, at most one blank
 line where the source had blank lines, and one around every block gesture. What a
 person chose is kept: ``wait`` or ``hold``, ``s`` or ``ms``, a step on the gesture's
@@ -111,6 +111,8 @@ def _step(step: ast.Step) -> _Node:
         text += f" over {_duration(step.over)}"
     if step.stagger is not None:
         text += f" stagger {_duration(step.stagger)}"
+    if step.through is not None:
+        text += " through"
     return _Node(step.pos.line, text)
 
 

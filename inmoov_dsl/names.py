@@ -3,6 +3,7 @@ or a gesture; one table, checked once for names that clash."""
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -98,3 +99,22 @@ def _table(program: Program, profile: Profile) -> dict[str, Entity]:
     table.update({n: Pose(node) for n, node in program.poses.items()})
     table.update({n: Gesture(node) for n, node in program.gestures.items()})
     return table
+
+
+MAX_WHERE = 120  #: characters of a step's call chain; a longer one is abbreviated
+
+
+@functools.lru_cache(maxsize=4096)
+def call_chain(where: str, callee: str) -> str:
+    """The call chain shown for a step, ``where > callee``; a chain longer than
+    MAX_WHERE keeps its first and last names."""
+    text = f"{where} > {callee}"
+    if len(text) > MAX_WHERE:
+        root = where.split(" > ", 1)[0]
+        half = (MAX_WHERE - 9) // 2
+        text = f"{_cut(root, half)} > ... > {_cut(callee, half)}"
+    return text
+
+
+def _cut(name: str, most: int) -> str:
+    return name if len(name) <= most else name[:most - 3] + "..."

@@ -12,6 +12,7 @@ import math
 import sys
 import threading
 from collections.abc import Iterator
+from typing import Any
 
 from lark import Lark, Token, Transformer, UnexpectedInput, v_args
 from lark import __version__ as lark_version
@@ -200,25 +201,23 @@ class _ToAst(Transformer):
 
     def move(self, *parts):
         targets = tuple(p for p in parts if isinstance(p, ast.Target))
-        over = stagger = None
-        for kind, duration in (p for p in parts if isinstance(p, tuple)):
-            if kind == "over":
-                if over is not None:
-                    raise SyntaxProblem("'over' is given twice in this step",
-                                        pos_span(duration.pos))
-                over = duration
-            else:
-                if stagger is not None:
-                    raise SyntaxProblem("'stagger' is given twice in this step",
-                                        pos_span(duration.pos))
-                stagger = duration
-        return ast.Move(targets, over, stagger, targets[0].name.pos)
+        timing: dict[str, Any] = {}  # over and stagger: a Duration; through: a Pos
+        for kind, value in (p for p in parts if isinstance(p, tuple)):
+            if kind in timing:
+                raise SyntaxProblem(f"'{kind}' is given twice in this step",
+                                    pos_span(getattr(value, "pos", value)))
+            timing[kind] = value
+        return ast.Move(targets, timing.get("over"), timing.get("stagger"),
+                        targets[0].name.pos, timing.get("through"))
 
     def over(self, duration: ast.Duration):
         return ("over", duration)
 
     def stagger(self, duration: ast.Duration):
         return ("stagger", duration)
+
+    def through(self, keyword: Token):
+        return ("through", self._pos(keyword))
 
     def target(self, name: Token, value: Token | None = None):
         if value is None:

@@ -15,10 +15,11 @@ from dataclasses import dataclass
 
 from ruckig import InputParameter, Result, Ruckig, Synchronization, Trajectory
 
+from . import flow
 from .errors import Diagnostic, GestError, Pos, SourceMap
 from .profile import Profile
 from .resolve import Action
-from .tracks import Track, TrackBuilder
+from .tracks import MotionState, Track, TrackBuilder
 
 MAX_GESTURE_DURATION = 3600.0  #: s; a compile's work is bounded by this
 _EPS = 1e-6  #: s; durations closer than this are equal
@@ -74,21 +75,21 @@ class Planner:
         # a stretch is told once per place and message, however often the step is
         # played (a call in a repeat): (pos, message) -> how many times
         stretched: dict[tuple[Pos | None, str], int] = {}
-        now = 0.0
-        for step in steps:
-            if step.hold > 0:
-                report = PlannedStep(step.where, step.pos, "hold", now, now + step.hold,
-                                     step.hold, False, ())
-            else:
-                report, needed = self._move(step, now, pose, builders)
+        now, k = 0.0, 0
+        while k < len(steps):
+            run = flow.run_at(steps, k)
+            planned = self._run(run, now, pose, builders) if len(run) > 1 else \
+                [self._step(steps[k], now, pose, builders)]
+            for step, (report, needed) in zip(run, planned, strict=True):
                 if report.stretched:
                     key = (step.over_pos or step.pos, stretch_message(needed, step.over))
                     stretched[key] = stretched.get(key, 0) + 1
-            reports.append(report)
-            now = report.end
+                reports.append(report)
+                now = report.end
+            k += len(run)
             if now > MAX_GESTURE_DURATION:
                 raise GestError(self.sources.error(
-                    f"the gesture lasts more than {MAX_GESTURE_DURATION:g} s", step.pos,
+                    f"the gesture lasts more than {MAX_GESTURE_DURATION:g} s", run[-1].pos,
                     "split it into shorter gestures"))
         make = self.sources.error if strict else self.sources.warning
         told = tuple(make(message + (f" ({count} times)" if count > 1 else ""), pos,
@@ -100,46 +101,35 @@ class Planner:
                     tuple(start), tuple(pose), now, () if strict else told)
 
     def _trajectory(self, servos: list[int], start: MotionState, target: Sequence[float],
-                    over: float | None, step: Action | None) -> Trajectory:
+                    over: float | None, step: Action | None,
+                    velocity: Sequence[float] | None = None) -> Trajectory:
         """One ruckig trajectory for ``servos`` (indices), from their state in ``start``
-        to ``target`` (one value each) at rest, all arriving together no sooner than
-        ``over``, within each servo's limits."""
+        to ``target`` (one value each), at rest or crossing it at ``velocity`` (one
+        each), all arriving together no sooner than ``over``, within each servo's
+        limits."""
         ruckig, inp, traj = self._solver(len(servos))
         limits = [self.profile.servos[i] for i in servos]
         inp.current_position = [float(start.position[i]) for i in servos]
         inp.current_velocity = [float(start.velocity[i]) for i in servos]
         inp.current_acceleration = [float(start.acceleration[i]) for i in servos]
         inp.target_position = [float(v) for v in target]
-        inp.target_velocity = inp.target_acceleration = [0.0] * len(servos)
+        inp.target_velocity = [float(v) for v in velocity or [0.0] * len(servos)]
+        inp.target_acceleration = [0.0] * len(servos)
         inp.max_velocity = [s.max_velocity for s in limits]
         inp.max_acceleration = [s.max_acceleration for s in limits]
         inp.max_jerk = [s.max_jerk for s in limits]
         inp.synchronization = Synchronization.Time
         inp.minimum_duration = over
-        self._calculate(ruckig, inp, traj, step)
+        _calculate(ruckig, inp, traj, step, self.sources)
         return traj
 
-    def _calculate(self, ruckig: Ruckig, inp: InputParameter, traj: Trajectory,
-                   step: Action | None) -> None:
-        """ruckig's trajectory for ``inp``; any failure of ruckig (a result that is not
-        a success, an exception, a duration that is not finite) is a GestError at the
-        step."""
-        try:
-            result = ruckig.calculate(inp, traj)
-            ok = result in (Result.Working, Result.Finished)
-            why = "" if ok else result.name
-        except Exception as exc:  # noqa: BLE001 - a foreign library: whatever it raises
-            first = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
-            ok, why = False, first.removeprefix("[ruckig] ").removesuffix(" input:")
-        if ok and not (math.isfinite(traj.duration) and traj.duration >= 0):
-            ok, why = False, f"a duration of {traj.duration}"
-        if not ok:
-            where = f" of '{step.where}'" if step is not None and step.where else ""
-            raise GestError(self.sources.error(
-                f"cannot plan this step{where}: ruckig failed ({why})",
-                step.pos if step is not None else None,
-                "the servos it moves may have limits too far apart for this duration: "
-                "try another 'over', or check the profile's limits"))
+    def _step(self, step: Action, now: float, pose: list[int], builders: list[TrackBuilder]
+              ) -> tuple[PlannedStep, float]:
+        """A hold, or a move from rest to rest (``_move``)."""
+        if step.hold > 0:
+            return PlannedStep(step.where, step.pos, "hold", now, now + step.hold, step.hold,
+                               False, ()), step.hold
+        return self._move(step, now, pose, builders)
 
     def _move(self, step: Action, now: float, pose: list[int], builders: list[TrackBuilder]
               ) -> tuple[PlannedStep, float]:
@@ -165,6 +155,65 @@ class Planner:
         stretched = step.over is not None and move_time > step.over + _EPS
         return PlannedStep(step.where, step.pos, "move", now, now + duration, step.over,
                            stretched, tuple(idx)), move_time
+
+    def _run(self, run: Sequence[Action], now: float, pose: list[int],
+             builders: list[TrackBuilder]) -> list[tuple[PlannedStep, float]]:
+        """Moves that flow through their keyframes (flow.py): one segment per step, each
+        from the state the last one left, crossing its keyframe as ``flow.crossings``
+        chose, or slower where that would overshoot or last longer than a stop."""
+        poses = flow.keyframes(pose, run)
+        alone = [self._alone(step, poses[j], poses[j + 1]) for j, step in enumerate(run)]
+        cross = [*flow.crossings(self.profile, poses, alone), {}]
+        state, out = MotionState.resting(pose), []
+        for j, step in enumerate(run):
+            target = poses[j + 1]
+            found = self._segment(step, state, target, cross[j], alone[j])
+            if found is None:  # nothing moves: a pause as long as its 'over'
+                hold = step.over or 0.0
+                out.append((PlannedStep(step.where, step.pos, "move", now, now + hold,
+                                        step.over, False, ()), hold))
+                now += hold
+                continue
+            traj, moving, velocity = found
+            for dof, i in enumerate(moving):
+                builders[i].phases(now, traj.profiles[0][dof])
+                if not velocity[i]:
+                    builders[i].hold(now + traj.duration, float(target[i]))
+            stretched = step.over is not None and traj.duration > step.over + _EPS
+            out.append((PlannedStep(step.where, step.pos, "move", now, now + traj.duration,
+                                    step.over, stretched, tuple(moving)), traj.duration))
+            state = MotionState(tuple(map(float, target)), tuple(velocity),
+                                (0.0,) * len(target))
+            now += traj.duration
+        pose[:] = poses[-1]
+        return out
+
+    def _alone(self, step: Action, before: Sequence[int], after: Sequence[int]) -> float:
+        """How long ``step`` takes from rest to rest (its stop-and-go duration)."""
+        moving = [i for i, _ in step.targets if after[i] != before[i]]
+        if not moving:
+            return step.over or 0.0
+        return self._trajectory(moving, MotionState.resting(before),
+                                [after[i] for i in moving], step.over, step).duration
+
+    def _segment(self, step: Action, state: MotionState, target: Sequence[int],
+                 cross: dict[int, float], alone: float
+                 ) -> tuple[Trajectory, list[int], list[float]] | None:
+        """The segment of a run from ``state`` to ``target``, crossing it at ``cross``
+        (servo -> velocity), at half that, or at rest, whichever is the first that
+        neither overshoots nor takes longer than ``alone``; None when nothing moves."""
+        while True:
+            velocity = [cross.get(i, 0.0) for i in range(len(target))]
+            moving = [i for i, x in enumerate(state.position) if x != target[i]
+                      or state.velocity[i] or velocity[i]]
+            if not moving:
+                return None
+            traj = self._trajectory(moving, state, [target[i] for i in moving], step.over,
+                                    step, [velocity[i] for i in moving])
+            if not cross or flow.smooth(traj, state, target, moving, alone):
+                return traj, moving, velocity
+            slower = {i: v / 2 for i, v in cross.items() if abs(v) > 1.0}
+            cross = slower if len(slower) == len(cross) else {}
 
     def take_over(self, state: MotionState, targets: Sequence[int], over: float | None = None,
                   step: Action | None = None) -> Plan:
@@ -197,6 +246,29 @@ class Planner:
                     tuple(int(v) for v in targets), duration, warnings)
 
 
+def _calculate(ruckig: Ruckig, inp: InputParameter, traj: Trajectory, step: Action | None,
+               sources: SourceMap) -> None:
+    """ruckig's trajectory for ``inp``; any failure of ruckig (a result that is not
+    a success, an exception, a duration that is not finite) is a GestError at the
+    step."""
+    try:
+        result = ruckig.calculate(inp, traj)
+        ok = result in (Result.Working, Result.Finished)
+        why = "" if ok else result.name
+    except Exception as exc:  # noqa: BLE001 - a foreign library: whatever it raises
+        first = (str(exc).strip().splitlines() or [type(exc).__name__])[0]
+        ok, why = False, first.removeprefix("[ruckig] ").removesuffix(" input:")
+    if ok and not (math.isfinite(traj.duration) and traj.duration >= 0):
+        ok, why = False, f"a duration of {traj.duration}"
+    if not ok:
+        where = f" of '{step.where}'" if step is not None and step.where else ""
+        raise GestError(sources.error(
+            f"cannot plan this step{where}: ruckig failed ({why})",
+            step.pos if step is not None else None,
+            "the servos it moves may have limits too far apart for this duration: "
+            "try another 'over', or check the profile's limits"))
+
+
 STRETCH_HINT = ("the profile's limits allow no faster move; ask for more time or raise "
                 "the limits")
 
@@ -208,25 +280,3 @@ def stretch_message(needed: float, asked: float) -> str:
     while digits < 6 and f"{needed:.{digits}f}" == f"{asked:.{digits}f}":
         digits += 1
     return f"move stretched: needs {needed:.{digits}f} s, asked {asked:.{digits}f} s"
-
-
-@dataclass(frozen=True)
-class MotionState:
-    """Every servo's position, velocity and acceleration at one moment."""
-
-    position: tuple[float, ...]
-    velocity: tuple[float, ...]
-    acceleration: tuple[float, ...]
-
-    @classmethod
-    def resting(cls, pose: Sequence[float]) -> MotionState:
-        """Every servo standing still at ``pose``."""
-        still = (0.0,) * len(pose)
-        return cls(tuple(float(x) for x in pose), still, still)
-
-    @classmethod
-    def at(cls, plan: Plan, t: float) -> MotionState:
-        """Where ``plan`` has the hand at ``t`` (s from its start)."""
-        return cls(tuple(float(tr.position(t)) for tr in plan.tracks),
-                   tuple(float(tr.velocity(t)) for tr in plan.tracks),
-                   tuple(float(tr.acceleration(t)) for tr in plan.tracks))

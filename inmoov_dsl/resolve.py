@@ -7,7 +7,6 @@ gesture is expanded in one pass, within a step budget.
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import NoReturn
@@ -15,13 +14,12 @@ from typing import NoReturn
 from . import snippet
 from . import syntax as ast
 from .errors import Diagnostic, GestError, Pos
-from .names import ANYTHING, Entity, Gesture, Group, NameTable, Pose, Servo
+from .names import ANYTHING, Entity, Gesture, Group, NameTable, Pose, Servo, call_chain
 from .profile import Profile
 from .program import Program
 
 MAX_STEPS = 100_000  #: the most steps one gesture may expand to
 MAX_NESTING = 100  #: the deepest chain of calls and repeats, or of poses within poses
-MAX_WHERE = 120  #: characters of a step's call chain; a longer one is abbreviated
 #: the most steps all the gestures of one program may expand to for one profile, each
 #: gesture counted once however often it is compiled (``gestc check`` compiles them all)
 MAX_TOTAL_STEPS = 1_000_000
@@ -40,6 +38,7 @@ class Action:
     pos: Pos | None = None
     over_pos: Pos | None = None
     where: str = ""  #: the call chain, e.g. "demo > peace"
+    through: bool = False  #: its servos cross the keyframe moving when the next step goes on
 
 
 @dataclass(frozen=True)
@@ -211,7 +210,7 @@ class Resolver:
             self.fail(f"gesture '{callee}' calls itself: {cycle}", step.pos)
         if callee in self._heights:
             self._nest(step, at.depth + 1 + self._heights[callee])
-        inner = _Frame((*at.chain, callee), _where(at.where, callee), at.depth + 1)
+        inner = _Frame((*at.chain, callee), call_chain(at.where, callee), at.depth + 1)
         span = self._spans.get((callee, inner.where))
         if span is not None:  # the same Actions again (a cycle would have failed before)
             self._within_budget(len(out) + span[1] - span[0], at)
@@ -234,35 +233,24 @@ class Resolver:
         name = target.name.text
         if target.value is not None:
             self.fail(f"'{name}' is a gesture; it takes no value", target.value_pos)
-        for timing in (move.over, move.stagger):
+        for timing in (move.over, move.stagger, move.through):
             if timing is not None:
                 self.fail(f"a gesture call takes no timing: '{name}' sets its own",
-                          timing.pos, "give the durations inside the gesture")
+                          getattr(timing, "pos", timing), "time the gesture's own steps")
         return name
 
     def _move(self, step: ast.Move, where: str) -> Action:
         """The Action of a move (its targets resolved once, however often it is played)."""
         key = id(step)
         if key not in self._moves:
+            if step.through and step.stagger:
+                self.fail("a step that flows 'through' its keyframe cannot 'stagger'",
+                          step.through, "stagger the step before, or after, instead")
             self._moves[key] = tuple(self.targets(step.targets).items())
         return Action(self._moves[key], over=step.over.seconds if step.over else None,
                       stagger=step.stagger.seconds if step.stagger else 0.0, pos=step.pos,
-                      over_pos=step.over.pos if step.over else None, where=where)
-
-
-@functools.lru_cache(maxsize=4096)
-def _where(where: str, callee: str) -> str:
-    """``where > callee``; a chain longer than MAX_WHERE keeps its first and last names."""
-    text = f"{where} > {callee}"
-    if len(text) > MAX_WHERE:
-        root = where.split(" > ", 1)[0]
-        half = (MAX_WHERE - 9) // 2
-        text = f"{_cut(root, half)} > ... > {_cut(callee, half)}"
-    return text
-
-
-def _cut(name: str, most: int) -> str:
-    return name if len(name) <= most else name[:most - 3] + "..."
+                      over_pos=step.over.pos if step.over else None, where=where,
+                      through=step.through is not None)
 
 
 def resolver(program: Program, profile: Profile,

@@ -7,7 +7,8 @@ from dataclasses import dataclass
 from .errors import Pos
 
 #: the language's keywords: never a gesture, pose, group or servo name
-KEYWORDS = frozenset({"use", "group", "pose", "wait", "hold", "repeat", "over", "stagger"})
+KEYWORDS = frozenset({"use", "group", "pose", "wait", "hold", "repeat", "over", "stagger",
+                      "through"})
 
 
 @dataclass(frozen=True)
@@ -45,6 +46,7 @@ class Move:
     over: Duration | None
     stagger: Duration | None
     pos: Pos
+    through: Pos | None = None  #: ``through``: the servos cross the keyframe moving
 
 
 @dataclass(frozen=True)

@@ -4,7 +4,9 @@ evaluated with numpy (pure)."""
 from __future__ import annotations
 
 from array import array
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 from ruckig import Profile as RuckigProfile
@@ -74,3 +76,31 @@ class TrackBuilder:
         """The track made so far."""
         return Track(np.frombuffer(self.breaks, dtype=float).copy(),
                      np.frombuffer(self.coefs, dtype=float).reshape(-1, 4).copy())
+
+
+class HasTracks(Protocol):
+    """A plan: one track per servo."""
+
+    tracks: tuple[Track, ...]
+
+
+@dataclass(frozen=True)
+class MotionState:
+    """Every servo's position, velocity and acceleration at one moment."""
+
+    position: tuple[float, ...]
+    velocity: tuple[float, ...]
+    acceleration: tuple[float, ...]
+
+    @classmethod
+    def resting(cls, pose: Sequence[float]) -> MotionState:
+        """Every servo standing still at ``pose``."""
+        still = (0.0,) * len(pose)
+        return cls(tuple(float(x) for x in pose), still, still)
+
+    @classmethod
+    def at(cls, plan: HasTracks, t: float) -> MotionState:
+        """Where ``plan`` (a ``plan.Plan``) has the hand at ``t`` (s from its start)."""
+        return cls(tuple(float(tr.position(t)) for tr in plan.tracks),
+                   tuple(float(tr.velocity(t)) for tr in plan.tracks),
+                   tuple(float(tr.acceleration(t)) for tr in plan.tracks))

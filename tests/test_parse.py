@@ -70,8 +70,8 @@ ERRORS = [
     ("peace index 180",
      "e.gest:1:7: error: unexpected name 'index'; expected ':'", "          ^~~~~"),
     ("p: index 90 middle 90",
-     "e.gest:1:13: error: unexpected name 'middle'; expected ',', 'over', 'stagger' or the "
-     "end of the line", "                ^~~~~~"),
+     "e.gest:1:13: error: unexpected name 'middle'; expected ',', 'over', 'stagger', "
+     "'through' or the end of the line", "                ^~~~~~"),
     ("p: index 200", "e.gest:1:10: error: value 200 is outside 0..180", "             ^~~"),
     ("p: index -5", "e.gest:1:10: error: value -5 is outside 0..180", "             ^~"),
     ("p: index 90.5", "e.gest:1:10: error: values are whole degrees, got 90.5",
@@ -155,8 +155,8 @@ def test_huge_numbers_and_odd_characters_are_diagnostics(source, first):
 
 @pytest.mark.parametrize(("source", "first", "hint"), [
     ("wait: index 90", "e.gest:1:1: error: 'wait' is a keyword and cannot name a gesture",
-     "choose another name (the keywords: group, hold, over, pose, repeat, stagger, use, "
-     "wait)"),
+     "choose another name (the keywords: group, hold, over, pose, repeat, stagger, through, "
+     "use, wait)"),
     ("pose over: index 9", "e.gest:1:6: error: 'over' is a keyword and cannot name a pose",
      None),
     ("group hold: index", "e.gest:1:7: error: 'hold' is a keyword and cannot name a group",

@@ -35,6 +35,8 @@ def gestures(draw, servo_names):
             text += f" over {draw(durations(20, 1500))}"
         if draw(st.integers(0, 3)) == 0:
             text += f" stagger {draw(durations(1, 150))}"
+        elif draw(st.booleans()):
+            text += " through"
         return text
 
     lines = []
