@@ -39,8 +39,8 @@ def test_language_reference_covers_every_construct():
     language = ROOT / "docs" / "language.md"
     examples = "\n".join(src for doc, src in (p.values for p in blocks("gest"))
                          if doc == language)
-    for construct in ("over", "wait", "hold", "pose", "group", "repeat", "stagger", "use",
-                      "#"):
+    for construct in ("over", "wait", "hold", "pose", "group", "repeat", "stagger", "through",
+                      "use", "#"):
         assert re.search(rf"(^|\W){re.escape(construct)}(\W|$)", examples, re.M), construct
     assert "peace: index 180, middle 180 over 0.4s" in language.read_text()
 
