@@ -60,7 +60,8 @@ class WebView:
         except BaseException:
             self.close()
             raise
-        self.url = f"http://{HOST}:{self.server.get_port()}/"
+        self.port: int = self.server.get_port()
+        self.url = f"http://{HOST}:{self.port}/"
         self.shown: list[int] | None = None
         self._pending: list[int] | None = None
         self._lock = threading.Lock()
@@ -86,7 +87,7 @@ class WebView:
         low, high = _bounds(robot, {robot.joint_map[self.profile.servos[i].joint].child
                                     for i in self.slots})
         centre, radius = (low + high) / 2, float(np.linalg.norm(high - low)) / 2
-        view = np.asarray(_viewpoint(robot.base_link))
+        view = np.asarray(_viewpoint(robot.base_link, centre))
         camera = server.initial_camera
         camera.fov = np.radians(40)
         camera.look_at = centre
@@ -130,7 +131,7 @@ class WebView:
                 return
 
     def close(self) -> None:
-        """Stop the thread and the server (the page then says it lost the board)."""
+        """Stop the thread and the server (the page then shows it is disconnected)."""
         if hasattr(self, "_closing"):
             self._closing.set()
             self._wake.set()
@@ -158,10 +159,12 @@ def _bounds(robot: Any, links: set[str]) -> Any:
     return points.min(axis=0), points.max(axis=0)
 
 
-def _viewpoint(root: str) -> tuple[float, float, float]:
-    """Where the camera looks from (a direction), by urdf_parts' frames: a hand alone
-    stands on its forearm with its palm towards -y, a right thumb on +x (a left one on
-    -x); the robot faces +x with its left on +y."""
+def _viewpoint(root: str, centre: Any) -> tuple[float, float, float]:
+    """Where the camera looks from (a direction) at what is around ``centre``, by
+    urdf_parts' frames: a hand alone stands on its forearm with its palm towards -y, a
+    right thumb on +x (a left one on -x); the robot faces +x with its left on +y, its
+    hands hang at its sides with their palms towards it, so a part on one side is seen
+    from the front, a little from the middle."""
     if root.endswith("_forearm"):
         return (-0.5 if root.startswith("left") else 0.5), -1.0, 0.45
-    return 1.0, -0.45, 0.35
+    return 1.0, 0.4 if centre[1] < -0.05 else -0.4, 0.3

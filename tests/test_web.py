@@ -8,6 +8,7 @@ missing toolchain fails them (as tests/toolchain.py does for the firmware)."""
 from __future__ import annotations
 
 import base64
+import contextlib
 import io
 import json
 import os
@@ -15,6 +16,7 @@ import re
 import selectors
 import shutil
 import signal
+import socket
 import subprocess
 import sys
 import tempfile
@@ -89,17 +91,18 @@ class Lines:
                 self.buffer += chunk
 
 
-@pytest.fixture
-def web_board():
-    """gestsim --web on any free port: (process, the pty's path, the page's URL)."""
+@contextlib.contextmanager
+def web_board(port: int = 0):
+    """gestsim --web on ``port``: (process, the pty's path, the line giving the page's
+    address)."""
     need_viser()
     proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim", "--web",
-                             "--http-port", "0", "--quiet", "--boot", "0.1"],
+                             "--http-port", str(port), "--quiet", "--boot", "0.1"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     try:
         path = Lines(proc.stdout).until(r"^(/dev/\S+)$", 30)
-        url = Lines(proc.stderr).until(r"the hand in 3-D at (http://\S+)", 10)
-        yield proc, path, url
+        said = Lines(proc.stderr).until(r"(the hand in 3-D at .*)", 10)
+        yield proc, path, said
     finally:
         if proc.poll() is None:
             proc.kill()
@@ -120,16 +123,21 @@ def test_web_with_a_glove_is_an_error(capsys):
 
 
 @POSIX
-def test_the_page_is_served_from_here_and_sigterm_stops_it(web_board):
-    proc, path, url = web_board
-    assert url.startswith("http://127.0.0.1:")
-    with urllib.request.urlopen(url, timeout=10) as page:
-        assert page.status == 200
-        html = page.read().decode()
-    assert "<html" in html and "<script" in html  # viser's client, out of its wheel
-    assert not re.search(r"<script[^>]+src=[\"']https?:", html)  # nothing from a CDN
-    proc.send_signal(signal.SIGTERM)
-    out, err = proc.communicate(timeout=15)
+def test_the_page_is_served_from_here_and_sigterm_stops_it():
+    with socket.socket() as taken:  # a port another program has
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        busy = taken.getsockname()[1]
+        with web_board(busy) as (proc, path, said):
+            url = re.fullmatch(rf"the hand in 3-D at (http://127\.0\.0\.1:\d+/) "
+                               rf"\(port {busy} is busy\)", said)[1]
+            with urllib.request.urlopen(url, timeout=10) as page:
+                assert page.status == 200
+                html = page.read().decode()
+            assert "<html" in html and "<script" in html  # viser's client, from its wheel
+            assert not re.search(r"<script[^>]+src=[\"']https?:", html)  # none from a CDN
+            proc.send_signal(signal.SIGTERM)
+            out, err = proc.communicate(timeout=15)
     assert proc.returncode == 0 and b"Traceback" not in err
 
 
@@ -241,11 +249,16 @@ def ivory(shot: np.ndarray) -> np.ndarray:
 
 
 @POSIX
-def test_the_hand_is_drawn_in_a_browser_and_moves_with_the_board(web_board, browser,
-                                                                   tmp_path):
+def test_the_hand_is_drawn_in_a_browser_and_moves_with_the_board(browser, tmp_path):
+    with web_board() as (proc, path, said):
+        url = re.fullmatch(r"the hand in 3-D at (http://127\.0\.0\.1:\d+/)", said)[1]
+        see_the_hand_move(browser, path, url, tmp_path)
+
+
+def see_the_hand_move(browser: Browser, path: str, url: str, tmp_path: Path) -> None:
+    """The page drawn, a fist played to the board, the page drawn again."""
     from PIL import Image
 
-    proc, path, url = web_board
     browser.call("Emulation.setDeviceMetricsOverride", width=800, height=600,
                  deviceScaleFactor=1, mobile=False)
     browser.navigate(url)

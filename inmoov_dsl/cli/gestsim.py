@@ -74,7 +74,9 @@ def _serve(args: argparse.Namespace, profile, board_cfg, glove, views: list, web
             print(f"{PROG}: a glove performing '{args.glove}' from the moment the port "
                   f"opens", file=sys.stderr, flush=True)
         if web is not None:
-            print(f"{PROG}: the hand in 3-D at {web.url}", file=sys.stderr, flush=True)
+            busy = (f" (port {args.http_port} is busy)"
+                    if args.http_port not in (0, web.port) else "")
+            print(f"{PROG}: the hand in 3-D at {web.url}{busy}", file=sys.stderr, flush=True)
         _Pty(master, args.boot, glove, views, log, lambda ready_at: VirtualBoard(
             BoardCore.from_profile(profile, board_cfg), board_cfg.baud, ready_at=ready_at)
              ).serve()
