@@ -11,7 +11,7 @@ _PACKAGE = Path(__file__).resolve().parent
 
 
 def data_dir(name: str) -> Path:
-    """The shipped directory ``name`` (``grammar``, ``gestures`` or ``firmware``).
+    """The shipped directory ``name`` (``grammar``, ``gestures``, ``firmware`` or ``ros``).
 
     A wheel carries them in ``inmoov_dsl/_data``; a source checkout (or an editable
     install) has them at the top of the repository.

@@ -34,6 +34,10 @@ def test_the_wheel_carries_grammar_profiles_and_library(wheel):
     for part in ("libraries/InmoovDsl/src/servo_core.cpp", "libraries/InmoovDsl/library.properties",
                  "libraries/InmoovDsl/src/servo_pulses.cpp", "harness/simboard.c", "Makefile"):
         assert f"inmoov_dsl/_data/firmware/{part}" in names
+    for part in ("package.xml", "launch/display.launch", "rviz/hand.rviz", "scripts/inmoov_node"):
+        assert f"inmoov_dsl/_data/ros/{part}" in names  # the ROS package, for roslaunch
+    node = zipfile.ZipFile(wheel).getinfo("inmoov_dsl/_data/ros/scripts/inmoov_node")
+    assert node.external_attr >> 16 & 0o111  # an executable, as rosrun wants
     entry_points = next(n for n in names if n.endswith("entry_points.txt"))
     text = zipfile.ZipFile(wheel).read(entry_points).decode()
     assert "gestc = inmoov_dsl.cli:run_gestc" in text

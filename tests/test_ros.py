@@ -441,3 +441,12 @@ def test_roslaunch_brings_up_the_node_and_robot_state_publisher(ros_python, ros_
     assert fist["joints"]["right_palm_to_index"] == pytest.approx(curled(
         "right_palm_to_index"))
     assert tf["tf"]
+
+
+def test_the_node_says_where_its_ros_package_is(capsys):
+    from inmoov_dsl.ros.__main__ import main
+
+    assert main(["--package-path"]) == 0
+    where = Path(capsys.readouterr().out.strip())
+    assert (where / "launch" / "display.launch").is_file()
+    assert (where / "package.xml").read_text().count("<name>inmoov_dsl</name>") == 1

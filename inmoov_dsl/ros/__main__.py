@@ -1,11 +1,13 @@
-"""``python -m inmoov_dsl.ros --port PORT [--profile NAME] [--listen] [--rate HZ]``."""
+"""``python -m inmoov_dsl.ros --port PORT [--profile NAME] [--listen] [--rate HZ]``, and
+``python -m inmoov_dsl.ros --package-path``."""
 
 from __future__ import annotations
 
 import sys
 
-from ..cli.common import EXIT_ERROR, parse_args, report, run
+from ..cli.common import EXIT_ERROR, EXIT_OK, parse_args, report, run
 from ..errors import Diagnostic
+from ..resources import data_dir
 from .core import PROG, parser, serve
 
 HINT = ("ROS 1's Python is Debian's /usr/bin/python3 with python3-rospy: make a venv "
@@ -14,7 +16,12 @@ HINT = ("ROS 1's Python is Debian's /usr/bin/python3 with python3-rospy: make a 
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the node under ROS 1 (rospy); a clear message where rospy is missing."""
+    """Run the node under ROS 1 (rospy); a clear message where rospy is missing.
+    ``--package-path`` prints where the ROS package (launch files, rviz views) is, for
+    ROS_PACKAGE_PATH."""
+    if (sys.argv[1:] if argv is None else argv) == ["--package-path"]:
+        print(data_dir("ros"))
+        return EXIT_OK
     try:
         from . import ros1
     except ImportError as exc:
