@@ -31,10 +31,10 @@ OVERSHOOT = 0.25  #: degrees a servo may pass a keyframe by (half the encoder's 
 def run_at(steps: Sequence[Action], k: int) -> Sequence[Action]:
     """The steps from ``k`` that make one motion: a move that flows ``through`` its
     keyframe, the moves after it that do too, and the move that ends the run (the step
-    alone when it does not flow into a move)."""
+    alone when it does not flow into a move that starts all its servos at once)."""
     end = k
     while end + 1 < len(steps) and steps[end].through and steps[end].hold == 0 \
-            and steps[end + 1].hold == 0:
+            and steps[end + 1].hold == 0 and steps[end + 1].stagger == 0:
         end += 1
     return steps[k:end + 1]
 

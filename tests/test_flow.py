@@ -64,6 +64,14 @@ def test_a_servo_the_next_step_leaves_alone_stops_at_its_keyframe():
     assert at(plan, "middle", end) == pytest.approx((90, 0), abs=1e-6)
 
 
+def test_a_run_ends_before_a_staggered_step_which_starts_from_rest():
+    source = "g:\n    index 90 through\n    middle 90, ring 90 over 0.5s stagger 100ms\n"
+    _, plan = planned(source)
+    _, stopping = stop_and_go(source)
+    assert plan.duration == pytest.approx(stopping.duration)  # the stagger is kept
+    assert plan.steps[1].end - plan.steps[1].start == pytest.approx(0.6)
+
+
 def test_a_stretched_crossing_warns_as_a_stretched_move_does():
     compiled, plan = planned("g:\n    index 90 over 0.1s through\n    index 180\n")
     needed = plan.steps[0].end
