@@ -9,6 +9,7 @@ import math
 import signal
 import sys
 from collections.abc import Callable, Iterable
+from pathlib import Path
 
 from ..errors import Diagnostic, GestError
 
@@ -173,3 +174,13 @@ def gesture_name(name: str) -> str:
         raise GestError(Diagnostic("error", f"'{name}' is a keyword of the language, not a "
                                    "name", hint=f"--name my_{name}"))
     return name
+
+
+def write_out(path: str | None, text: str, about: str = "") -> None:
+    """``text`` to the file ``path``, saying so on stderr (``wrote PATH``, then
+    ``about``), or to standard output when ``path`` is None or ``-``."""
+    if path in (None, "-"):
+        sys.stdout.write(text)
+        return
+    Path(path).write_text(text, encoding="utf-8")
+    print(f"wrote {path}{about}", file=sys.stderr)

@@ -3,10 +3,8 @@
 from __future__ import annotations
 
 import argparse
-import sys
-from pathlib import Path
 
-from ..common import EXIT_OK, number
+from ..common import EXIT_OK, number, write_out
 from .target import add_arguments, compile_target
 
 
@@ -16,11 +14,7 @@ def run(args: argparse.Namespace) -> int:
 
     compiled, plan = compile_target(args)
     text = to_csv(*joint_states(plan, compiled, 1 / args.rate))
-    if args.joint_states == "-":
-        sys.stdout.write(text)
-    else:
-        Path(args.joint_states).write_text(text, encoding="utf-8")
-        print(f"wrote {args.joint_states}: {text.count(chr(10)) - 1} rows", file=sys.stderr)
+    write_out(args.joint_states, text, f": {text.count(chr(10)) - 1} rows")
     return EXIT_OK
 
 

@@ -3,23 +3,16 @@
 from __future__ import annotations
 
 import argparse
-import sys
-from pathlib import Path
 
 from ...profile import load_profile
-from ..common import EXIT_OK
+from ..common import EXIT_OK, write_out
 
 
 def run(args: argparse.Namespace) -> int:
     """Write the URDF of the profile's robot (``-o``: to a file)."""
     from ...urdf import model
 
-    text = model(load_profile(args.profile))
-    if args.output in (None, "-"):
-        sys.stdout.write(text)
-    else:
-        Path(args.output).write_text(text, encoding="utf-8")
-        print(f"wrote {args.output}", file=sys.stderr)
+    write_out(args.output, model(load_profile(args.profile)))
     return EXIT_OK
 
 
