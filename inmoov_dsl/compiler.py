@@ -7,6 +7,7 @@ import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
+from . import snippet
 from .compiled import Compiled, StepSummary
 from .encode import encode
 from .errors import Diagnostic, GestError, Pos, decode_utf8, did_you_mean
@@ -15,7 +16,7 @@ from .parse import MAX_SOURCE
 from .plan import Plan, Planner
 from .profile import Profile, load_profile, profiles_with
 from .program import Program, Reader, load_program
-from .resolve import resolve_start, resolver
+from .resolve import resolver
 from .resources import read_regular
 
 
@@ -90,22 +91,49 @@ def pick_gesture(program: Program, name: str | None) -> str:
 Start = str | Mapping[str, int] | None  #: ``--from`` text, or servo name -> value
 
 
+def resolve_start(program: Program, profile: Profile,
+                  text: str | Mapping[str, int] | None) -> tuple[int, ...]:
+    """The start pose: the profile's rest pose, changed by ``--from`` (a pose or targets
+    as text) or by servo name -> value (the pose a board reports)."""
+    pose = [s.rest for s in profile.servos]
+    if not text:
+        return tuple(pose)
+    if isinstance(text, Mapping):
+        for name, value in text.items():
+            pose[profile.index(name)] = value
+        return tuple(pose)
+    file, prefix = "--from", "pose start__: "
+    if len(text.splitlines()) > 1:
+        raise GestError(Diagnostic("error", "--from takes one line: a pose name or targets",
+                                   hint='--from "fingers 90, wrist 45"'))
+    program.sources.add(file, prefix + text)
+    with snippet.parsed(text, file, prefix) as module:
+        (item,) = module.items
+        targets = resolver(program, profile).targets(item.targets)
+    for index, value in targets.items():
+        pose[index] = value
+    return tuple(pose)
+
+
 def plan_gesture(program: Program, gesture: str, profile: Profile, start: Start = None,
-                 strict: bool = False) -> Plan:
+                 strict: bool = False, side: str | None = None) -> Plan:
     """Resolve and plan gesture ``gesture`` of ``program`` for ``profile``, from the
-    ``start`` pose (see resolve_start); ``strict``: a stretched move is an error."""
-    steps = resolver(program, profile, profiles_with).gesture(gesture)
+    ``start`` pose (see resolve_start); ``strict``: a stretched move is an error;
+    ``side``: played on that side of the robot (sides.py)."""
+    steps = resolver(program, profile, profiles_with).gesture(gesture, side)
     pose = resolve_start(program, profile, start)
     return Planner(profile, program.sources).plan(steps, pose, strict)
 
 
 def compile_program(program: Program, gesture: str | None = None,
                     profile: str | Profile = "rhand", start: Start = None,
-                    strict: bool = False) -> tuple[Compiled, Plan]:
-    """Compile one gesture of a loaded program; also return its plan (for reports)."""
+                    strict: bool = False, side: str | None = None
+                    ) -> tuple[Compiled, Plan]:
+    """Compile one gesture of a loaded program (on ``side`` of the robot, when given);
+    also return its plan (for reports)."""
     prof = as_profile(profile)
     name = pick_gesture(program, gesture)
-    plan = plan_gesture(program, name, prof, start, strict)
+    plan = plan_gesture(program, name, prof, start, strict, side)
     streams = encode(plan)
     steps = tuple(
         StepSummary(s.where, s.pos.file if s.pos else None, s.pos.line if s.pos else None,

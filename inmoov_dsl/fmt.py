@@ -107,6 +107,8 @@ def _step(step: ast.Step) -> _Node:
         inline = len(children) == 1 and children[0].line == step.pos.line
         return _Node(step.pos.line, f"repeat {step.count}:", children, inline)
     text = _targets(step.targets)
+    if step.side is not None:
+        text = f"{step.side.text} {text}"
     if step.over is not None:
         text += f" over {_duration(step.over)}"
     if step.stagger is not None:

@@ -200,6 +200,7 @@ class _ToAst(Transformer):
         return ast.Wait(duration, duration.pos, "hold")
 
     def move(self, *parts):
+        side = self._name(parts[0]) if isinstance(parts[0], Token) else None
         targets = tuple(p for p in parts if isinstance(p, ast.Target))
         timing: dict[str, Any] = {}  # over and stagger: a Duration; through: a Pos
         for kind, value in (p for p in parts if isinstance(p, tuple)):
@@ -208,7 +209,7 @@ class _ToAst(Transformer):
                                     pos_span(getattr(value, "pos", value)))
             timing[kind] = value
         return ast.Move(targets, timing.get("over"), timing.get("stagger"),
-                        targets[0].name.pos, timing.get("through"))
+                        (side or targets[0].name).pos, timing.get("through"), side)
 
     def over(self, duration: ast.Duration):
         return ("over", duration)

@@ -25,6 +25,7 @@ _WORDS = {
     "_DEDENT": "the end of the indented block",
     "COMMA": "','",
     "COLON": "':'",
+    "SIDE": "'left', 'right'",
     "$END": "the end of the file",
 }
 _KEYWORD_LIST = ", ".join(sorted(KEYWORDS))

@@ -147,11 +147,13 @@ def _build(data: dict[str, Any], file: str, report: Report) -> Profile:
             report.error(("servo", servo_name), f"servo '{cut(servo_name)}' is on no board",
                          hint="add it to the 'servos' list of a [[board]]")
     servos = _servos(report, boards, servos_data)
-    groups = tables.groups(report, data.get("groups", {}), tuple(s.name for s in servos))
+    names = tuple(s.name for s in servos)
+    groups = tables.groups(report, data.get("groups", {}), names)
+    sides = tables.sides(report, data["sides"], names) if "sides" in data else {}
     gloves = _gloves(report, data.get("glove", []), boards)
     report.stop()
     return Profile(name, description, tuple(boards), tuple(servos), groups, file,
-                   gloves=gloves)
+                   gloves=gloves, sides=sides)
 
 
 def _boards(report: Report, data: list, servos: dict[str, Any]) -> list[Board]:

@@ -1,7 +1,7 @@
 """One function per table of a profile (its own keys, ``[[board]]``, ``[servo.NAME]``,
-``[groups]``, ``[[glove]]`` and a glove's sensors): each takes the table's data and
-what was built before it, and returns its frozen dataclass, reporting every problem at
-the line of the key it is about. ``profile.parse_profile`` calls them in order."""
+``[groups]``, ``[sides]``, ``[[glove]]`` and a glove's sensors): each takes the table's
+data and what was built before it, and returns what it reads, reporting every problem
+at the line of the key it is about. ``profile.parse_profile`` calls them in order."""
 
 from __future__ import annotations
 
@@ -115,6 +115,38 @@ def groups(report: Report, data: Any, servos: tuple[str, ...]) -> dict[str, tupl
                              f"'{cut(member)}'", did_you_mean(member, servos))
         found[name] = tuple(members)
     found.setdefault("all", servos)
+    return found
+
+
+SIDES = ("right", "left")
+
+
+def sides(report: Report, data: Any, servos: tuple[str, ...]) -> dict[str, tuple[str, ...]]:
+    """``[sides]``: ``right`` and ``left``, lists of servos of the same length, the k-th
+    of each the mirror image of the other's; no servo on both sides or twice."""
+    if not isinstance(data, dict) or set(data) != set(SIDES):
+        report.error(("sides",), "[sides] must have 'right' and 'left': lists of servos, "
+                     "each the mirror image of the other's at the same place")
+        return {}
+    found: dict[str, tuple[str, ...]] = {}
+    seen: dict[str, str] = {}
+    for side in SIDES:
+        names = data[side]
+        if not isinstance(names, list) or not all(isinstance(n, str) for n in names):
+            report.error(("sides", side), f"[sides] {side} must be a list of servo names")
+            return {}
+        for i, name in enumerate(names):
+            if name not in servos:
+                report.error(("sides", side, i), f"[sides] {side} names unknown servo "
+                             f"'{cut(name)}'", did_you_mean(name, servos))
+            elif name in seen:
+                report.error(("sides", side, i), f"servo '{name}' is on the {seen[name]} "
+                             f"side already")
+            seen[name] = side
+        found[side] = tuple(names)
+    if len(found["right"]) != len(found["left"]):
+        report.error(("sides", "left"), f"[sides] right has {len(found['right'])} servos "
+                     f"and left {len(found['left'])}: each needs its mirror image")
     return found
 
 

@@ -85,6 +85,9 @@ class Profile:
     path: str = ""
     sha256: str = ""  #: of the TOML text it was read from
     gloves: tuple[Glove, ...] = ()
+    #: ``[sides]``: "right" and "left", each a list of servos, the k-th of one side the
+    #: mirror image of the k-th of the other (empty: the profile has one side)
+    sides: dict[str, tuple[str, ...]] = field(default_factory=dict)
 
     def index(self, name: str) -> int:
         """The position of servo ``name`` in ``servos``; KeyError if there is none."""

@@ -7,13 +7,13 @@ gesture is expanded in one pass, within a step budget.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import NoReturn
 
-from . import snippet
+from . import sides
 from . import syntax as ast
-from .errors import Diagnostic, GestError, Pos
+from .errors import GestError, Pos
 from .names import ANYTHING, Entity, Gesture, Group, NameTable, Pose, Servo, call_chain
 from .profile import Profile
 from .program import Program
@@ -51,8 +51,8 @@ class _Frame:
     depth: int = 0
 
 
-class Resolver:
-    """Turns a gesture of a Program into Actions for one profile."""
+class _Targets:
+    """The names of a Program for one profile, and the targets of a step."""
 
     def __init__(self, program: Program, profile: Profile,
                  elsewhere: Callable[[str], Sequence[str]] | None = None):
@@ -147,14 +147,21 @@ class Resolver:
                           f"({servo.lo}..{servo.hi})", t.value_pos)
             out[index] = t.value
 
-    # -- steps ------------------------------------------------------------------
-    def gesture(self, name: str) -> tuple[Action, ...]:
+
+
+class Resolver(_Targets):
+    """Turns a gesture of a Program into Actions for one profile."""
+
+    def gesture(self, name: str, side: str | None = None) -> tuple[Action, ...]:
         """The steps of gesture ``name``, with calls and repeats expanded: at most
-        MAX_STEPS of them, and MAX_TOTAL_STEPS for all the gestures of the program."""
+        MAX_STEPS of them, and MAX_TOTAL_STEPS for all the gestures of the program;
+        played on ``side`` ("left" or "right", ``sides.py``) when given."""
         node = self.program.gestures[name]
         out: list[Action] = []
         self._spans = {}
         self._heights[name] = self._expand(node.steps, _Frame((name,), name), out)
+        if side is not None:
+            self._to_side(out, 0, side, name, None)
         if name not in self._counted:
             if self._total + len(out) > MAX_TOTAL_STEPS:
                 self.fail(f"with '{name}', the gestures of this program expand to more "
@@ -210,7 +217,9 @@ class Resolver:
             self.fail(f"gesture '{callee}' calls itself: {cycle}", step.pos)
         if callee in self._heights:
             self._nest(step, at.depth + 1 + self._heights[callee])
-        inner = _Frame((*at.chain, callee), call_chain(at.where, callee), at.depth + 1)
+        side = step.side.text if step.side else None
+        shown = f"{side} {callee}" if side else callee
+        inner = _Frame((*at.chain, callee), call_chain(at.where, shown), at.depth + 1)
         span = self._spans.get((callee, inner.where))
         if span is not None:  # the same Actions again (a cycle would have failed before)
             self._within_budget(len(out) + span[1] - span[0], at)
@@ -219,8 +228,25 @@ class Resolver:
             start = len(out)
             self._heights[callee] = self._expand(self.program.gestures[callee].steps, inner,
                                                  out)
+            if side:
+                self._to_side(out, start, side, callee, step.side)
             self._spans[(callee, inner.where)] = (start, len(out))
         return self._heights[callee] + 1
+
+    def _to_side(self, out: list[Action], start: int, side: str, name: str,
+                 at: ast.Name | None) -> None:
+        """Move ``out[start:]`` (gesture ``name``'s steps) onto ``side`` (``at``: the
+        word that asked for it, if one did)."""
+        partner = sides.onto(self.profile, side)
+        if not partner:
+            self.fail(f"profile '{self.profile.name}' has no [sides]: it cannot play "
+                      f"'{name}' on the {side}", at and at.pos, "a robot profile pairs its sides "
+                      "in [sides]; a hand alone has its own profile (--profile lhand)")
+        out[start:], clashes = sides.moved(out[start:], partner)
+        if clashes:
+            servo = self.profile.servos[clashes[0]].name
+            self.fail(f"on the {side}, '{name}' would set '{servo}' twice in one step: it "
+                      f"moves both sides", at and at.pos, f"play '{name}' as it is")
 
     def _callee(self, move: ast.Move) -> str | None:
         """The gesture ``move`` calls, if it is a call: a gesture's name alone."""
@@ -243,6 +269,9 @@ class Resolver:
         """The Action of a move (its targets resolved once, however often it is played)."""
         key = id(step)
         if key not in self._moves:
+            if step.side:
+                self.fail(f"'{step.side.text}' goes before a gesture's name, alone on its "
+                          f"step", step.side.pos, f"for example '{step.side.text} peace'")
             if step.through and step.stagger:
                 self.fail("a step that flows 'through' its keyframe cannot 'stagger'",
                           step.through, "stagger the step before, or after, instead")
@@ -262,27 +291,3 @@ def resolver(program: Program, profile: Profile,
     if found is None or found.profile is not profile:  # it holds the profile: no id reuse
         found = program.resolvers[id(profile)] = Resolver(program, profile, elsewhere)
     return found
-
-
-def resolve_start(program: Program, profile: Profile,
-                  text: str | Mapping[str, int] | None) -> tuple[int, ...]:
-    """The start pose: the profile's rest pose, changed by ``--from`` (a pose or targets
-    as text) or by servo name -> value (the pose a board reports)."""
-    pose = [s.rest for s in profile.servos]
-    if not text:
-        return tuple(pose)
-    if isinstance(text, Mapping):
-        for name, value in text.items():
-            pose[profile.index(name)] = value
-        return tuple(pose)
-    file, prefix = "--from", "pose start__: "
-    if len(text.splitlines()) > 1:
-        raise GestError(Diagnostic("error", "--from takes one line: a pose name or targets",
-                                   hint='--from "fingers 90, wrist 45"'))
-    program.sources.add(file, prefix + text)
-    with snippet.parsed(text, file, prefix) as module:
-        (item,) = module.items
-        targets = resolver(program, profile).targets(item.targets)
-    for index, value in targets.items():
-        pose[index] = value
-    return tuple(pose)

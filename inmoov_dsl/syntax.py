@@ -8,7 +8,7 @@ from .errors import Pos
 
 #: the language's keywords: never a gesture, pose, group or servo name
 KEYWORDS = frozenset({"use", "group", "pose", "wait", "hold", "repeat", "over", "stagger",
-                      "through"})
+                      "through", "left", "right"})
 
 
 @dataclass(frozen=True)
@@ -47,6 +47,7 @@ class Move:
     stagger: Duration | None
     pos: Pos
     through: Pos | None = None  #: ``through``: the servos cross the keyframe moving
+    side: Name | None = None  #: ``left peace``: the call played on that side
 
 
 @dataclass(frozen=True)

@@ -24,11 +24,15 @@ class Target:
     """What to play: a compiled file, or a gesture to compile from the pose the hand is in."""
 
     def __init__(self, name: str, gesture: str | None = None, profile: str | None = None,
-                 lib: list[str] | None = None, strict: bool = False):
+                 lib: list[str] | None = None, strict: bool = False, hand: str | None = None):
         self.compiled: Compiled | None = None
         self.program = None
-        self.strict = strict
+        self.strict, self.hand = strict, hand
         if name.endswith(".gestc"):
+            if hand is not None:
+                raise GestError(Diagnostic("error", "--hand plays a gesture on the other "
+                                           "side; a compiled file is for the side it was "
+                                           "compiled for", hint="play the .gest file"))
             self.compiled = read_compiled(name)
             self.profile = load_profile(profile or self.compiled.profile)
             check_profile(self.compiled, self.profile)
@@ -44,7 +48,7 @@ class Target:
         if self.program is None:
             return {s.board for s in self.compiled.streams if len(s.data) > 1}
         name = pick_gesture(self.program, self.gesture)
-        actions = Resolver(self.program, self.profile).gesture(name)
+        actions = Resolver(self.program, self.profile).gesture(name, self.hand)
         return {self.profile.servos[i].board for a in actions for i, _ in a.targets}
 
     def build(self, start: dict[str, int] | None) -> Compiled:
@@ -52,14 +56,15 @@ class Target:
         if self.program is None:
             return self.compiled
         compiled, _ = compile_program(self.program, self.gesture, self.profile, start,
-                                      self.strict)
+                                      self.strict, self.hand)
         report(compiled.warnings, PROG)
         return compiled
 
 
 def run(args: argparse.Namespace) -> int:
     """Play (or with --dry-run print) the gesture."""
-    target = Target(args.target, args.gesture, args.profile, args.lib, args.strict)
+    target = Target(args.target, args.gesture, args.profile, args.lib, args.strict,
+                    args.hand)
     if args.dry_run:
         return dry_run(target.build(None), args.speed)
     if not args.port:
@@ -164,6 +169,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     ap.add_argument("--loop", type=number(1, 1_000_000, whole=True), default=1, metavar="N",
                     nargs="?", const=0, help="play N times, each pass from where the last "
                     "one ended; --loop alone: until Ctrl-C")
+    ap.add_argument("--hand", choices=("left", "right"),
+                    help="play the gesture on that side of a robot whose profile pairs its "
+                         "sides ([sides]): a hand gesture on the left hand")
     ap.add_argument("--dry-run", action="store_true",
                     help="print the schedule ('<seconds> <byte>') without a port")
     ap.add_argument("--strict", action="store_true", help="stretched moves are errors")

@@ -1,0 +1,43 @@
+"""A gesture on the other side of the robot (pure): ``left peace``, ``gestplay peace
+--hand left``. A profile's ``[sides]`` pairs each servo of its right side with its
+mirror image on the left; playing a gesture on one side moves each servo of the other
+side to its partner, with the same value (the boards turn the left side's servos the
+other way, so the same value is the mirror image)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import replace
+from typing import Any, TypeVar
+
+from .profile import Profile
+
+A = TypeVar("A", bound=Any)  #: a resolved step (``resolve.Action``): its ``targets``
+
+SIDES = ("left", "right")
+
+
+def onto(profile: Profile, side: str) -> dict[int, int]:
+    """Servo index -> its partner's, for the servos of the side opposite ``side``;
+    empty when the profile has no ``[sides]``."""
+    if not profile.sides:
+        return {}
+    other = "right" if side == "left" else "left"
+    return {profile.index(a): profile.index(b)
+            for a, b in zip(profile.sides[other], profile.sides[side], strict=True)}
+
+
+def moved(actions: Sequence[A], partner: dict[int, int]) -> tuple[list[A], list[int]]:
+    """``actions`` with each servo replaced by its ``partner`` (when it has one), and the
+    servos that a step would then set twice."""
+    out: list[A] = []
+    clashes: list[int] = []
+    for action in actions:
+        targets: dict[int, int] = {}
+        for i, v in action.targets:
+            j = partner.get(i, i)
+            if j in targets:
+                clashes.append(j)
+            targets[j] = v
+        out.append(replace(action, targets=tuple(targets.items())))
+    return out, clashes
