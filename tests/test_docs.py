@@ -24,8 +24,10 @@ def blocks(lang):
 def test_gest_examples_compile(doc, source):
     program = load(str(doc.with_suffix(".gest")), source)
     assert program.own, "an example should define a gesture"
+    profile = re.search(r"#.*--profile (\w+)", source)  # an example for another robot
     for name in program.own:
-        compiled = compile_source(source, gesture=name, file=str(doc))
+        compiled = compile_source(source, gesture=name, file=str(doc),
+                                  profile=profile[1] if profile else "rhand")
         assert compiled.streams[0].data[0] == 255
 
 
@@ -40,7 +42,7 @@ def test_language_reference_covers_every_construct():
     examples = "\n".join(src for doc, src in (p.values for p in blocks("gest"))
                          if doc == language)
     for construct in ("over", "wait", "hold", "pose", "group", "repeat", "stagger", "through",
-                      "use", "#"):
+                      "left", "use", "#"):
         assert re.search(rf"(^|\W){re.escape(construct)}(\W|$)", examples, re.M), construct
     assert "peace: index 180, middle 180 over 0.4s" in language.read_text()
 
