@@ -16,7 +16,7 @@ it overshoot its keyframes or last longer than stop-and-go (``Planner._run``).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 
 from ruckig import Trajectory
 
@@ -25,6 +25,8 @@ from .resolve import Action
 from .tracks import MotionState
 
 LIVELINESS = 1.5  #: a crossing's speed over the slower neighbouring mean speed, at most
+#: the planner's ruckig call: (servos, start state, targets, over, step[, velocities])
+Plans = Callable[..., Trajectory]
 OVERSHOOT = 0.25  #: degrees a servo may pass a keyframe by (half the encoder's step)
 
 
@@ -34,7 +36,8 @@ def run_at(steps: Sequence[Action], k: int) -> Sequence[Action]:
     alone when it does not flow into a move that starts all its servos at once)."""
     end = k
     while end + 1 < len(steps) and steps[end].through and steps[end].hold == 0 \
-            and steps[end + 1].hold == 0 and steps[end + 1].stagger == 0:
+            and steps[end + 1].hold == 0 and steps[end + 1].stagger == 0 \
+            and not steps[end + 1].branches:
         end += 1
     return steps[k:end + 1]
 
@@ -103,3 +106,32 @@ def smooth(traj: Trajectory, state: MotionState, target: Sequence[int], moving: 
         if extrema.min < low - OVERSHOOT or extrema.max > high + OVERSHOOT:
             return False
     return True
+
+
+def alone(trajectory: Plans, step: Action, before: Sequence[int], after: Sequence[int]
+          ) -> float:
+    """How long ``step`` takes from rest to rest (its stop-and-go duration)."""
+    moving = [i for i, _ in step.targets if after[i] != before[i]]
+    if not moving:
+        return step.over or 0.0
+    return trajectory(moving, MotionState.resting(before), [after[i] for i in moving],
+                      step.over, step).duration
+
+def segment(trajectory: Plans, step: Action, state: MotionState, target: Sequence[int],
+            cross: dict[int, float], alone: float
+            ) -> tuple[Trajectory, list[int], list[float]] | None:
+    """The segment of a run from ``state`` to ``target``, crossing it at ``cross``
+    (servo -> velocity), at half that, or at rest, whichever is the first that
+    neither overshoots nor takes longer than ``alone``; None when nothing moves."""
+    while True:
+        velocity = [cross.get(i, 0.0) for i in range(len(target))]
+        moving = [i for i, x in enumerate(state.position) if x != target[i]
+                  or state.velocity[i] or velocity[i]]
+        if not moving:
+            return None
+        traj = trajectory(moving, state, [target[i] for i in moving], step.over, step,
+                          [velocity[i] for i in moving])
+        if not cross or smooth(traj, state, target, moving, alone):
+            return traj, moving, velocity
+        slower = {i: v / 2 for i, v in cross.items() if abs(v) > 1.0}
+        cross = slower if len(slower) == len(cross) else {}

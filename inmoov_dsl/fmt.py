@@ -106,6 +106,12 @@ def _step(step: ast.Step) -> _Node:
         children = [_step(s) for s in step.body]
         inline = len(children) == 1 and children[0].line == step.pos.line
         return _Node(step.pos.line, f"repeat {step.count}:", children, inline)
+    if isinstance(step, ast.Together):
+        return _Node(step.pos.line, " & ".join(_move(part) for part in step.parts))
+    return _Node(step.pos.line, _move(step))
+
+
+def _move(step: ast.Move) -> str:
     text = _targets(step.targets)
     if step.side is not None:
         text = f"{step.side.text} {text}"
@@ -115,7 +121,7 @@ def _step(step: ast.Step) -> _Node:
         text += f" stagger {_duration(step.stagger)}"
     if step.through is not None:
         text += " through"
-    return _Node(step.pos.line, text)
+    return text
 
 
 def _item(item: ast.Item) -> _Node:

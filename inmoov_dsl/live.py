@@ -67,11 +67,12 @@ class Session:
 
     def submit(self, steps: Sequence[Action], now: float, held: Sequence[int],
                sources: SourceMap | None = None) -> Segment | None:
-        """New steps replace the queue; a move starts now (taking over), a wait starts
-        when the running move ends. Returns the segment to send now, if any.
+        """New steps replace the queue; a move starts now (taking over), a wait or an
+        ``a & b`` step when the running move ends. Returns the segment to send now, if
+        any.
         ``sources`` has the text the steps' diagnostics point into."""
         self.queue = deque((step, sources) for step in steps)
-        if self.queue and self.queue[0][0].hold == 0:
+        if self.queue and self.queue[0][0].hold == 0 and not self.queue[0][0].branches:
             return self._start(now, held)
         return self.next(now, held)
 
@@ -92,7 +93,7 @@ class Session:
         if sources is not None:
             self.planner.sources = sources
         final = list(self.current.plan.final)
-        if step.hold > 0:
+        if step.hold > 0 or step.branches:
             plan = self.planner.plan([step], final)
         elif now >= self.end:
             plan = self.planner.plan([step], final)  # from rest: exactly as compiled

@@ -131,10 +131,6 @@ def _cache_file(grammar: str) -> str | bool:
     return str(path) if private_file(path) else False
 
 
-def _tok_pos(file: str, tok: Token) -> Pos:
-    return Pos(file, tok.line, tok.column, max(1, len(str(tok))))
-
-
 @v_args(inline=True)
 class _ToAst(Transformer):
     """Parse-tree rules -> syntax dataclasses. ``file`` is set for each parse."""
@@ -143,7 +139,7 @@ class _ToAst(Transformer):
     depths: dict[int, int] = {}  #: id of a Repeat -> how many repeats deep it goes
 
     def _pos(self, tok: Token) -> Pos:
-        return _tok_pos(self.file, tok)
+        return Pos(self.file, tok.line, tok.column, max(1, len(str(tok))))
 
     def start(self, *items):
         return ast.Module(self.file, tuple(items))
@@ -211,7 +207,10 @@ class _ToAst(Transformer):
         return ast.Move(targets, timing.get("over"), timing.get("stagger"),
                         (side or targets[0].name).pos, timing.get("through"), side)
 
-    def over(self, duration: ast.Duration):
+    def together(self, *parts: ast.Move):
+        return ast.Together(parts, parts[0].pos)
+
+    def over(self, duration: ast.Duration):  # the timings: (kind, value)
         return ("over", duration)
 
     def stagger(self, duration: ast.Duration):
@@ -239,10 +238,8 @@ class _ToAst(Transformer):
 
     def duration(self, number: Token, unit: Token | None = None):
         text = str(number)
-        pos = self._pos(number)
         if unit is None:
-            raise SyntaxProblem(f"the duration {shown(text)} needs a unit",
-                                tok_span(number),
+            raise SyntaxProblem(f"the duration {shown(text)} needs a unit", tok_span(number),
                                 f"write {shown(text)}s or {shown(text)}ms")
         if str(unit) not in UNITS:
             raise SyntaxProblem(f"unknown unit '{shown(str(unit))}'", tok_span(unit),
@@ -256,6 +253,7 @@ class _ToAst(Transformer):
             raise SyntaxProblem(f"duration {shown(text)}{unit} is too long (at most "
                                 f"{MAX_DURATION:g} s per step)", span,
                                 "split a long hold into several waits")
+        pos = self._pos(number)
         return ast.Duration(seconds, Pos(pos.file, pos.line, pos.column, span[2]), text,
                             str(unit))
 

@@ -23,6 +23,7 @@ _WORDS = {
     "_NL": "the end of the line",
     "_INDENT": "an indented line",
     "_DEDENT": "the end of the indented block",
+    "AMPERSAND": "'&'",
     "COMMA": "','",
     "COLON": "':'",
     "SIDE": "'left', 'right'",

@@ -60,6 +60,8 @@ class Planner:
         self.profile = profile
         self.sources = sources or SourceMap()
         self._ruckig: dict[int, tuple[Ruckig, InputParameter, Trajectory]] = {}
+        self._told: list[Diagnostic] = []  #: warnings of the branches planned so far
+        self._strict = False
 
     def _solver(self, dofs: int) -> tuple[Ruckig, InputParameter, Trajectory]:
         if dofs not in self._ruckig:
@@ -72,6 +74,7 @@ class Planner:
         pose = list(start)
         builders = [TrackBuilder(v) for v in pose]
         reports: list[PlannedStep] = []
+        outer, self._told, self._strict = self._told, [], strict  # the branches' warnings
         # a stretch is told once per place and message, however often the step is
         # played (a call in a repeat): (pos, message) -> how many times
         stretched: dict[tuple[Pos | None, str], int] = {}
@@ -94,7 +97,9 @@ class Planner:
         make = self.sources.error if strict else self.sources.warning
         told = tuple(make(message + (f" ({count} times)" if count > 1 else ""), pos,
                           STRETCH_HINT)
-                     for (pos, message), count in stretched.items())
+                     for (pos, message), count in stretched.items()) + \
+            tuple(dict.fromkeys(self._told))  # a branch played again warns once
+        self._told = outer
         if strict and told:
             raise GestError(told)
         return Plan(self.profile, tuple(b.build() for b in builders), tuple(reports),
@@ -125,11 +130,27 @@ class Planner:
 
     def _step(self, step: Action, now: float, pose: list[int], builders: list[TrackBuilder]
               ) -> tuple[PlannedStep, float]:
-        """A hold, or a move from rest to rest (``_move``)."""
+        """A hold, ``a & b`` (``_together``), or a move from rest to rest (``_move``)."""
         if step.hold > 0:
             return PlannedStep(step.where, step.pos, "hold", now, now + step.hold, step.hold,
                                False, ()), step.hold
+        if step.branches:
+            return self._together(step, now, pose, builders)
         return self._move(step, now, pose, builders)
+
+    def _together(self, step: Action, now: float, pose: list[int],
+                  builders: list[TrackBuilder]) -> tuple[PlannedStep, float]:
+        """``a & b``: each branch planned on its own from the step's start, its servos'
+        tracks joined to the gesture's; the step lasts as long as its longest branch."""
+        plans = [(self.plan(branch, pose, self._strict), branch) for branch in step.branches]
+        for plan, branch in plans:
+            for i in set().union(*(a.servos() for a in branch)):
+                builders[i].extend(plan.tracks[i], now)
+                pose[i] = plan.final[i]
+            self._told.extend(plan.warnings)
+        duration = max(plan.duration for plan, _ in plans)
+        return PlannedStep(step.where, step.pos, "move", now, now + duration, None, False,
+                           tuple(sorted(step.servos()))), duration
 
     def _move(self, step: Action, now: float, pose: list[int], builders: list[TrackBuilder]
               ) -> tuple[PlannedStep, float]:
@@ -162,12 +183,13 @@ class Planner:
         from the state the last one left, crossing its keyframe as ``flow.crossings``
         chose, or slower where that would overshoot or last longer than a stop."""
         poses = flow.keyframes(pose, run)
-        alone = [self._alone(step, poses[j], poses[j + 1]) for j, step in enumerate(run)]
+        alone = [flow.alone(self._trajectory, step, poses[j], poses[j + 1])
+                 for j, step in enumerate(run)]
         cross = [*flow.crossings(self.profile, poses, alone), {}]
         state, out = MotionState.resting(pose), []
         for j, step in enumerate(run):
             target = poses[j + 1]
-            found = self._segment(step, state, target, cross[j], alone[j])
+            found = flow.segment(self._trajectory, step, state, target, cross[j], alone[j])
             if found is None:  # nothing moves: a pause as long as its 'over'
                 hold = step.over or 0.0
                 out.append((PlannedStep(step.where, step.pos, "move", now, now + hold,
@@ -187,33 +209,6 @@ class Planner:
             now += traj.duration
         pose[:] = poses[-1]
         return out
-
-    def _alone(self, step: Action, before: Sequence[int], after: Sequence[int]) -> float:
-        """How long ``step`` takes from rest to rest (its stop-and-go duration)."""
-        moving = [i for i, _ in step.targets if after[i] != before[i]]
-        if not moving:
-            return step.over or 0.0
-        return self._trajectory(moving, MotionState.resting(before),
-                                [after[i] for i in moving], step.over, step).duration
-
-    def _segment(self, step: Action, state: MotionState, target: Sequence[int],
-                 cross: dict[int, float], alone: float
-                 ) -> tuple[Trajectory, list[int], list[float]] | None:
-        """The segment of a run from ``state`` to ``target``, crossing it at ``cross``
-        (servo -> velocity), at half that, or at rest, whichever is the first that
-        neither overshoots nor takes longer than ``alone``; None when nothing moves."""
-        while True:
-            velocity = [cross.get(i, 0.0) for i in range(len(target))]
-            moving = [i for i, x in enumerate(state.position) if x != target[i]
-                      or state.velocity[i] or velocity[i]]
-            if not moving:
-                return None
-            traj = self._trajectory(moving, state, [target[i] for i in moving], step.over,
-                                    step, [velocity[i] for i in moving])
-            if not cross or flow.smooth(traj, state, target, moving, alone):
-                return traj, moving, velocity
-            slower = {i: v / 2 for i, v in cross.items() if abs(v) > 1.0}
-            cross = slower if len(slower) == len(cross) else {}
 
     def take_over(self, state: MotionState, targets: Sequence[int], over: float | None = None,
                   step: Action | None = None) -> Plan:

@@ -8,11 +8,11 @@ gesture is expanded in one pass, within a step budget.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 from typing import NoReturn
 
 from . import sides
 from . import syntax as ast
+from .actions import Action, Frame
 from .errors import GestError, Pos
 from .names import ANYTHING, Entity, Gesture, Group, NameTable, Pose, Servo, call_chain
 from .profile import Profile
@@ -23,32 +23,6 @@ MAX_NESTING = 100  #: the deepest chain of calls and repeats, or of poses within
 #: the most steps all the gestures of one program may expand to for one profile, each
 #: gesture counted once however often it is compiled (``gestc check`` compiles them all)
 MAX_TOTAL_STEPS = 1_000_000
-
-
-@dataclass(frozen=True)
-class Action:
-    """What one step of a gesture does once resolved: a move (targets), or a hold
-    (``hold`` > 0). (``syntax.Step`` is what was written, ``plan.PlannedStep`` what was
-    planned, ``compiled.StepSummary`` what a compiled file reports.)"""
-
-    targets: tuple[tuple[int, int], ...]  #: (servo index, value), in stagger order
-    over: float | None = None  #: s; all servos arrive together at this time
-    stagger: float = 0.0  #: s between the starts of consecutive targets
-    hold: float = 0.0  #: s; a wait step
-    pos: Pos | None = None
-    over_pos: Pos | None = None
-    where: str = ""  #: the call chain, e.g. "demo > peace"
-    through: bool = False  #: its servos cross the keyframe moving when the next step goes on
-
-
-@dataclass(frozen=True)
-class _Frame:
-    """Where the expansion is: the gestures called (outermost first), the call chain as
-    shown, and how deep calls and repeats nest here."""
-
-    chain: tuple[str, ...]
-    where: str
-    depth: int = 0
 
 
 class _Targets:
@@ -159,7 +133,7 @@ class Resolver(_Targets):
         node = self.program.gestures[name]
         out: list[Action] = []
         self._spans = {}
-        self._heights[name] = self._expand(node.steps, _Frame((name,), name), out)
+        self._heights[name] = self._expand(node.steps, Frame((name,), name), out)
         if side is not None:
             self._to_side(out, 0, side, name, None)
         if name not in self._counted:
@@ -171,7 +145,7 @@ class Resolver(_Targets):
             self._total += len(out)
         return tuple(out)
 
-    def _expand(self, steps: Sequence[ast.Step], at: _Frame, out: list[Action]) -> int:
+    def _expand(self, steps: Sequence[ast.Step], at: Frame, out: list[Action]) -> int:
         """Append the Actions of ``steps`` to ``out``; return how deep the calls and
         repeats among them nest."""
         height = 0
@@ -182,6 +156,8 @@ class Resolver(_Targets):
                                       where=at.where))
                 case ast.Repeat():
                     height = max(height, self._repeat(step, at, out))
+                case ast.Together():
+                    height = max(height, self._together(step, at, out))
                 case ast.Move() if (callee := self._callee(step)) is not None:
                     height = max(height, self._call(step, callee, at, out))
                 case ast.Move():
@@ -189,7 +165,7 @@ class Resolver(_Targets):
             self._within_budget(len(out), at)
         return height
 
-    def _within_budget(self, steps: int, at: _Frame) -> None:
+    def _within_budget(self, steps: int, at: Frame) -> None:
         if steps > MAX_STEPS:
             node = self.program.gestures[at.chain[0]]
             self.fail(f"gesture '{node.name.text}' expands to more than {MAX_STEPS:,} steps",
@@ -199,16 +175,16 @@ class Resolver(_Targets):
         if depth > MAX_NESTING:
             self.fail(f"calls and repeats are nested more than {MAX_NESTING} deep", step.pos)
 
-    def _repeat(self, step: ast.Repeat, at: _Frame, out: list[Action]) -> int:
+    def _repeat(self, step: ast.Repeat, at: Frame, out: list[Action]) -> int:
         """Expand the body once and copy it; return its nesting height."""
         self._nest(step, at.depth + 1)
         start = len(out)
-        below = self._expand(step.body, _Frame(at.chain, at.where, at.depth + 1), out)
+        below = self._expand(step.body, Frame(at.chain, at.where, at.depth + 1), out)
         self._within_budget(start + (len(out) - start) * step.count, at)
         out.extend(out[start:] * (step.count - 1))
         return below + 1
 
-    def _call(self, step: ast.Move, callee: str, at: _Frame, out: list[Action]) -> int:
+    def _call(self, step: ast.Move, callee: str, at: Frame, out: list[Action]) -> int:
         """Expand the gesture ``callee``; return its nesting height (which is kept, so a
         gesture reached again further down is too deep at the call)."""
         self._nest(step, at.depth + 1)
@@ -219,7 +195,7 @@ class Resolver(_Targets):
             self._nest(step, at.depth + 1 + self._heights[callee])
         side = step.side.text if step.side else None
         shown = f"{side} {callee}" if side else callee
-        inner = _Frame((*at.chain, callee), call_chain(at.where, shown), at.depth + 1)
+        inner = Frame((*at.chain, callee), call_chain(at.where, shown), at.depth + 1)
         span = self._spans.get((callee, inner.where))
         if span is not None:  # the same Actions again (a cycle would have failed before)
             self._within_budget(len(out) + span[1] - span[0], at)
@@ -232,6 +208,33 @@ class Resolver(_Targets):
                 self._to_side(out, start, side, callee, step.side)
             self._spans[(callee, inner.where)] = (start, len(out))
         return self._heights[callee] + 1
+
+    def _together(self, step: ast.Together, at: Frame, out: list[Action]) -> int:
+        """``a & b``: each part expanded on its own, into one Action of their branches;
+        a servo moved by two parts fails, naming both. Returns the nesting height."""
+        branches: list[tuple[Action, ...]] = []
+        owner: dict[int, ast.Move] = {}
+        height = 0
+        saved, self._spans = self._spans, {}  # the spans are places in one output list
+        for part in step.parts:
+            branch: list[Action] = []
+            if (callee := self._callee(part)) is not None:
+                height = max(height, self._call(part, callee, at, branch))
+            else:
+                branch.append(self._move(part, at.where))
+            for i in sorted(set().union(*(a.servos() for a in branch))):
+                if i in owner:
+                    first = owner[i]
+                    self.fail(f"'{self.profile.servos[i].name}' is moved by two parts of "
+                              f"this step: '{first.targets[0].name.text}' at column "
+                              f"{first.pos.column} and '{part.targets[0].name.text}'",
+                              part.pos, "each part of 'a & b' moves servos of its own")
+                owner[i] = part
+            branches.append(tuple(branch))
+            self._within_budget(len(out) + sum(map(len, branches)), at)
+        self._spans = saved
+        out.append(Action((), pos=step.pos, where=at.where, branches=tuple(branches)))
+        return height
 
     def _to_side(self, out: list[Action], start: int, side: str, name: str,
                  at: ast.Name | None) -> None:

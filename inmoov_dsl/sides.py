@@ -28,16 +28,18 @@ def onto(profile: Profile, side: str) -> dict[int, int]:
 
 
 def moved(actions: Sequence[A], partner: dict[int, int]) -> tuple[list[A], list[int]]:
-    """``actions`` with each servo replaced by its ``partner`` (when it has one), and the
-    servos that a step would then set twice."""
-    out: list[A] = []
+    """``actions`` with each servo replaced by its ``partner`` (when it has one), in
+    their branches too, and the servos that a step would then set twice."""
     clashes: list[int] = []
-    for action in actions:
+
+    def move(action: A) -> A:
         targets: dict[int, int] = {}
         for i, v in action.targets:
             j = partner.get(i, i)
             if j in targets:
                 clashes.append(j)
             targets[j] = v
-        out.append(replace(action, targets=tuple(targets.items())))
-    return out, clashes
+        branches = tuple(tuple(move(a) for a in branch) for branch in action.branches)
+        return replace(action, targets=tuple(targets.items()), branches=branches)
+
+    return [move(a) for a in actions], clashes

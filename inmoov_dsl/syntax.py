@@ -68,7 +68,15 @@ class Repeat:
     pos: Pos
 
 
-Step = Move | Wait | Repeat
+@dataclass(frozen=True)
+class Together:
+    """``a & b``: moves, calls or poses that run at the same time, on their own servos."""
+
+    parts: tuple[Move, ...]
+    pos: Pos
+
+
+Step = Move | Wait | Repeat | Together
 
 
 @dataclass(frozen=True)

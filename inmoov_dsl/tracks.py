@@ -72,6 +72,11 @@ class TrackBuilder:
                     self.coefs.extend((p, v, a, j))
                     t += dt
 
+    def extend(self, track: Track, t0: float) -> None:
+        """Append ``track`` (planned from 0) from ``t0`` on."""
+        self.breaks.extend((track.breaks + t0).tolist())
+        self.coefs.extend(track.coefs.ravel().tolist())
+
     def build(self) -> Track:
         """The track made so far."""
         return Track(np.frombuffer(self.breaks, dtype=float).copy(),

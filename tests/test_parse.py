@@ -70,7 +70,7 @@ ERRORS = [
     ("peace index 180",
      "e.gest:1:7: error: unexpected name 'index'; expected ':'", "          ^~~~~"),
     ("p: index 90 middle 90",
-     "e.gest:1:13: error: unexpected name 'middle'; expected ',', 'over', 'stagger', "
+     "e.gest:1:13: error: unexpected name 'middle'; expected '&', ',', 'over', 'stagger', "
      "'through' or the end of the line", "                ^~~~~~"),
     ("p: index 200", "e.gest:1:10: error: value 200 is outside 0..180", "             ^~~"),
     ("p: index -5", "e.gest:1:10: error: value -5 is outside 0..180", "             ^~"),

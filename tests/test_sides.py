@@ -112,3 +112,8 @@ def test_a_bad_sides_table_is_an_error_at_its_line(change, message, line):
 
 def test_fmt_keeps_the_side():
     assert format_source("g:\n    left   peace\n") == "g:\n    left peace\n"
+
+
+def test_a_side_moves_each_part_of_a_step_at_once():
+    source = PEACE + "nod: neck 120 over 0.5s\nboth: peace & nod\ng: left both\n"
+    assert set(moves(source)) == {183, 184}  # the left hand and the head, not the right

@@ -39,10 +39,21 @@ def gestures(draw, servo_names):
             text += " through"
         return text
 
+    def together():  # two moves at once, on servos of their own
+        chosen = draw(st.lists(st.sampled_from(servo_names), min_size=2, max_size=6,
+                               unique=True))
+        cut = draw(st.integers(1, len(chosen) - 1))
+        parts = [chosen[:cut], chosen[cut:]]
+        return " & ".join(", ".join(f"{n} {draw(st.integers(0, 180))}" for n in part)
+                          + (f" over {draw(durations(20, 900))}" if draw(st.booleans())
+                             else "") for part in parts)
+
     lines = []
     for _ in range(draw(st.integers(1, 5))):
-        kind = draw(st.integers(0, 5))
-        if kind == 0:
+        kind = draw(st.integers(0, 6))
+        if kind == 6:
+            lines.append(f"    {together()}")
+        elif kind == 0:
             lines.append(f"    wait {draw(durations(1, 400))}")
         elif kind == 1:
             lines.append(f"    repeat {draw(st.integers(1, 3))}:")
