@@ -42,7 +42,7 @@ def test_language_reference_covers_every_construct():
     examples = "\n".join(src for doc, src in (p.values for p in blocks("gest"))
                          if doc == language)
     for construct in ("over", "wait", "hold", "pose", "group", "repeat", "stagger", "through",
-                      "left", "use", "#"):
+                      "left", "&", "use", "#"):
         assert re.search(rf"(^|\W){re.escape(construct)}(\W|$)", examples, re.M), construct
     assert "peace: index 180, middle 180 over 0.4s" in language.read_text()
 
