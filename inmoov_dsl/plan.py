@@ -2,9 +2,11 @@
 
 Each step is one ruckig trajectory for all the servos it moves, starting at rest
 from the pose the previous step left and ending at rest on its keyframe (the
-community ruckig computes no intermediate waypoints offline). The result is, per
-servo, a piecewise cubic over the whole gesture, built from ruckig's own phase data
-and evaluated with numpy.
+community ruckig computes no intermediate waypoints offline), except a run of steps
+that flow ``through`` their keyframes (flow.py: each segment ends at the crossing
+velocities chosen for it) and ``a & b`` (each branch planned on its own from the
+step's start). The result is, per servo, a piecewise cubic over the whole gesture
+(tracks.py), built from ruckig's own phase data and evaluated with numpy.
 """
 
 from __future__ import annotations
