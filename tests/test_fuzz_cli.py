@@ -26,10 +26,11 @@ COMMANDS = [
     (gestc, ["show", "count"], ["-p", "--from", "-g"]),
     (gestc, ["export", "peace"], ["--joint-states", "--rate", "-p", "--from"]),
     (gestc, ["fmt", "--check"], []),
+    (gestc, ["urdf"], ["-p", "-o"]),
     (gestc, ["list"], ["--lib"]),
     (gestc, ["firmware", "rhand", "--check"], ["--baud", "-o"]),
     (gestc, ["upload", "servo_rhand", "--dry-run"], ["--port", "-p", "--hex", "--baud"]),
-    (gestplay, ["peace", "--dry-run"], ["--speed", "--loop", "-p", "-g", "--lib"]),
+    (gestplay, ["peace", "--dry-run"], ["--speed", "--loop", "-p", "-g", "--lib", "--hand"]),
     (gestplay, ["send", "--port", "sim://?boot=0", "cancel"], ["--listen", "-p"]),
     (gestplay, ["dump"], ["--port", "-p"]),
 ]
