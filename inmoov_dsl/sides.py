@@ -8,13 +8,9 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import replace
-from typing import Any, TypeVar
 
+from .actions import Action
 from .profile import Profile
-
-A = TypeVar("A", bound=Any)  #: a resolved step (``resolve.Action``): its ``targets``
-
-SIDES = ("left", "right")
 
 
 def onto(profile: Profile, side: str) -> dict[int, int]:
@@ -27,12 +23,13 @@ def onto(profile: Profile, side: str) -> dict[int, int]:
             for a, b in zip(profile.sides[other], profile.sides[side], strict=True)}
 
 
-def moved(actions: Sequence[A], partner: dict[int, int]) -> tuple[list[A], list[int]]:
+def moved(actions: Sequence[Action], partner: dict[int, int]
+          ) -> tuple[list[Action], list[int]]:
     """``actions`` with each servo replaced by its ``partner`` (when it has one), in
     their branches too, and the servos that a step would then set twice."""
     clashes: list[int] = []
 
-    def move(action: A) -> A:
+    def move(action: Action) -> Action:
         targets: dict[int, int] = {}
         for i, v in action.targets:
             j = partner.get(i, i)

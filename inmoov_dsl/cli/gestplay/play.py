@@ -13,6 +13,7 @@ from ...errors import Diagnostic, GestError
 from ...library import find_gesture, library_dirs
 from ...player import play
 from ...profile import load_profile
+from ...profile_tables import SIDES
 from ...resolve import Resolver
 from .. import hand
 from ..common import EXIT_OK, add_blind, add_lib, number, report, warn
@@ -169,7 +170,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     ap.add_argument("--loop", type=number(1, 1_000_000, whole=True), default=1, metavar="N",
                     nargs="?", const=0, help="play N times, each pass from where the last "
                     "one ended; --loop alone: until Ctrl-C")
-    ap.add_argument("--hand", choices=("left", "right"),
+    ap.add_argument("--hand", choices=SIDES,
                     help="play the gesture on that side of a robot whose profile pairs its "
                          "sides ([sides]): a hand gesture on the left hand")
     ap.add_argument("--dry-run", action="store_true",
