@@ -117,3 +117,15 @@ def test_fmt_keeps_the_side():
 def test_a_side_moves_each_part_of_a_step_at_once():
     source = PEACE + "nod: neck 120 over 0.5s\nboth: peace & nod\ng: left both\n"
     assert set(moves(source)) == {183, 184}  # the left hand and the head, not the right
+
+
+def test_a_compiled_file_stays_on_its_side(tmp_path, capsys):
+    from inmoov_dsl.cli import gestc
+
+    out = tmp_path / "peace.gestc"
+    assert gestc.main(["compile", "peace", "-p", "inmoov", "-o", str(out)]) == 0
+    capsys.readouterr()
+    assert gestplay.main([str(out), "--hand", "left", "--dry-run"]) == 1
+    assert capsys.readouterr().err.startswith("gestplay: error: --hand plays a gesture on "
+                                              "the other side; a compiled file is for the "
+                                              "side it was compiled for")
