@@ -268,6 +268,9 @@ def test_blind_plays_on_a_link_that_cannot_answer(capsys, monkeypatch):
     (["both.gest", "--profile", "inmoov", "--port", "loop://"],
      "gestplay: error: this needs 2 boards: give a port for each\n"
      "  hint: --port 181=PORT --port 183=PORT"),
+    (["once.gest", "--profile", "inmoov", "--port", "loop://"],  # the boards of 'a & b'
+     "gestplay: error: this needs 3 boards: give a port for each\n"
+     "  hint: --port 181=PORT --port 183=PORT --port 184=PORT"),
     (["peace", "--port", "sim://nosuchprofile"], "gestplay: error: cannot open port "
                                                  "sim://nosuchprofile: sim://: unknown profile"),
     (["dump", "--port", "loop://"], "gestplay: error: no DUMP reply from loop://"),
@@ -276,6 +279,7 @@ def test_bad_ports_and_options_are_one_clear_message(capsys, tmp_path, monkeypat
                                                      message):
     monkeypatch.chdir(tmp_path)
     (tmp_path / "both.gest").write_text("g: r_index 90, l_index 90\n")
+    (tmp_path / "once.gest").write_text("g:\n    r_index 90\n    l_index 90 & neck 100\n")
     code, _, err = run(capsys, *argv)
     assert code == 1
     assert err.startswith(message)

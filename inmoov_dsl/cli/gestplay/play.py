@@ -50,7 +50,7 @@ class Target:
             return {s.board for s in self.compiled.streams if len(s.data) > 1}
         name = pick_gesture(self.program, self.gesture)
         actions = Resolver(self.program, self.profile).gesture(name, self.hand)
-        return {self.profile.servos[i].board for a in actions for i, _ in a.targets}
+        return {self.profile.servos[i].board for a in actions for i in a.servos()}
 
     def build(self, start: dict[str, int] | None) -> Compiled:
         """The streams, planned from ``start`` (servo name -> value) when given."""
