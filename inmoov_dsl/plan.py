@@ -62,8 +62,6 @@ class Planner:
         self.profile = profile
         self.sources = sources or SourceMap()
         self._ruckig: dict[int, tuple[Ruckig, InputParameter, Trajectory]] = {}
-        self._told: list[Diagnostic] = []  #: warnings of the branches planned so far
-        self._strict = False
 
     def _solver(self, dofs: int) -> tuple[Ruckig, InputParameter, Trajectory]:
         if dofs not in self._ruckig:
@@ -76,7 +74,7 @@ class Planner:
         pose = list(start)
         builders = [TrackBuilder(v) for v in pose]
         reports: list[PlannedStep] = []
-        outer, self._told, self._strict = self._told, [], strict  # the branches' warnings
+        branched: list[Diagnostic] = []  # the warnings of 'a & b' steps' branches
         # a stretch is told once per place and message, however often the step is
         # played (a call in a repeat): (pos, message) -> how many times
         stretched: dict[tuple[Pos | None, str], int] = {}
@@ -84,7 +82,7 @@ class Planner:
         while k < len(steps):
             run = flow.run_at(steps, k)
             planned = self._run(run, now, pose, builders) if len(run) > 1 else \
-                [self._step(steps[k], now, pose, builders)]
+                [self._step(steps[k], now, pose, builders, strict, branched)]
             for step, (report, needed) in zip(run, planned, strict=True):
                 if report.stretched:
                     key = (step.over_pos or step.pos, stretch_message(needed, step.over))
@@ -100,8 +98,7 @@ class Planner:
         told = tuple(make(message + (f" ({count} times)" if count > 1 else ""), pos,
                           STRETCH_HINT)
                      for (pos, message), count in stretched.items()) + \
-            tuple(dict.fromkeys(self._told))  # a branch played again warns once
-        self._told = outer
+            tuple(dict.fromkeys(branched))  # a branch played again warns once
         if strict and told:
             raise GestError(told)
         return Plan(self.profile, tuple(b.build() for b in builders), tuple(reports),
@@ -130,26 +127,28 @@ class Planner:
         _calculate(ruckig, inp, traj, step, self.sources)
         return traj
 
-    def _step(self, step: Action, now: float, pose: list[int], builders: list[TrackBuilder]
-              ) -> tuple[PlannedStep, float]:
-        """A hold, ``a & b`` (``_together``), or a move from rest to rest (``_move``)."""
+    def _step(self, step: Action, now: float, pose: list[int], builders: list[TrackBuilder],
+              strict: bool, branched: list[Diagnostic]) -> tuple[PlannedStep, float]:
+        """A hold, ``a & b`` (``_together``: its branches' warnings go to ``branched``),
+        or a move from rest to rest (``_move``)."""
         if step.hold > 0:
             return PlannedStep(step.where, step.pos, "hold", now, now + step.hold, step.hold,
                                False, ()), step.hold
         if step.branches:
-            return self._together(step, now, pose, builders)
+            return self._together(step, now, pose, builders, strict, branched)
         return self._move(step, now, pose, builders)
 
     def _together(self, step: Action, now: float, pose: list[int],
-                  builders: list[TrackBuilder]) -> tuple[PlannedStep, float]:
+                  builders: list[TrackBuilder], strict: bool, branched: list[Diagnostic]
+                  ) -> tuple[PlannedStep, float]:
         """``a & b``: each branch planned on its own from the step's start, its servos'
         tracks joined to the gesture's; the step lasts as long as its longest branch."""
-        plans = [(self.plan(branch, pose, self._strict), branch) for branch in step.branches]
+        plans = [(self.plan(branch, pose, strict), branch) for branch in step.branches]
         for plan, branch in plans:
             for i in set().union(*(a.servos() for a in branch)):
                 builders[i].extend(plan.tracks[i], now)
                 pose[i] = plan.final[i]
-            self._told.extend(plan.warnings)
+            branched.extend(plan.warnings)
         duration = max(plan.duration for plan, _ in plans)
         return PlannedStep(step.where, step.pos, "move", now, now + duration, None, False,
                            tuple(sorted(step.servos()))), duration
