@@ -181,6 +181,7 @@ def write_out(path: str | None, text: str, about: str = "") -> None:
     ``about``), or to standard output when ``path`` is None or ``-``."""
     if path in (None, "-"):
         sys.stdout.write(text)
+        sys.stdout.flush()
         return
     Path(path).write_text(text, encoding="utf-8")
     print(f"wrote {path}{about}", file=sys.stderr)

@@ -3,11 +3,9 @@
 from __future__ import annotations
 
 import argparse
-import sys
-from pathlib import Path
 
 from ...compiled import to_json, to_timed
-from ..common import EXIT_OK
+from ..common import EXIT_OK, write_out
 from .target import add_arguments, compile_target, output_path
 
 
@@ -20,14 +18,8 @@ def run(args: argparse.Namespace) -> int:
     else:
         text = to_json(compiled)
         out = output_path(args.output, compiled.gesture, (".gestc",), True)
-    if out == "-":
-        sys.stdout.write(text)
-        sys.stdout.flush()
-        return EXIT_OK
-    Path(out).write_text(text, encoding="utf-8")
     sizes = ", ".join(f"board {s.board}: {len(s.data):,} bytes" for s in compiled.streams)
-    print(f"wrote {out}: {compiled.gesture}, {compiled.duration:.2f} s, {sizes}",
-          file=sys.stderr)
+    write_out(out, text, f": {compiled.gesture}, {compiled.duration:.2f} s, {sizes}")
     return EXIT_OK
 
 
