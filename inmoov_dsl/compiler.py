@@ -14,7 +14,7 @@ from .errors import Diagnostic, GestError, Pos, decode_utf8, did_you_mean
 from .library import library_dirs
 from .parse import MAX_SOURCE
 from .plan import Plan, Planner
-from .profile import Profile, load_profile, profiles_with
+from .profile import Profile, load_profile
 from .program import Program, Reader, load_program
 from .resolve import resolver
 from .resources import read_regular
@@ -120,7 +120,7 @@ def plan_gesture(program: Program, gesture: str, profile: Profile, start: Start 
     """Resolve and plan gesture ``gesture`` of ``program`` for ``profile``, from the
     ``start`` pose (see resolve_start); ``strict``: a stretched move is an error;
     ``side``: played on that side of the robot (sides.py)."""
-    steps = resolver(program, profile, profiles_with).gesture(gesture, side)
+    steps = resolver(program, profile).gesture(gesture, side)
     pose = resolve_start(program, profile, start)
     return Planner(profile, program.sources).plan(steps, pose, strict)
 

@@ -4,12 +4,11 @@ or a gesture; one table, checked once for names that clash."""
 from __future__ import annotations
 
 import functools
-from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from . import syntax as ast
 from .errors import Diagnostic, GestError, did_you_mean
-from .profile import Profile
+from .profile import Profile, profiles_with
 from .program import Program
 
 ANYTHING = "servo, group, pose or gesture"  #: what an unknown name could have been
@@ -51,13 +50,9 @@ Entity = Servo | Group | Pose | Gesture
 class NameTable:
     """Every name the program and the profile define -> what it is."""
 
-    def __init__(self, program: Program, profile: Profile,
-                 elsewhere: Callable[[str], Sequence[str]] | None = None):
-        """Build the table; names that clash are GestErrors, all reported at once.
-        ``elsewhere(name)``: the other profiles that have a servo or group ``name``
-        (asked only to word a hint)."""
+    def __init__(self, program: Program, profile: Profile):
+        """Build the table; names that clash are GestErrors, all reported at once."""
         self.profile = profile
-        self.elsewhere = elsewhere
         self._table = _table(program, profile)
 
     def get(self, name: str) -> Entity | None:
@@ -65,9 +60,9 @@ class NameTable:
         return self._table.get(name)
 
     def hint(self, name: str) -> str | None:
-        """A hint for an unknown ``name``: the profile that has it, or the closest name."""
-        others = [p for p in self.elsewhere(name) if p != self.profile.name] \
-            if self.elsewhere else []
+        """A hint for an unknown ``name``: the built-in profile that has it, or the
+        closest name. Every command that resolves a name words it here."""
+        others = [p for p in profiles_with(name) if p != self.profile.name]
         if others:
             return f"'{name}' is in profile '{others[0]}': add --profile {others[0]}"
         return did_you_mean(name, self._table)

@@ -7,7 +7,7 @@ gesture is expanded in one pass, within a step budget.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import NoReturn
 
 from . import sides
@@ -28,14 +28,11 @@ MAX_TOTAL_STEPS = 1_000_000
 class _Targets:
     """The names of a Program for one profile, and the targets of a step."""
 
-    def __init__(self, program: Program, profile: Profile,
-                 elsewhere: Callable[[str], Sequence[str]] | None = None):
-        """``elsewhere(name)``: the other profiles that have a servo or group ``name``
-        (asked only to word an error)."""
+    def __init__(self, program: Program, profile: Profile):
         self.program = program
         self.profile = profile
         self.src = program.sources
-        self.names = NameTable(program, profile, elsewhere)
+        self.names = NameTable(program, profile)
         # what is expanded once and kept: each pose's targets and nesting height, each
         # gesture's nesting height, each move's targets (by the node's id; the program
         # keeps the nodes), and the gestures counted against MAX_TOTAL_STEPS
@@ -285,12 +282,11 @@ class Resolver(_Targets):
                       through=step.through is not None)
 
 
-def resolver(program: Program, profile: Profile,
-             elsewhere: Callable[[str], Sequence[str]] | None = None) -> Resolver:
+def resolver(program: Program, profile: Profile) -> Resolver:
     """The Resolver of ``program`` for ``profile``, made once and kept in the program:
     names are checked once and what is expanded stays expanded, so compiling every
     gesture of a file costs about the file's size, not its square."""
     found = program.resolvers.get(id(profile))
     if found is None or found.profile is not profile:  # it holds the profile: no id reuse
-        found = program.resolvers[id(profile)] = Resolver(program, profile, elsewhere)
+        found = program.resolvers[id(profile)] = Resolver(program, profile)
     return found

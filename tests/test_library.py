@@ -300,3 +300,23 @@ def test_the_repl_knows_the_first_definition_of_each_name(tmp_path):
     program = library_program(library_dirs([tmp_path]))
     assert program.gestures["peace"].name.pos.file == str((tmp_path / "mine.gest").resolve())
     assert "count" in program.gestures and "open2" in program.poses
+
+
+@pytest.mark.parametrize("argv", [["gestc", "show", "hello"],
+                                  ["gestplay", "hello", "--dry-run"],
+                                  ["gestplay", "hello", "--port", "sim://"]])
+def test_every_command_names_the_profile_a_body_gesture_needs(argv, capsys):
+    tool = gestc if argv[0] == "gestc" else gestplay
+    assert tool.main(argv[1:]) == 1
+    err = capsys.readouterr().err
+    assert "error: unknown servo or group 'r_omoplate'" in err
+    assert err.endswith("  hint: 'r_omoplate' is in profile 'inmoov': add --profile inmoov\n")
+
+
+def test_the_repl_names_the_profile_a_servo_is_in(rhand):
+    from inmoov_dsl.drive import library_program
+    from inmoov_dsl.live import line_steps
+
+    with pytest.raises(GestError) as info:
+        line_steps("rothead 90", library_program(None), rhand)
+    assert info.value.first.hint == "'rothead' is in profile 'inmoov': add --profile inmoov"

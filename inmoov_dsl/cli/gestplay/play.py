@@ -14,7 +14,7 @@ from ...library import find_gesture, library_dirs
 from ...player import play
 from ...profile import load_profile
 from ...profile_tables import SIDES
-from ...resolve import Resolver
+from ...resolve import resolver
 from .. import hand
 from ..common import EXIT_OK, add_blind, add_lib, number, report, warn
 
@@ -49,7 +49,7 @@ class Target:
         if self.program is None:
             return {s.board for s in self.compiled.streams if len(s.data) > 1}
         name = pick_gesture(self.program, self.gesture)
-        actions = Resolver(self.program, self.profile).gesture(name, self.hand)
+        actions = resolver(self.program, self.profile).gesture(name, self.hand)
         return {self.profile.servos[i].board for a in actions for i in a.servos()}
 
     def build(self, start: dict[str, int] | None) -> Compiled:
