@@ -8,6 +8,7 @@ Ports are pyserial URLs: a device (``COM3``, ``/dev/ttyUSB0``), ``loop://``,
 from __future__ import annotations
 
 import errno
+import os
 import sys
 from dataclasses import dataclass
 
@@ -65,8 +66,10 @@ def _names() -> str:
     return ", ".join(ports) if ports else "none"
 
 
-def _wrong_os(name: str) -> str | None:
-    """A hint when ``name`` is another system's kind of port name."""
+def name_hint(name: str) -> str | None:
+    """A hint when ``name`` is not how this system names a port: another system's kind
+    of name (``COM3`` on Linux or macOS, ``/dev/...`` on Windows), or a device without
+    its ``/dev/``."""
     windows = name.upper().startswith("COM") and name[3:].isdigit()
     if windows and sys.platform != "win32":
         return ("COM ports are Windows names; here an Arduino is /dev/ttyACM0 (Uno, "
@@ -75,7 +78,47 @@ def _wrong_os(name: str) -> str | None:
                 "/dev/cu.usbserial-...")
     if name.startswith("/dev/") and sys.platform == "win32":
         return "/dev/... names are Linux and macOS ones; on Windows a board is COM3, COM4..."
+    if sys.platform != "win32" and name.startswith(("tty", "cu.")) and "/" not in name:
+        return f"a port is named by its path: /dev/{name}"
     return None
+
+
+def not_found(name: str, virtual: bool = True) -> Diagnostic:
+    """The one message for a port that is not there, whichever command named it: the
+    ports this machine has, and a hint about the name (``name_hint``) or where to look.
+    ``virtual``: the command also takes ``sim://``, the virtual board."""
+    where = ("'gestplay ports' lists them (and marks the likely Arduinos)"
+             + ("; sim:// is the virtual board" if virtual else ""))
+    return Diagnostic("error", f"port {name} not found; ports on this machine: {_names()}",
+                      hint=name_hint(name) or where)
+
+
+def permission_denied(name: str) -> Diagnostic:
+    """The one message for a port this user may not open, with this system's remedy."""
+    if sys.platform.startswith("linux"):
+        hint = ("add yourself to the dialout group: sudo usermod -a -G dialout $USER, "
+                "then log out and in again")
+    elif sys.platform == "win32":
+        hint = "another program (the Arduino IDE's serial monitor?) has the port open"
+    else:
+        hint = "check the port's permissions, or whether another program has it open"
+    return Diagnostic("error", f"permission denied on port {name}", hint=hint)
+
+
+def device_problem(name: str) -> Diagnostic | None:
+    """For a command that hands ``name`` to another program (avrdude), which opens
+    only devices: what is wrong with it before anything is built, or None. A URL is
+    refused; a device path that is not there is ``not_found``; on Windows only a
+    ``/dev/`` name is known to be wrong (COM ports are not files)."""
+    if "://" in name:
+        return Diagnostic("error", f"port {name}: avrdude opens a serial device, not a URL",
+                          hint="give the board's device ('gestplay ports' lists them); the "
+                          "virtual board (sim://, gestsim) needs no firmware")
+    if sys.platform == "win32":
+        return not_found(name, virtual=False) if name.startswith("/dev/") else None
+    if name.startswith("net:") or os.path.exists(name):
+        return None
+    return not_found(name, virtual=False)
 
 
 def open_port(name: str, baud: int, timeout: float = 0) -> serial.SerialBase:
@@ -121,17 +164,8 @@ def _explain(name: str, exc: serial.SerialException) -> Diagnostic:
     text = str(exc)
     if code == errno.ENOENT or "FileNotFoundError" in text or "could not open port" in text \
             and ("No such file" in text or "cannot find" in text.lower()):
-        return Diagnostic("error", f"port {name} not found; ports on this machine: {_names()}",
-                          hint=_wrong_os(name) or "'gestplay ports' lists them (and marks "
-                          "the likely Arduinos); sim:// is the virtual board")
+        return not_found(name)
     if code in (errno.EACCES, errno.EPERM) or "PermissionError" in text \
             or "Access is denied" in text:
-        if sys.platform.startswith("linux"):
-            hint = ("add yourself to the dialout group: sudo usermod -a -G dialout $USER, "
-                    "then log out and in again")
-        elif sys.platform == "win32":
-            hint = "another program (the Arduino IDE's serial monitor?) has the port open"
-        else:
-            hint = "check the port's permissions, or whether another program has it open"
-        return Diagnostic("error", f"permission denied on port {name}", hint=hint)
+        return permission_denied(name)
     return Diagnostic("error", f"cannot open port {name}: {text}")

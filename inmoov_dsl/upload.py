@@ -19,6 +19,7 @@ from pathlib import Path
 
 from .errors import Diagnostic, GestError, did_you_mean
 from .firmware import sketches
+from .ports import not_found, permission_denied
 from .profile import Profile, builtin_profiles, load_profile
 from .resources import data_dir
 
@@ -141,12 +142,8 @@ def explain(output: str, port: str, baud: int) -> Diagnostic:
     """avrdude's failure, from what it printed, as a message with what to try."""
     if re.search(r"cannot open port|can't open device|ser_open\(\)", output):
         if re.search(r"[Pp]ermission denied|[Aa]ccess is denied", output):
-            return Diagnostic("error", f"permission denied on port {port}",
-                              hint="Linux: sudo usermod -a -G dialout $USER, then log in "
-                              "again; Windows: close the program that has the port open "
-                              "(the Arduino IDE's serial monitor?)")
-        return Diagnostic("error", f"port {port} not found",
-                          hint="'gestplay ports' lists the ports on this machine")
+            return permission_denied(port)
+        return not_found(port, virtual=False)
     if re.search(r"not in sync|not responding|programmer is not responding", output):
         other = OLD_NANO_BAUD if baud != OLD_NANO_BAUD else UNO_BAUD
         option = "--old-bootloader" if other == OLD_NANO_BAUD else "no --old-bootloader"

@@ -3,6 +3,7 @@ avrdude through a simulated Arduino bootloader on a pseudo-terminal; its options
 its messages."""
 
 import os
+import shlex
 import subprocess
 import sys
 from pathlib import Path
@@ -17,12 +18,21 @@ from inmoov_dsl.errors import GestError
 from inmoov_dsl.upload import build, explain, read_hex
 
 POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
+LINUX = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="Linux port names")
 TINY_HEX = ":020000000C945E\n:00000001FF\n"  # two bytes at 0 (a jmp's first word)
 
 
-def gestc_run(*argv, timeout=300, **env):
+@pytest.fixture
+def port(tmp_path):
+    """A port that is there (never opened: the test fails before avrdude would)."""
+    device = tmp_path / "ttyUSB0"
+    device.touch()
+    return str(device)
+
+
+def gestc_run(*argv, timeout=300, cwd=None, **env):
     return subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestc", *argv],
-                          capture_output=True, text=True, timeout=timeout,
+                          capture_output=True, text=True, timeout=timeout, cwd=cwd,
                           env={**os.environ, **env})
 
 
@@ -104,12 +114,12 @@ def test_no_answer_says_what_to_try(capsys):
 def test_avrdudes_other_failures_are_ours():
     d = explain("avrdude OS error: cannot open port /dev/ttyUSB7: No such file or directory\n",
                 "/dev/ttyUSB7", 115200)
-    assert (d.message, d.hint) == ("port /dev/ttyUSB7 not found",
-                                   "'gestplay ports' lists the ports on this machine")
+    assert d.message.startswith("port /dev/ttyUSB7 not found; ports on this machine: ")
+    assert d.hint == "'gestplay ports' lists them (and marks the likely Arduinos)"
     d = explain("avrdude OS error: cannot open port /dev/ttyUSB0: Permission denied\n",
                 "/dev/ttyUSB0", 115200)
     assert d.message == "permission denied on port /dev/ttyUSB0"
-    assert d.hint.startswith("Linux: sudo usermod -a -G dialout $USER")
+    assert d.hint.startswith("add yourself to the dialout group: sudo usermod -a -G dialout")
     d = explain("avrdude error: verification error, first mismatch at byte 0x0040\n", "COM3",
                 115200)
     assert d.message == "the flash read back from the board on COM3 is not what was written"
@@ -117,19 +127,19 @@ def test_avrdudes_other_failures_are_ours():
     assert d.message == "avrdude failed on COM3: avrdude error: it broke"
 
 
-def test_avrdude_missing_says_how_to_get_it(tmp_path, capsys, monkeypatch):
+def test_avrdude_missing_says_how_to_get_it(tmp_path, capsys, monkeypatch, port):
     hex_file = tmp_path / "tiny.hex"
     hex_file.write_text(TINY_HEX)
     monkeypatch.setenv("PATH", str(tmp_path))  # no avrdude here
-    assert gestc.main(["upload", "servo_rhand", "--port", "COM3", "--hex", str(hex_file)]) == 1
+    assert gestc.main(["upload", "servo_rhand", "--port", port, "--hex", str(hex_file)]) == 1
     err = capsys.readouterr().err
     assert "gestc: error: avrdude not found\n  hint: on Debian or Ubuntu: sudo apt-get install " \
            "avrdude; on macOS: brew install avrdude; on Windows: the Arduino IDE has one" in err
 
 
-def test_no_compiler_says_what_to_install(capsys, monkeypatch, tmp_path):
+def test_no_compiler_says_what_to_install(capsys, monkeypatch, tmp_path, port):
     monkeypatch.setenv("PATH", str(tmp_path))
-    assert gestc.main(["upload", "servo_rhand", "--port", "COM3"]) == 1
+    assert gestc.main(["upload", "servo_rhand", "--port", port]) == 1
     err = capsys.readouterr().err
     assert err.startswith("gestc: error: cannot build the firmware: make not found\n"
                           "  hint: on Debian or Ubuntu: sudo apt-get install make gcc-avr "
@@ -137,21 +147,80 @@ def test_no_compiler_says_what_to_install(capsys, monkeypatch, tmp_path):
                           "Arduino IDE (docs/firmware.md) and give its .hex with --hex")
 
 
-def test_the_commands_for_an_uno_an_old_nano_and_a_whole_profile(capsys):
-    assert gestc.main(["upload", "servo_rhand", "--port", "COM3", "--dry-run"]) == 0
-    make, flash = capsys.readouterr().out.splitlines()
-    assert make.startswith("make -C ") and make.endswith(" servo_rhand")
-    assert flash.startswith("avrdude -p atmega328p -c arduino -P COM3 -b 115200 -D -U "
-                            "flash:w:") and flash.endswith("servo_rhand.hex:i")
-    assert gestc.main(["upload", "servo_rhand", "--port", "COM3", "--old-bootloader",
+def test_the_commands_for_an_uno_an_old_nano_and_a_whole_profile(capsys, port):
+    assert gestc.main(["upload", "servo_rhand", "--port", port, "--dry-run"]) == 0
+    sketchbook, make, flash = capsys.readouterr().out.splitlines()
+    assert sketchbook == "gestc firmware rhand -o firmware"
+    assert make == "make -C firmware servo_rhand"
+    assert flash == (f"avrdude -p atmega328p -c arduino -P {port} -b 115200 -D -U "
+                     "flash:w:firmware/build/servo_rhand.hex:i")
+    assert gestc.main(["upload", "servo_rhand", "--port", port, "--old-bootloader",
                        "--dry-run"]) == 0
     assert " -b 57600 " in capsys.readouterr().out
-    assert gestc.main(["upload", "--profile", "rhand", "--port", "servo_rhand=COM3",
-                       "--port", "182=COM4", "--dry-run"]) == 0
+    assert gestc.main(["upload", "--profile", "rhand", "--port", f"servo_rhand={port}",
+                       "--port", f"182={port}", "--baud", "57600", "--dry-run"]) == 0
     out = capsys.readouterr().out.splitlines()
-    assert out[0].endswith(" servo_rhand glove_rhand")
-    assert " -P COM3 " in out[1] and out[1].endswith("servo_rhand.hex:i")
-    assert " -P COM4 " in out[2] and out[2].endswith("glove_rhand.hex:i")
+    assert out[0] == "gestc firmware rhand -o firmware --baud 57600"
+    assert out[1] == "make -C firmware servo_rhand glove_rhand"
+    assert f" -P {port} " in out[2] and out[2].endswith("servo_rhand.hex:i")
+    assert f" -P {port} " in out[3] and out[3].endswith("glove_rhand.hex:i")
+
+
+@POSIX
+def test_a_dry_run_prints_commands_that_run_as_they_are(tmp_path, port):
+    """Every line printed runs as it is, in order, and the avrdude line names the .hex
+    that the lines before it built, in a sketchbook that stays."""
+    need("make", "avr-gcc", "/usr/share/arduino/hardware/arduino/avr/cores")
+    done = gestc_run("upload", "servo_rhand", "--port", port, "--dry-run",
+                     "--build-dir", "my sketches", cwd=tmp_path)
+    assert done.returncode == 0, done.stderr
+    *build_lines, flash = done.stdout.splitlines()
+    for line in build_lines:
+        ran = subprocess.run(line, shell=True, cwd=tmp_path, capture_output=True, text=True)
+        assert ran.returncode == 0, (line, ran.stderr)
+    hex_file = shlex.split(flash)[-1].removeprefix("flash:w:").removesuffix(":i")
+    assert hex_file == "my sketches/build/servo_rhand.hex"
+    assert 3000 < len(read_hex(tmp_path / hex_file)) < 3872
+
+
+@POSIX
+def test_build_dir_keeps_the_sketchbook_it_built(tmp_path, port, monkeypatch):
+    """Without --dry-run, --build-dir is where it builds, and it stays: the .hex that
+    was flashed (here by a stand-in avrdude) is there after."""
+    need("make", "avr-gcc", "/usr/share/arduino/hardware/arduino/avr/cores")
+    fake = tmp_path / "avrdude"
+    fake.write_text("#!/bin/sh\necho \"$@\" > \"$(dirname \"$0\")/flashed\"\n")
+    fake.chmod(0o755)
+    done = gestc_run("upload", "servo_rhand", "--port", port, "--build-dir",
+                     str(tmp_path / "kept"), "--avrdude", str(fake))
+    assert done.returncode == 0, done.stderr
+    hex_file = tmp_path / "kept" / "build" / "servo_rhand.hex"
+    assert f"flash:w:{hex_file}:i" in (tmp_path / "flashed").read_text()
+    assert 3000 < len(read_hex(hex_file)) < 3872
+
+
+@LINUX
+def test_a_windows_port_name_is_found_out_before_building(capsys):
+    """COM3 on Linux: the message and hint every command gives, at once (nothing built,
+    avrdude not run); a dry run says the same as a warning and prints its commands."""
+    assert gestc.main(["upload", "servo_rhand", "--port", "COM3"]) == 1
+    out, err = capsys.readouterr()
+    assert out == "" and err.startswith("gestc: error: port COM3 not found; ports on this "
+                                        "machine: ")
+    assert err.endswith("\n  hint: COM ports are Windows names; here an Arduino is "
+                        "/dev/ttyACM0 (Uno, Leonardo) or /dev/ttyUSB0 (Nano, clones)\n")
+    assert gestc.main(["upload", "servo_rhand", "--port", "COM3", "--dry-run"]) == 0
+    out, err = capsys.readouterr()
+    assert err.startswith("gestc: warning: port COM3 not found") and "COM ports are " in err
+    assert " -P COM3 " in out.splitlines()[-1]
+
+
+def test_a_url_is_no_port_to_flash(capsys):
+    assert gestc.main(["upload", "servo_rhand", "--port", "sim://"]) == 1
+    assert capsys.readouterr().err == (
+        "gestc: error: port sim://: avrdude opens a serial device, not a URL\n"
+        "  hint: give the board's device ('gestplay ports' lists them); the virtual board "
+        "(sim://, gestsim) needs no firmware\n")
 
 
 @pytest.mark.parametrize(("argv", "message"), [
@@ -176,10 +245,10 @@ def test_what_to_upload_where_is_checked_first(argv, message, capsys):
     assert capsys.readouterr().err == message
 
 
-def test_a_file_that_is_not_intel_hex_is_refused(tmp_path, capsys):
+def test_a_file_that_is_not_intel_hex_is_refused(tmp_path, capsys, port):
     bad = tmp_path / "sketch.hex"
     bad.write_text(":020000000C94FF\n")  # a checksum that does not add up
-    assert gestc.main(["upload", "servo_rhand", "--port", "COM3", "--hex", str(bad)]) == 1
+    assert gestc.main(["upload", "servo_rhand", "--port", port, "--hex", str(bad)]) == 1
     assert capsys.readouterr().err == (f"gestc: error: {bad}:1: not an Intel HEX record\n"
                                        "  hint: give the .hex that the build wrote\n")
     good = tmp_path / "good.hex"

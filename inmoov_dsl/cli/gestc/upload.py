@@ -3,21 +3,22 @@
 from __future__ import annotations
 
 import argparse
+import shlex
 import sys
 import tempfile
+from dataclasses import replace
 from pathlib import Path
 
 from ...errors import Diagnostic, GestError
 from ...profile import Profile, load_profile
-from ..common import EXIT_OK
+from ..common import EXIT_OK, report
 from .firmware import BAUDS
 from .target import PROG
 
 
 def run(args: argparse.Namespace) -> int:
     """Build boards' firmware from their profile and flash it through the bootloader."""
-    from ...upload import OLD_NANO_BAUD, UNO_BAUD, build, flash, read_hex
-    from ...upload import avrdude_command as command
+    from ...upload import OLD_NANO_BAUD, UNO_BAUD, build
 
     profile, names = _boards(args.profile, args.board)
     targets = [args.board] if args.board else list(names)
@@ -25,26 +26,66 @@ def run(args: argparse.Namespace) -> int:
     if args.hex and len(targets) > 1:
         raise GestError(Diagnostic("error", "--hex is one board's firmware",
                                    hint="name the board: gestc upload BOARD --hex FILE"))
+    check_ports([ports[name] for name in targets], args.dry_run)
     baud = OLD_NANO_BAUD if args.old_bootloader else UNO_BAUD
-    with tempfile.TemporaryDirectory(prefix="inmoov-upload-") as tmp:
-        if args.hex:
-            hexes = {targets[0]: Path(args.hex)}
-        elif args.dry_run:
-            hexes = {name: Path(tmp) / "build" / f"{name}.hex" for name in targets}
-            print(f"make -C {tmp} {' '.join(targets)}")
-        else:
-            hexes = build(profile, targets, Path(tmp), args.baud)
-        for name in targets:
-            if args.dry_run:
-                print(" ".join(command(hexes[name], ports[name], baud, args.avrdude,
-                                       args.avrdude_option)))
-                continue
-            size = len(read_hex(hexes[name]))
-            print(f"{PROG}: flashing {name} ({size:,} bytes) through the bootloader on "
-                  f"{ports[name]} at {baud} baud", file=sys.stderr, flush=True)
-            flash(hexes[name], ports[name], baud, args.avrdude, args.avrdude_option)
-            print(f"{PROG}: uploaded {name} to {ports[name]}", file=sys.stderr)
+    if args.dry_run:
+        print("\n".join(dry_run(args, profile, targets, ports, baud)))
+    elif args.hex:
+        _flash({targets[0]: Path(args.hex)}, ports, baud, args)
+    elif args.build_dir:
+        _flash(build(profile, targets, Path(args.build_dir), args.baud), ports, baud, args)
+    else:
+        with tempfile.TemporaryDirectory(prefix="inmoov-upload-") as tmp:
+            _flash(build(profile, targets, Path(tmp), args.baud), ports, baud, args)
     return EXIT_OK
+
+
+def check_ports(ports: list[str], dry_run: bool) -> None:
+    """Each port avrdude will open is there, before anything is built: the message
+    every command gives for that port name (``ports.not_found``). With ``--dry-run``,
+    which flashes nothing, a warning."""
+    from ...ports import device_problem
+
+    for port in ports:
+        problem = device_problem(port)
+        if problem is not None and not dry_run:
+            raise GestError(problem)
+        if problem is not None:
+            report([replace(problem, severity="warning")], PROG)
+
+
+def dry_run(args: argparse.Namespace, profile: Profile, targets: list[str],
+            ports: dict[str, str], baud: int) -> list[str]:
+    """The commands that do what ``gestc upload`` would, to run as they are: write the
+    sketchbook (``--build-dir``, default ./firmware, which stays), build it, flash
+    each board; with ``--hex``, only the flashing."""
+    from ...upload import avrdude_command
+
+    if args.hex:
+        hexes = {targets[0]: Path(args.hex)}
+        lines = []
+    else:
+        where = Path(args.build_dir or "firmware")
+        hexes = {name: where / "build" / f"{name}.hex" for name in targets}
+        baud_option = ["--baud", str(args.baud)] if args.baud else []
+        lines = [shlex.join([PROG, "firmware", args.profile or profile.name, "-o",
+                             str(where), *baud_option]),
+                 shlex.join(["make", "-C", str(where), *targets])]
+    return lines + [shlex.join(avrdude_command(hexes[name], ports[name], baud, args.avrdude,
+                                               args.avrdude_option)) for name in targets]
+
+
+def _flash(hexes: dict[str, Path], ports: dict[str, str], baud: int,
+           args: argparse.Namespace) -> None:
+    """Flash each board its .hex, saying what goes where."""
+    from ...upload import flash, read_hex
+
+    for name, hex_file in hexes.items():
+        size = len(read_hex(hex_file))
+        print(f"{PROG}: flashing {name} ({size:,} bytes) through the bootloader on "
+              f"{ports[name]} at {baud} baud", file=sys.stderr, flush=True)
+        flash(hex_file, ports[name], baud, args.avrdude, args.avrdude_option)
+        print(f"{PROG}: uploaded {name} to {ports[name]}", file=sys.stderr)
 
 
 def _boards(profile_name: str | None, board: str | None) -> tuple[Profile, dict[str, int]]:
@@ -105,8 +146,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="the link speed the firmware will use (default: the profile's)")
     p.add_argument("--hex", metavar="FILE",
                    help="flash this .hex (built in the Arduino IDE, say) instead of building")
+    p.add_argument("--build-dir", metavar="DIR",
+                   help="build in this sketchbook and keep it (default: a temporary one, "
+                   "removed after)")
     p.add_argument("--dry-run", action="store_true",
-                   help="print the commands, build and flash nothing")
+                   help="print the commands that do it, to run as they are (the sketchbook "
+                   "in --build-dir, default ./firmware); build and flash nothing")
     p.add_argument("--avrdude", default="avrdude", metavar="PATH",
                    help="the avrdude to run (default: avrdude on the PATH)")
     p.add_argument("--avrdude-option", action="append", default=[], metavar="ARG",
