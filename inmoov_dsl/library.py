@@ -19,7 +19,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from . import syntax as ast
-from .errors import Diagnostic, GestError, did_you_mean
+from .errors import Diagnostic, GestError, decode_utf8, did_you_mean
 from .parse import parse
 from .resources import library_dir
 
@@ -97,7 +97,7 @@ def scan(dirs: Sequence[Path] | None = None) -> Library:
     broken: dict[Path, GestError] = {}
     for path in library_files(dirs):
         try:
-            text = path.read_text(encoding="utf-8")
+            text = decode_utf8(path.read_bytes(), str(path))  # without a BOM
             module = parse(text, str(path))
         except GestError as exc:
             broken[path] = exc
@@ -168,7 +168,7 @@ def find_gesture(target: str, gesture: str | None, dirs: Sequence[Path] | None =
     defines = re.compile(rf"^{re.escape(target)}\s*:", re.M)
     for path, error in library.broken.items():
         try:
-            if defines.search(path.read_text(encoding="utf-8", errors="replace")):
+            if defines.search(path.read_text(encoding="utf-8-sig", errors="replace")):
                 raise error
         except OSError:
             continue
