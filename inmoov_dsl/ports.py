@@ -160,6 +160,9 @@ def leave_dtr_up(port: serial.SerialBase) -> bool:
 
 
 def _explain(name: str, exc: serial.SerialException) -> Diagnostic:
+    said = getattr(exc, "diagnostic", None)  # a handler that words its own (sim://)
+    if isinstance(said, Diagnostic):
+        return said
     code = exc.errno
     text = str(exc)
     if code == errno.ENOENT or "FileNotFoundError" in text or "could not open port" in text \

@@ -1,5 +1,5 @@
 """Where the grammar, the gesture library and the profiles are, installed or not, and
-where this user's caches may be kept."""
+where this user's caches and state may be kept."""
 
 from __future__ import annotations
 
@@ -43,16 +43,34 @@ CACHE_ENV = "INMOOV_DSL_CACHE"  #: a directory to keep caches in instead of the 
 def private_cache_dir() -> Path | None:
     """A directory for this user's caches that no one else can write: ``$INMOOV_DSL_CACHE``,
     or ``inmoov-dsl`` in the user's cache directory (``$XDG_CACHE_HOME`` or ``~/.cache``;
+    ``%LOCALAPPDATA%`` on Windows); see ``_private``."""
+    return _private(CACHE_ENV, "XDG_CACHE_HOME", ".cache", "")
+
+
+STATE_ENV = "INMOOV_DSL_STATE"  #: a directory to keep state in instead of the default
+
+
+def private_state_dir() -> Path | None:
+    """A directory for what this user's tools remember between runs (the virtual boards'
+    memory), that no one else can write: ``$INMOOV_DSL_STATE``, or ``inmoov-dsl`` in the
+    user's state directory (``$XDG_STATE_HOME`` or ``~/.local/state``; ``state`` in
+    ``%LOCALAPPDATA%\\inmoov-dsl`` on Windows); see ``_private``."""
+    return _private(STATE_ENV, "XDG_STATE_HOME", ".local/state", "state")
+
+
+def _private(env: str, xdg: str, home: str, windows: str) -> Path | None:
+    """``$env``, or ``inmoov-dsl`` in ``$xdg`` or ``~/home`` (``inmoov-dsl/windows`` in
     ``%LOCALAPPDATA%`` on Windows), created with mode 0700. On POSIX it must be a real
     directory (not a symlink), owned by this user, that neither group nor others can
-    write; None when it is not (then nothing is cached)."""
-    base = os.environ.get(CACHE_ENV)
+    write; None when it is not (then nothing is kept there)."""
+    base = os.environ.get(env)
     if base:
         path = Path(base)
+    elif os.name == "nt":
+        path = Path(os.environ.get("LOCALAPPDATA") or Path.home() / "AppData" / "Local")
+        path = path / "inmoov-dsl" / windows if windows else path / "inmoov-dsl"
     else:
-        root = os.environ.get("LOCALAPPDATA") if os.name == "nt" else \
-            os.environ.get("XDG_CACHE_HOME")
-        path = Path(root or Path.home() / ".cache") / "inmoov-dsl"
+        path = Path(os.environ.get(xdg) or Path.home() / home) / "inmoov-dsl"
     try:
         path.mkdir(mode=0o700, parents=True, exist_ok=True)
         if os.name == "nt":

@@ -11,6 +11,8 @@ passed in, so the same board runs in real time behind ``sim://`` or on a test's 
 
 from __future__ import annotations
 
+import copy
+import math
 from collections import deque
 from dataclasses import dataclass, field
 
@@ -132,6 +134,18 @@ class VirtualBoard:
             ready = max(at, self._out_free) + self.tau
             self._out_free = ready
             self._outbox.append((ready, b))
+
+    def settled(self) -> list[int] | None:
+        """The pose this board will have stored once what is on the wire has arrived and
+        settled (None: never any): what it starts from at its next reset. The board
+        itself does not move on."""
+        log, self.log = self.log, []
+        try:
+            twin = copy.deepcopy(self)
+        finally:
+            self.log = log
+        twin.advance(math.inf)
+        return twin.stored
 
     def positions(self) -> dict[int, int]:
         """Servo ID -> the value the board last wrote (its DUMP values)."""

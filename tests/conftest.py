@@ -13,11 +13,15 @@ ROOT = Path(__file__).resolve().parent.parent
 
 
 @pytest.fixture(autouse=True)
-def _fresh_virtual_boards():
+def _fresh_virtual_boards(tmp_path_factory, monkeypatch):
     """Each test finds new virtual boards on the desk (sim:// keeps a board's state for
-    the life of the process, as a real board keeps it between programs)."""
+    the life of the process, and its pose in the user's state directory, as a real board
+    keeps it between programs): each test has a state directory of its own, which the
+    programs it starts inherit."""
+    from inmoov_dsl.resources import STATE_ENV
     from inmoov_dsl.urlhandler.protocol_sim import power_off
 
+    monkeypatch.setenv(STATE_ENV, str(tmp_path_factory.mktemp("state")))
     power_off()
 
 

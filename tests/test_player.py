@@ -191,8 +191,25 @@ def test_a_loop_reports_the_whole_run(capsys):
                                                                         strict=True)))
     code, _, err = run(capsys, "wiggle", "--port", "sim://", "--loop", "2")
     assert code == 0
-    assert err.startswith(f"played wiggle 2 times: {one.duration + again.duration:.2f} s, "
+    assert err.startswith(f"played wiggle twice: {one.duration + again.duration:.2f} s, "
                           f"{len(one.stream().data) + len(again.stream().data):,} bytes, ")
+
+
+def test_a_loop_stopped_in_its_second_pass_was_played_once(capsys, monkeypatch):
+    from inmoov_dsl.cli.gestplay import play as playing
+
+    passes = []
+
+    def one_pass(*args, **kwargs):
+        if passes:
+            raise KeyboardInterrupt
+        passes.append(1)
+        return play(*args, **kwargs)
+
+    monkeypatch.setattr(playing, "play", one_pass)
+    code, _, err = run(capsys, "wiggle", "--port", "sim://", "--loop")
+    assert code == 130
+    assert err.startswith("played wiggle once, then stopped in pass 2: ")
 
 
 def test_dry_run_prints_the_schedule(capsys):
@@ -402,8 +419,9 @@ def test_a_loop_without_a_count_plays_until_ctrl_c_and_counts_the_passes(gestsim
     _, err = player.communicate(timeout=10)
     assert player.returncode == 130
     said = next(line for line in err.splitlines() if line.startswith("played"))
-    passes = int(said.split()[2])
-    assert said.startswith(f"played tap {passes} times, then stopped in pass {passes + 1}: ")
+    passes = int(said.split("then stopped in pass ")[1].split(":")[0]) - 1
+    counted = {1: "once", 2: "twice"}.get(passes, f"{passes} times")
+    assert said.startswith(f"played tap {counted}, then stopped in pass {passes + 1}: ")
     assert "Traceback" not in err
     assert passes >= 2
     assert "CANCEL sent, the hand holds its pose" in err

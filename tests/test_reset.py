@@ -8,6 +8,7 @@ import subprocess
 import sys
 import termios
 import time
+from pathlib import Path
 
 import pytest
 import serial
@@ -69,6 +70,74 @@ def test_a_new_board_and_one_without_a_stored_pose_start_at_rest():
 
 
 # -- sim:// and DTR ----------------------------------------------------------------------
+def test_a_board_that_settles_after_its_port_closed_has_stored_that_pose():
+    b = board()
+    b.write(bytes([255, 1, 90]), 0.0)
+    assert b.settled() == [0, 90, 0, 0, 0, 0]
+    assert b.stored is None and b.core.values == REST  # the board itself has not moved on
+
+
+def gestplay_cmd(*argv, env=None):
+    return subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", *argv],
+                          capture_output=True, text=True, timeout=120,
+                          env={**os.environ, **(env or {})})
+
+
+def dumped(done):
+    """servo name -> value, from gestplay dump's lines."""
+    assert done.returncode == 0, done.stderr
+    return {w[0]: int(w[-1]) for w in map(str.split, done.stdout.splitlines()[1:])}
+
+
+PEACE = {"wrist": 0, "thumb": 180, "index": 0, "middle": 0, "ring": 180, "pinky": 180}
+
+
+def test_sim_remembers_its_pose_from_one_program_to_the_next():
+    state = os.environ["INMOOV_DSL_STATE"]
+    assert gestplay_cmd("peace", "--port", "sim://").returncode == 0
+    assert dumped(gestplay_cmd("dump", "--port", "sim://")) == PEACE
+    (kept,) = Path(state).glob("sim/*.json")
+    assert kept.name == "rhand-181.json"
+    if os.name == "posix":
+        assert kept.stat().st_mode & 0o077 == 0 and kept.parent.stat().st_mode & 0o077 == 0
+    # the next program plans from there: nothing left to move
+    again = gestplay_cmd("peace", "--port", "sim://")
+    assert again.stderr.startswith("played peace: 0.70 s, ")
+    fresh = dumped(gestplay_cmd("dump", "--port", "sim://?fresh"))
+    assert fresh == dict.fromkeys(PEACE, 0)
+    assert dumped(gestplay_cmd("dump", "--port", "sim://")) == fresh  # a new board
+
+
+def test_each_board_of_a_profile_remembers_its_own_pose():
+    assert gestplay_cmd("hello", "--profile", "inmoov", "--port", "sim://").returncode == 0
+    head = dumped(gestplay_cmd("dump", "--profile", "inmoov", "--port", "184=sim://"))
+    assert head["neck"] == 90 and set(head) == {"neck", "rothead", "jaw", "eye_x", "eye_y"}
+    assert dumped(gestplay_cmd("dump", "--port", "sim://")) == dict.fromkeys(PEACE, 0)
+
+
+@pytest.mark.parametrize("text", ["", "{", "[]", '{"servos": [0, 1, 2, 3, 4, 5], "pose": '
+                                  '[0, 0, 0, 0, 0, 999]}', '{"servos": [9], "pose": [1]}',
+                                  "\x00" * 5000])
+def test_a_memory_that_cannot_be_read_is_a_new_board(text):
+    kept = Path(os.environ["INMOOV_DSL_STATE"]) / "sim"
+    kept.mkdir(mode=0o700)
+    (kept / "rhand-181.json").write_text(text)
+    (kept / "rhand-181.json").chmod(0o600)
+    done = gestplay_cmd("dump", "--port", "sim://")
+    assert dumped(done) == dict.fromkeys(PEACE, 0) and "Traceback" not in done.stderr
+
+
+@POSIX
+def test_a_memory_others_could_write_is_not_read():
+    kept = Path(os.environ["INMOOV_DSL_STATE"]) / "sim"
+    kept.mkdir(mode=0o700)
+    for mode, pose in ((0o666, 0), (0o600, 9)):
+        (kept / "rhand-181.json").write_text('{"servos": [0, 1, 2, 3, 4, 5], '
+                                             '"pose": [9, 9, 9, 9, 9, 9]}')
+        (kept / "rhand-181.json").chmod(mode)
+        assert dumped(gestplay_cmd("dump", "--port", "sim://")) == dict.fromkeys(PEACE, pose)
+
+
 def test_sim_resets_only_when_an_open_raises_dtr():
     url = "sim://rhand?boot=0.05"
     raw = serial.serial_for_url(url, 9600, timeout=0)  # HUPCL set: DTR drops on close
@@ -178,3 +247,19 @@ def test_one_ctrl_c_at_a_terminal_holds_the_pose(gestsim):
     assert code == 130 and "relaxed" not in out
     data = [int(line.split()[1]) for line in log.read_text().splitlines()]
     assert data[-1] == 255 and 248 not in data
+
+
+@pytest.mark.parametrize("url, said", [
+    ("sim://lhnd", ["cannot open port sim://lhnd: unknown profile 'lhnd'",
+                    "hint: did you mean 'lhand'?"]),
+    ("sim://?frsh", ["cannot open port sim://rhand?frsh&board=181: unknown option 'frsh'",
+                     "hint: did you mean 'fresh'?"]),
+    ("sim://rhand?board=9", ["cannot open port sim://rhand?board=9: profile 'rhand' has no "
+                             "board 9", "hint: its boards: 181"]),
+    ("sim://?boot=-1", ["cannot open port sim://rhand?boot=-1&board=181: boot=-1: not a "
+                        "number of seconds from 0 to 60", "hint: boot=0.2 (an Uno's or a "
+                        "Nano's)"])])
+def test_a_sim_url_that_names_no_board_says_what_it_meant(url, said, capsys):
+    assert gestplay.main(["peace", "--port", url]) == 1
+    err = capsys.readouterr().err.splitlines()
+    assert [line.strip() for line in err] == [f"gestplay: error: {said[0]}", said[1]]

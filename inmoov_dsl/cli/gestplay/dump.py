@@ -1,4 +1,4 @@
-"""gestplay dump: ask a board its ID and every servo's value."""
+"""gestplay dump: ask the boards their IDs and every servo's value."""
 
 from __future__ import annotations
 
@@ -6,21 +6,35 @@ import argparse
 
 from ...errors import Diagnostic, GestError
 from ...player import ask_dump, wait_ready
-from ...profile import load_profile
+from ...profile import Profile, load_profile
+from ...profile_types import Board
+from ...urlhandler import protocol_sim
 from ..common import EXIT_OK
-from ..hand import open_first
+from ..hand import open_first, parse_ports
 
 
 def run(args: argparse.Namespace) -> int:
-    """Print the first of the profile's boards that answers DUMP on the port."""
+    """One port: print the first of the profile's boards that answers DUMP on it. A
+    port per board (``BOARD=PORT``, or a bare ``sim://`` for every board): each board's."""
     profile = load_profile(args.profile or "rhand")
-    port = open_first(args.port, profile)
+    named = {int(s.partition("=")[0]) for s in args.port if s.partition("=")[0].isdigit()}
+    if len(args.port) == 1 and not named and not protocol_sim.bare(args.port[0]):
+        _dump(args.port[0], open_first(args.port[0], profile), profile, profile.boards)
+        return EXIT_OK
+    ports = parse_ports(args.port, profile, named or None)
+    for board in (b for b in profile.boards if b.id in ports):
+        _dump(ports[board.id], open_first(ports[board.id], profile, board), profile, (board,))
+    return EXIT_OK
+
+
+def _dump(name: str, port, profile: Profile, boards: tuple[Board, ...]) -> None:
+    """Print the first of ``boards`` that answers DUMP on ``port``, and close it."""
     try:
         wait_ready(port)
-        found = ((b, ask_dump(port, b.id)) for b in profile.boards)
+        found = ((b, ask_dump(port, b.id)) for b in boards)
         b, values = next(((b, v) for b, v in found if v is not None), (None, None))
         if values is None:
-            raise GestError(Diagnostic("error", f"no DUMP reply from {args.port}",
+            raise GestError(Diagnostic("error", f"no DUMP reply from {name}",
                                        hint="is the board powered, and at this baud?"))
         names = {s.id: s.name for s in profile.servos}
         print(f"board {b.id} ({b.name}): {len(values)} servos")
@@ -28,12 +42,13 @@ def run(args: argparse.Namespace) -> int:
             print(f"  {names.get(sid, f'servo {sid}'):<10} id {sid:>3}  value {value:>3}")
     finally:
         port.close()
-    return EXIT_OK
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestplay dump --port PORT``."""
-    p = sub.add_parser("dump", help="a board's ID and every servo's value")
-    p.add_argument("--port", required=True)
+    p = sub.add_parser("dump", help="the boards' IDs and every servo's value")
+    p.add_argument("--port", action="append", required=True, metavar="PORT",
+                   help="the board's port; BOARD=PORT for each board of a profile with "
+                   "several (a bare sim:// is every board)")
     p.add_argument("-p", "--profile", help="to name the servos (default rhand)")
     p.set_defaults(func=run)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import itertools
+import os
 import sys
 from collections.abc import Callable
 
@@ -12,6 +13,7 @@ from ...compiler import compile_program, load, pick_gesture
 from ...errors import Diagnostic, GestError
 from ...library import find_gesture, library_dirs
 from ...player import play
+from ...posebars import bar_lines
 from ...profile import load_profile
 from ...profile_tables import SIDES
 from ...resolve import resolver
@@ -72,9 +74,28 @@ def run(args: argparse.Namespace) -> int:
         raise GestError(Diagnostic("error", "no port given", hint="--port COM3, "
                                    "--port /dev/ttyUSB0, or --port sim:// for the virtual "
                                    "board (--dry-run prints the schedule)"))
-    with hand.opened(PROG, target.profile, args.port, args.blind,
-                     boards=target.boards()) as on:
-        return play_on(on, target, args.loop, args.speed)
+    boards = target.boards()
+    with hand.opened(PROG, target.profile, args.port, args.blind, boards=boards) as on:
+        pose = play_on(on, target, args.loop, args.speed)
+        if all(link.name.startswith("sim://") for link in on.links):
+            show_virtual(on, boards, pose, args.target)
+    return EXIT_OK
+
+
+def show_virtual(on: hand.Hand, boards: set[int], pose: dict[str, int], name: str) -> None:
+    """What the virtual hand holds now (a board's bars, as gestsim draws them), for
+    each board the gesture drove, and where to watch it move."""
+    for board in on.profile.boards:
+        link = next((k for k in on.links if k.board == board.id), None)
+        if board.id not in boards or link is None:
+            continue
+        held = [(n, pose.get(n, on.pose.get(n, 0))) for n in board.servos]
+        print(f"{link.name} now holds (board {board.id}, {board.name}):", file=sys.stderr)
+        print("\n".join(bar_lines(held)), file=sys.stderr)
+    watch = ("run 'gestsim --view' (or 'gestsim --web': in 3-D, in a browser) in another "
+             f"terminal, then 'gestplay {name} --port' the port it prints"
+             if os.name == "posix" else f"'gestc preview {name} -o {name}.gif' draws it")
+    print(f"to watch it move: {watch}", file=sys.stderr)
 
 
 def dry_run(compiled: Compiled, speed: float) -> int:
@@ -87,9 +108,10 @@ def dry_run(compiled: Compiled, speed: float) -> int:
     return EXIT_OK
 
 
-def play_on(on: hand.Hand, target: Target, loop: int, speed: float) -> int:
+def play_on(on: hand.Hand, target: Target, loop: int, speed: float) -> dict[str, int]:
     """Play ``loop`` times (0: until Ctrl-C) from the pose the hand holds, each pass from
-    where the last one ended; one line of figures after, interrupted or not."""
+    where the last one ended; one line of figures after, interrupted or not. The pose
+    the hand ends in (servo name -> value)."""
     pose, start, compiled = on.pose, None, None
     run = _Run()
     try:
@@ -110,11 +132,16 @@ def play_on(on: hand.Hand, target: Target, loop: int, speed: float) -> int:
         if loop == 0 and compiled is not None:  # the way an endless loop ends
             if sys.stderr.isatty():
                 print(file=sys.stderr)  # after the progress line
-            run.say(compiled.gesture, f"{run.passes} times, then stopped in pass "
+            run.say(compiled.gesture, f"{times(run.passes)}, then stopped in pass "
                     f"{run.passes + 1}")
         raise
-    run.say(compiled.gesture, f"{loop} times" if loop > 1 else "")
-    return EXIT_OK
+    run.say(compiled.gesture, times(loop) if loop > 1 else "")
+    return pose
+
+
+def times(n: int) -> str:
+    """``once``, ``twice``, ``3 times``."""
+    return {1: "once", 2: "twice"}.get(n, f"{n:,} times")
 
 
 class _Run:
