@@ -21,6 +21,7 @@ from ..errors import Diagnostic, GestError
 from ..player import Link, Port, ask_dump, cancel_all, relax_all, wait_ready
 from ..ports import open_port
 from ..profile import Profile
+from ..profile_types import Board
 from ..urlhandler import protocol_sim
 from .common import EXIT_INTERRUPTED, Exit, Stopped, status_of, warn, why
 
@@ -90,9 +91,9 @@ def close(links: list[Link]) -> None:
         link.port.close()
 
 
-def open_first(spec: str, profile: Profile) -> Port:
-    """A bench tool's port, at the baud of the profile's first board."""
-    first = profile.boards[0]
+def open_first(spec: str, profile: Profile, board: Board | None = None) -> Port:
+    """A bench tool's port, at the baud of ``board`` (default the profile's first)."""
+    first = board or profile.boards[0]
     return open_port(protocol_sim.complete(spec, profile, first.id), first.baud)
 
 
