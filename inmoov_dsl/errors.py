@@ -134,18 +134,21 @@ def did_you_mean(name: str, known: Iterable[str]) -> str | None:
 
 def decode_utf8(data: bytes, file: str) -> str:
     """``data`` as UTF-8 text, with newlines as Python reads a text file (``\r\n`` and
-    ``\r`` become ``\n``); bytes that are not UTF-8 are a GestError at their place."""
+    ``\r`` become ``\n``) and without the byte-order mark some editors (Notepad) write
+    at the start; bytes that are not UTF-8 are a GestError at their place. A BOM
+    elsewhere is text (U+FEFF), left for the parser to refuse."""
+    bom = 3 if data.startswith(b"\xef\xbb\xbf") else 0
     try:
-        text = data.decode("utf-8")
+        text = data[bom:].decode("utf-8")
     except UnicodeDecodeError as exc:
-        line_start = data.rfind(b"\n", 0, exc.start) + 1
-        line = data.count(b"\n", 0, exc.start) + 1
-        column = len(data[line_start:exc.start].decode("utf-8", "replace")) + 1
-        line_end = data.find(b"\n", exc.start)
+        start = exc.start + bom  # in data
+        line_start = max(data.rfind(b"\n", 0, start) + 1, bom)
+        line = data.count(b"\n", 0, start) + 1
+        column = len(data[line_start:start].decode("utf-8", "replace")) + 1
+        line_end = data.find(b"\n", start)
         shown = data[line_start:line_end if line_end >= 0 else len(data)]
         raise GestError(Diagnostic(
             "error", f"this file is not UTF-8 text: {exc.reason} (byte "
-            f"0x{data[exc.start]:02x})", Pos(file, line, column),
+            f"0x{data[start]:02x})", Pos(file, line, column),
             "save it as UTF-8", shown.decode("utf-8", "replace"))) from None
     return text.replace("\r\n", "\n").replace("\r", "\n")
-

@@ -37,9 +37,11 @@ class LinkReport:
     baud: int
     servos: int
     bytes: int
+    values: int  #: servo values the board acts on; 0: the gesture leaves the board idle
     naive_bytes: int  #: every servo every frame for the whole gesture, plus CANCEL
     end: float  #: s; the last byte has arrived
-    utilisation: float  #: share of the link's time in use, over the gesture
+    utilisation: float  #: share of the link's time in use, over the gesture (or the
+    #: stream, if it ends later)
     peak_utilisation: float  #: in the busiest servo frame
     needed: int  #: servo-frames that needed a fresh value
     covered: int
@@ -52,6 +54,12 @@ class LinkReport:
     def coverage(self) -> float:
         """The share of the servo-frames needing a fresh value that got one."""
         return 1.0 if self.needed == 0 else self.covered / self.needed
+
+    @property
+    def idle(self) -> bool:
+        """Does the gesture move none of the board's servos (its stream is signals only,
+        the CANCEL every stream starts with)?"""
+        return self.values == 0
 
 
 def writes(stream: Stream, ids: Collection[int]) -> list[tuple[float, int, int]]:
@@ -70,6 +78,13 @@ def writes(stream: Stream, ids: Collection[int]) -> list[tuple[float, int, int]]
 def _board_ids(profile: Profile, board: Board) -> frozenset[int]:
     """The servo IDs ``board`` drives."""
     return frozenset(profile.servos[profile.index(name)].id for name in board.servos)
+
+
+def idle(plan: Plan, stream: Stream) -> bool:
+    """Does ``stream`` move none of its board's servos (signals only, such as the CANCEL
+    every stream starts with)?"""
+    board = next(b for b in plan.profile.boards if b.id == stream.board)
+    return not writes(stream, _board_ids(plan.profile, board))
 
 
 def sent_values(plan: Plan, compiled: Compiled) -> dict[int, tuple[np.ndarray, np.ndarray]]:
@@ -141,12 +156,13 @@ def _measure_board(plan: Plan, stream: Stream) -> LinkReport:
     busy = np.bincount(np.minimum((stream.times / protocol.SERVO_FRAME).astype(int),
                                   frames - 1), minlength=frames)
     gesture_frames = max(1, math.ceil(plan.duration / protocol.SERVO_FRAME))
+    length = max(end, plan.duration)
     return LinkReport(
         board=stream.board, baud=stream.baud, servos=len(board.servos),
-        bytes=len(stream.data),
+        bytes=len(stream.data), values=len(events),
         naive_bytes=1 + protocol.PAIR_BYTES * len(board.servos) * gesture_frames,
         end=end,
-        utilisation=len(stream.data) * tau / end if end > 0 else 0.0,
+        utilisation=len(stream.data) * tau / length if length > 0 else 0.0,
         peak_utilisation=float(busy.max() * tau / protocol.SERVO_FRAME),
         needed=needed, covered=covered,
         worst_lag=worst[0], worst_lag_servo=worst[1], worst_lag_time=worst[2],

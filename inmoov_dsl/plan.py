@@ -95,7 +95,7 @@ class Planner:
                     f"the gesture lasts more than {MAX_GESTURE_DURATION:g} s", run[-1].pos,
                     "split it into shorter gestures"))
         make = self.sources.error if strict else self.sources.warning
-        told = tuple(make(message + (f" ({count} times)" if count > 1 else ""), pos,
+        told = tuple(make(message + (_TIMES.format(count) if count > 1 else ""), pos,
                           STRETCH_HINT)
                      for (pos, message), count in stretched.items()) + \
             tuple(dict.fromkeys(branched))  # a branch played again warns once
@@ -267,6 +267,17 @@ def _calculate(ruckig: Ruckig, inp: InputParameter, traj: Trajectory, step: Acti
 
 STRETCH_HINT = ("the profile's limits allow no faster move; ask for more time or raise "
                 "the limits")
+
+
+_TIMES = " ({} times)"  #: after a warning whose place the gesture plays more than once
+
+
+def without_count(message: str) -> str:
+    """``message`` without the `` (3 times)`` a plan adds when it plays the warning's
+    place more than once: what the warning says of its place, whichever gesture plays
+    it (``gestc check`` tells each place once)."""
+    head, times, tail = message.rpartition(" (")
+    return head if times and tail.endswith(" times)") and tail[:-7].isdigit() else message
 
 
 def stretch_message(needed: float, asked: float) -> str:

@@ -96,7 +96,9 @@ def _parse_once(text: str, file: str) -> Profile:
 
 
 def parse_profile(text: str, file: str = "<profile>") -> Profile:
-    """Build a Profile from TOML text. Pure: no file access."""
+    """Build a Profile from TOML text. Pure: no file access. A byte-order mark at the
+    start (what Notepad writes; TOML has none) is not part of the text."""
+    text = text.removeprefix("\ufeff")
     if len(text) > MAX_PROFILE:
         raise GestError(Diagnostic("error", f"the profile is longer than {MAX_PROFILE:,} "
                                    f"characters: it is not read", Pos(file, 1, 1)))

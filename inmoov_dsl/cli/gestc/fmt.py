@@ -3,30 +3,35 @@
 from __future__ import annotations
 
 import argparse
+import codecs
 import sys
 from pathlib import Path
 
-from ...errors import GestError
+from ...errors import GestError, decode_utf8
 from ..common import EXIT_ERROR, EXIT_OK, report
 from .target import PROG
 
 
 def run(args: argparse.Namespace) -> int:
-    """Rewrite files in the canonical layout (``-``: stdin to stdout)."""
+    """Rewrite files in the canonical layout (``-``: stdin to stdout). The text is read
+    as UTF-8; a byte-order mark at its start is dropped (a file that has one is
+    rewritten without it)."""
     from ...fmt import format_source
 
     status = EXIT_OK
     for file in args.files:
+        name = "<stdin>" if file == "-" else file
         try:
-            text = sys.stdin.read() if file == "-" else Path(file).read_text(encoding="utf-8")
-            formatted = format_source(text, "<stdin>" if file == "-" else file)
+            data = stdin_bytes() if file == "-" else Path(file).read_bytes()
+            text = decode_utf8(data, name)
+            formatted = format_source(text, name)
         except GestError as exc:
             report(exc.diagnostics, PROG)
             status = EXIT_ERROR
             continue
         if file == "-":
             sys.stdout.write(formatted)
-        elif formatted != text:
+        elif formatted != text or data.startswith(codecs.BOM_UTF8):
             if args.check:
                 print(f"{file}: would be reformatted")
                 status = EXIT_ERROR
@@ -34,6 +39,14 @@ def run(args: argparse.Namespace) -> int:
                 Path(file).write_text(formatted, encoding="utf-8")
                 print(f"{file}: reformatted", file=sys.stderr)
     return status
+
+
+def stdin_bytes() -> bytes:
+    """All of standard input, as bytes (a text stream put in its place, as tests do, is
+    encoded back to UTF-8)."""
+    buffer = getattr(sys.stdin, "buffer", None)
+    return buffer.read() if buffer is not None else \
+        sys.stdin.read().encode("utf-8", "surrogatepass")
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:

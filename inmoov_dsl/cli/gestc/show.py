@@ -35,12 +35,15 @@ def run(args: argparse.Namespace) -> int:
 
 
 def link_text(r: metrics.LinkReport) -> str:
-    """One link's figures, a line each."""
+    """One link's figures, a line each; one line for a board the gesture leaves idle."""
+    head = f"board {r.board} at {r.baud} baud, {r.servos} servo{'' if r.servos == 1 else 's'}"
+    if r.idle:
+        return f"{head}: idle, none of its servos moves (it is sent CANCEL only)"
     saved = 100 * (1 - r.bytes / r.naive_bytes) if r.naive_bytes else 0.0
     lag = (f"{r.worst_lag:.2f} deg ({r.worst_lag_servo} at {r.worst_lag_time:.3f} s)"
            if r.worst_lag_servo else "0.00 deg")
     rows = [
-        f"board {r.board} at {r.baud} baud, {r.servos} servos",
+        head,
         f"  bytes        {r.bytes:,} (every servo every frame: {r.naive_bytes:,}; "
         f"{saved:.0f}% fewer)",
         f"  link use     {100 * r.utilisation:.0f}% over the gesture, "
