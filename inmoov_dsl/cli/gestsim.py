@@ -16,18 +16,19 @@ import os
 import select
 import sys
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TextIO
 
 from .. import clock
 from ..board import BoardCore
 from ..errors import Diagnostic, GestError
 from ..glove import VirtualGlove
-from ..profile import load_profile
+from ..profile import Glove, load_profile
 from ..sim import DtrLine, VirtualBoard
 from .common import EXIT_OK, add_version, number, parse_args, report, run
+from .gestsim_views import BarsView, HandView
 
 PROG = "gestsim"
-FRAME = 0.05  #: s between redraws of the live view
 
 
 def serve(args: argparse.Namespace) -> int:
@@ -36,17 +37,14 @@ def serve(args: argparse.Namespace) -> int:
         raise GestError(Diagnostic("error", "gestsim needs a POSIX system (Linux, macOS)",
                                    hint="on Windows, play to --port sim:// instead"))
     profile = load_profile(args.profile)
-    board_cfg = next((b for b in profile.boards if args.board in (None, b.id)), None)
-    if board_cfg is None:
-        raise GestError(Diagnostic("error", f"profile '{profile.name}' has no board "
-                                   f"{args.board}"))
     # what can fail does before the pty; the log is there before the path is printed
     glove = _glove(args, profile) if args.glove else None
+    board_cfg = glove.config if glove else _board(profile, args.board)
     views: list = []
     if glove is None and args.view:
-        views.append(_HandView(profile, board_cfg))
+        views.append(HandView(profile, board_cfg))
     elif glove is None and sys.stderr.isatty() and not args.quiet:
-        views.append(_View(profile, board_cfg))
+        views.append(BarsView(profile, board_cfg))
     web = _web(args, profile, board_cfg)
     views += [web] if web is not None else []
     try:
@@ -67,19 +65,19 @@ def _serve(args: argparse.Namespace, profile, board_cfg, glove, views: list, web
         tty.setraw(slave)
         os.close(slave)
         print(f"{path}", flush=True)
-        print(f"{PROG}: board {board_cfg.id} ({board_cfg.name}) of profile "
-              f"'{profile.name}' on {path} at {board_cfg.baud} baud; Ctrl-C stops",
-              file=sys.stderr, flush=True)
+        print(f"{PROG}: {'glove' if glove else 'board'} {board_cfg.id} ({board_cfg.name}) "
+              f"of profile '{profile.name}' on {path} at {board_cfg.baud} baud; Ctrl-C "
+              f"stops", file=sys.stderr, flush=True)
         if glove is not None:
-            print(f"{PROG}: a glove performing '{args.glove}' from the moment the port "
+            print(f"{PROG}: its fingers perform '{args.glove}' from the moment the port "
                   f"opens", file=sys.stderr, flush=True)
         if web is not None:
             busy = (f" (port {args.http_port} is busy)"
                     if args.http_port not in (0, web.port) else "")
             print(f"{PROG}: the hand in 3-D at {web.url}{busy}", file=sys.stderr, flush=True)
-        _Pty(master, args.boot, glove, views, log, lambda ready_at: VirtualBoard(
-            BoardCore.from_profile(profile, board_cfg), board_cfg.baud, ready_at=ready_at)
-             ).serve()
+        _Pty(master, args.boot, glove and glove.stream, views, log,
+             lambda ready_at: VirtualBoard(BoardCore.from_profile(profile, board_cfg),
+                                           board_cfg.baud, ready_at=ready_at)).serve()
     except KeyboardInterrupt:
         return EXIT_OK
     finally:
@@ -102,12 +100,22 @@ class _Pty:
         self.line = DtrLine()  # no program has the port open yet
 
     def serve(self) -> None:
-        """Forever: wait up to 5 ms for bytes, then let the board read and answer."""
+        """The board on the desk, drawn; then forever: wait up to 5 ms for bytes, then
+        let the board read and answer."""
+        self.start(clock.now())
         poller = select.poll()
         poller.register(self.master, select.POLLIN)
         while True:
             flags = dict(poller.poll(5)).get(self.master, 0)
             self.tick(flags, clock.now())
+
+    def start(self, now: float) -> None:
+        """A board is powered before any program opens its port: it is there, in its
+        rest pose, and drawn at once (the first open resets it, as DTR rises). A glove
+        starts its gesture when the port opens."""
+        if self.glove is None:
+            self.board = self.new_board(now + self.boot)
+            self._draw(now)
 
     def tick(self, flags: int, now: float) -> None:
         """One turn: read what came, notice a close or an open, let the board answer."""
@@ -177,8 +185,26 @@ def _web(args: argparse.Namespace, profile, board_cfg):
     return WebView(profile, board_cfg, args.http_port)
 
 
-def _glove(args: argparse.Namespace, profile) -> list[tuple[float, bytes]]:
-    """The stream of a glove performing a gesture, untidy as asked."""
+def _board(profile, board_id: int | None):
+    """The board ``--board`` names (default the profile's first)."""
+    board_cfg = next((b for b in profile.boards if board_id in (None, b.id)), None)
+    if board_cfg is None:
+        raise GestError(Diagnostic("error", f"profile '{profile.name}' has no board "
+                                   f"{board_id}"))
+    return board_cfg
+
+
+@dataclass(frozen=True)
+class _Glove:
+    """The glove gestsim is: its table in the profile, and what it sends."""
+
+    config: Glove
+    stream: list[tuple[float, bytes]]
+
+
+def _glove(args: argparse.Namespace, profile) -> _Glove:
+    """The glove (``--board``: its ID, default the profile's first) performing a
+    gesture, untidy as asked."""
     from ..compiler import compile_program, load
     from ..glove import Imperfections, glove_stream
     from ..library import find_gesture
@@ -186,6 +212,11 @@ def _glove(args: argparse.Namespace, profile) -> list[tuple[float, bytes]]:
     if not profile.gloves:
         raise GestError(Diagnostic("error", f"profile '{profile.name}' has no glove",
                                    hint="a [[glove]] table describes one (rhand has it)"))
+    glove = next((g for g in profile.gloves if args.board in (None, g.id)), None)
+    if glove is None:
+        ids = ", ".join(str(g.id) for g in profile.gloves)
+        raise GestError(Diagnostic("error", f"profile '{profile.name}' has no glove "
+                                   f"{args.board}", hint=f"its gloves: {ids}"))
     path, gesture = find_gesture(args.glove, None, warn=lambda d: report([d], PROG))
     _, plan = compile_program(load(path), gesture, profile)
     gaps = []
@@ -196,57 +227,8 @@ def _glove(args: argparse.Namespace, profile) -> list[tuple[float, bytes]]:
         except ValueError:
             raise GestError(Diagnostic("error", f"--gap {spec}: give START-END in seconds",
                                        hint="--gap 1.0-1.3")) from None
-    return glove_stream(plan, profile.gloves[0], Imperfections(
-        args.noise, args.drop, tuple(gaps), seed=args.seed))
-
-
-class _View:
-    """The board's values in the terminal, redrawn in place when they change (at most
-    every FRAME): a bar per servo."""
-
-    def __init__(self, profile, board_cfg):
-        self.names = board_cfg.servos
-        self.next = 0.0
-        self.shown: list[int] | None = None
-        self.height = 0  # lines drawn last time
-
-    def lines(self, values: list[int]) -> list[str]:
-        """A line per servo: its name, value and a bar."""
-        return [f"  {name:<10} {value:>3}  {'#' * (value * 30 // 180)}"
-                for name, value in zip(self.names, values, strict=True)]
-
-    def draw(self, board: VirtualBoard, now: float) -> None:
-        """Redraw if the values changed and a frame has passed."""
-        if now < self.next or board.core.values == self.shown:
-            return
-        self.next = now + FRAME
-        self.shown = list(board.core.values)
-        lines = self.lines(self.shown)
-        out = sys.stderr
-        if self.height:
-            out.write(f"\x1b[{self.height}F")
-        out.write("".join(f"\x1b[2K{line}\n" for line in lines))
-        out.flush()
-        self.height = len(lines)
-
-
-class _HandView(_View):
-    """The hand drawn in the terminal (gestc preview's picture)."""
-
-    def __init__(self, profile, board_cfg):
-        from ..preview import draw_hand, hand_servos, pose_of, to_terminal
-
-        super().__init__(profile, board_cfg)
-        hand_servos(profile)  # a profile without a hand is an error now, not later
-        self.profile, self.ids = profile, [profile.servos[profile.index(n)].id
-                                           for n in board_cfg.servos]
-        self.draw_hand, self.pose_of, self.to_terminal = draw_hand, pose_of, to_terminal
-        draw_hand({})  # Pillow is there
-
-    def lines(self, values: list[int]) -> list[str]:
-        """The hand in that pose, as coloured half-block characters."""
-        pose = self.pose_of(self.profile, values, self.ids)
-        return self.to_terminal(self.draw_hand(pose), columns=48)
+    return _Glove(glove, glove_stream(plan, glove, Imperfections(
+        args.noise, args.drop, tuple(gaps), seed=args.seed)))
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -254,7 +236,8 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog=PROG, description=__doc__.splitlines()[0])
     add_version(ap)
     ap.add_argument("-p", "--profile", default="rhand", help="robot profile (default rhand)")
-    ap.add_argument("--board", type=int, help="which board of the profile (default the first)")
+    ap.add_argument("--board", type=int, help="which board of the profile (default the "
+                    "first; with --glove, which glove)")
     ap.add_argument("--boot", type=number(0, 10), default=0.5,
                     help="seconds the board ignores bytes after a reset (default 0.5)")
     ap.add_argument("--log", help="write every byte received to this file, as it "
