@@ -7,10 +7,12 @@ GestError with the line and a caret.
 
 from __future__ import annotations
 
+import re
+
 from lark import Token, UnexpectedCharacters, UnexpectedInput
 from lark.exceptions import UnexpectedEOF, UnexpectedToken
 
-from .errors import Diagnostic, GestError, Pos
+from .errors import Diagnostic, GestError, Pos, did_you_mean
 from .syntax import KEYWORDS
 
 Span = tuple[int, int, int]  #: line, column (from 1) and width of what is wrong
@@ -109,7 +111,8 @@ def _explain(exc: UnexpectedInput, text: str) -> tuple[str, str | None, int]:
         found = _describe(tok)
         layout = tok.type in ("_NL", "_INDENT", "_DEDENT", "$END")
         width = 1 if layout else max(1, len(str(tok)))
-        hint = _hint(tok, set(expected))
+        hint = _misspelt(tok, set(expected)) or _step_keyword(text, exc.line) or \
+            _hint(tok, set(expected))
         wanted = _or([_WORDS.get(e, f"'{e.lower()}'") for e in expected if e in _WORDS or
                       e.isupper()])
         return f"unexpected {found}; expected {wanted}", hint, width
@@ -132,6 +135,12 @@ def _describe(tok: Token) -> str:
     return f"'{shown(str(tok))}'"
 
 
+def _misspelt(tok: Token, expected: set[str]) -> str | None:
+    """'did you mean' for a name close to a keyword the grammar expects here."""
+    keywords = {e.lower() for e in expected} & KEYWORDS
+    return did_you_mean(str(tok), keywords) if tok.type == "NAME" else None
+
+
 def _hint(tok: Token, expected: set[str]) -> str | None:
     if "COMMA" in expected and tok.type == "NAME":
         return "separate the servos of a step with ',': index 90, middle 90"
@@ -144,6 +153,20 @@ def _hint(tok: Token, expected: set[str]) -> str | None:
     if tok.type == "_INDENT":
         return "only the steps under 'name:' or 'repeat N:' are indented"
     return None
+
+
+_STEP_START = re.compile(r"\s*(?:[A-Za-z_]\w*\s*:\s*)?([A-Za-z_]\w*)\s+\d")
+_STEP_KEYWORDS = ("wait", "hold", "repeat")  #: the keywords a step starts with, then a number
+
+
+def _step_keyword(text: str, line: int) -> str | None:
+    """A hint when the step on ``line`` starts with a misspelt keyword (``wiat 1s``,
+    read as a servo and its value until the unit)."""
+    lines = text.split("\n")
+    found = _STEP_START.match(lines[line - 1]) if 1 <= line <= len(lines) else None
+    if found is None or found[1] in KEYWORDS:
+        return None
+    return did_you_mean(found[1], _STEP_KEYWORDS)
 
 
 def _or(words: list[str]) -> str:

@@ -123,6 +123,13 @@ def test_syntax_errors_say_what_and_where(source, first, caret):
     ("p: index 90.5", "use 90 or 91"),
     ("p: index 90 over 3", "write 3s or 3ms"),
     ("p: index 90 over 3sec", "use s or ms, as in 3s or 3ms"),
+    # a misspelt keyword, where the grammar expects one or where a step starts
+    ("p: indx 90, middle 90 ovr 0.5s", "did you mean 'over'?"),
+    ("p: fingers 90 stager 50ms", "did you mean 'stagger'?"),
+    ("p: index 90 thru", "did you mean 'through'?"),
+    ("p:\n    index 90\n    wiat 1s", "did you mean 'wait'?"),
+    ("p: hodl 0.5s", "did you mean 'hold'?"),
+    ("p:\n    repaet 3: index 9", "did you mean 'repeat'?"),
 ])
 def test_syntax_errors_suggest_a_fix(source, hint):
     with pytest.raises(GestError) as info:
