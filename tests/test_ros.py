@@ -169,6 +169,32 @@ def test_without_rospy_the_node_says_where_to_run_it():
     assert "Traceback" not in done.stderr
 
 
+def test_the_node_tells_its_version_and_usage_with_or_without_rospy(capsys):
+    from inmoov_dsl import __version__
+    from inmoov_dsl.ros.__main__ import main
+
+    with pytest.raises(SystemExit) as done:
+        main(["--version"])
+    assert done.value.code == 0
+    assert capsys.readouterr().out == f"python -m inmoov_dsl.ros {__version__}\n"
+    with pytest.raises(SystemExit) as done:
+        main(["--help", "__name:=renamed"])  # roslaunch's arguments are not the node's
+    assert done.value.code == 0
+    assert capsys.readouterr().out.startswith("usage: python -m inmoov_dsl.ros [-h] --port")
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="COM3 is a port name on Windows")
+@pytest.mark.parametrize("listen", [False, True])
+def test_a_wrong_port_name_gets_the_hint_every_command_gives(listen):
+    from inmoov_dsl.ports import not_found
+
+    args = Namespace(port=["COM3"], profile="rhand", listen=listen, rate=50.0, blind=False,
+                     lib=[])
+    with pytest.raises(GestError) as failed:
+        core.serve(args, FakeEdge())
+    assert failed.value.diagnostics == (not_found("COM3"),)
+
+
 # -- ROS 1: a real master, the node as a user runs it ------------------------------------
 def need_ros() -> None:
     """Skip (fail under CI=true) without ROS 1: its tools, and rospy for its Python."""
@@ -425,6 +451,14 @@ def test_errors_at_start_are_messages_and_a_non_zero_exit(ros_python, ros_env, a
                           timeout=WAIT)
     assert done.returncode in (1, 2), done.stderr
     assert message in done.stderr and "Traceback" not in done.stderr
+
+
+def test_under_ros_the_node_tells_its_version(ros_python):
+    from inmoov_dsl import __version__
+
+    done = subprocess.run([str(ros_python), "-m", "inmoov_dsl.ros", "--version",
+                           "__name:=renamed"], capture_output=True, text=True, timeout=WAIT)
+    assert (done.returncode, done.stdout) == (0, f"python -m inmoov_dsl.ros {__version__}\n")
 
 
 def test_roslaunch_brings_up_the_node_and_robot_state_publisher(ros_python, ros_env):

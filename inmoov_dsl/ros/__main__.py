@@ -18,10 +18,13 @@ HINT = ("ROS 1's Python is Debian's /usr/bin/python3 with python3-rospy: make a 
 def main(argv: list[str] | None = None) -> int:
     """Run the node under ROS 1 (rospy); a clear message where rospy is missing.
     ``--package-path`` prints where the ROS package (launch files, rviz views) is, for
-    ROS_PACKAGE_PATH."""
-    if (sys.argv[1:] if argv is None else argv) == ["--package-path"]:
+    ROS_PACKAGE_PATH; ``--version`` and ``--help`` answer without rospy too."""
+    given = sys.argv[1:] if argv is None else argv
+    if given == ["--package-path"]:
         print(data_dir("ros"))
         return EXIT_OK
+    if {"--version", "-h", "--help"} & set(given):  # answered with or without rospy
+        parse_args(parser(), [a for a in given if ":=" not in a])
     try:
         from . import ros1
     except ImportError as exc:

@@ -27,7 +27,7 @@ from typing import Protocol
 import serial
 
 from ..cli import hand
-from ..cli.common import EXIT_OK, add_blind, add_lib, number
+from ..cli.common import EXIT_OK, add_blind, add_lib, add_version, number
 from ..decode import RECORDER, Pair, Reader
 from ..drive import Drive, Mirror, Next, Note, library_program
 from ..errors import Diagnostic, GestError
@@ -202,4 +202,5 @@ def parser() -> argparse.ArgumentParser:
                    help="joint states per second (default 50)")
     add_blind(p)
     add_lib(p)
+    add_version(p)
     return p
