@@ -150,6 +150,28 @@ def describe(lines: Sequence[str], line: int, name: str = "") -> str:
     return first
 
 
+def file_meant(target: str, dirs: Sequence[Path] | None = None) -> str:
+    """The file a path on the command line means: itself if it is there; ``NAME.gest``
+    for ``NAME``; a library file of that name (``peace.gest``) for a bare file name. One
+    that is nowhere is an error, with a hint at the gesture the user may mean."""
+    if target == "-" or os.path.exists(target):
+        return target
+    if not target.endswith(".gest") and os.path.isfile(target + ".gest"):
+        return target + ".gest"
+    name = os.path.basename(target)
+    name = name if name.endswith(".gest") else f"{name}.gest"
+    if os.path.basename(target) == target:
+        for d in (dirs if dirs is not None else library_dirs()):
+            if (Path(d) / name).is_file():
+                return str(Path(d) / name)
+    stem = name[:-len(".gest")]
+    known = scan(dirs).entries
+    close = did_you_mean(stem, known)
+    hint = (f"'{stem}' is a library gesture: give its name alone, {stem}" if stem in known
+            else close and f"{close} (a library gesture: give its name alone)")
+    raise GestError(Diagnostic("error", f"cannot find '{target}'", hint=hint))
+
+
 def find_gesture(target: str, gesture: str | None, dirs: Sequence[Path] | None = None,
                  warn: Callable[[Diagnostic], None] | None = None
                  ) -> tuple[str, str | None]:
@@ -158,7 +180,7 @@ def find_gesture(target: str, gesture: str | None, dirs: Sequence[Path] | None =
     unless the gesture asked for is in one of them: then its error is the answer."""
     if os.path.exists(target) or target.endswith(".gest") or os.sep in target \
             or "/" in target:
-        return target, gesture
+        return file_meant(target, dirs), gesture
     library = scan(dirs)
     if target in library.entries:
         for d in library.warnings():

@@ -104,7 +104,7 @@ def _explain(exc: UnexpectedInput, text: str) -> tuple[str, str | None, int]:
     if isinstance(exc, UnexpectedCharacters):
         char = text[exc.pos_in_stream]
         quoted = f"'{char}'" if char.isprintable() else f"U+{ord(char):04X}"
-        return f"unexpected character {quoted}", None, 1
+        return f"unexpected character {quoted}", _file_name(text, exc.pos_in_stream), 1
     if isinstance(exc, UnexpectedToken):
         tok = exc.token
         expected = sorted(exc.accepts or exc.expected)
@@ -152,6 +152,19 @@ def _hint(tok: Token, expected: set[str]) -> str | None:
         return "indent the steps under the gesture's name, or write them after ':'"
     if tok.type == "_INDENT":
         return "only the steps under 'name:' or 'repeat N:' are indented"
+    return None
+
+
+_FILE_NAME = re.compile(r"([A-Za-z_][\w-]*)\.gest\b")
+
+
+def _file_name(text: str, at: int) -> str | None:
+    """A hint when the '.' at ``at`` is in a file name (``peace.gest``) where a step
+    names a gesture."""
+    start, end = text.rfind("\n", 0, at) + 1, text.find("\n", at)
+    for found in _FILE_NAME.finditer(text, start, len(text) if end < 0 else end):
+        if found.start() < at < found.end():
+            return f"a step names a gesture, not its file: {found[1]}"
     return None
 
 

@@ -320,3 +320,41 @@ def test_the_repl_names_the_profile_a_servo_is_in(rhand):
     with pytest.raises(GestError) as info:
         line_steps("rothead 90", library_program(None), rhand)
     assert info.value.first.hint == "'rothead' is in profile 'inmoov': add --profile inmoov"
+
+
+@pytest.mark.parametrize("target", ["peace.gest", "peace", str(ROOT / "gestures" / "peace")])
+def test_a_library_file_named_on_the_command_line_plays_its_gesture(target, tmp_path,
+                                                                     monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)  # no peace.gest here: the library's
+    assert gestplay.main([target, "--dry-run"]) == 0
+    assert capsys.readouterr().out.splitlines()[-1] == "0.690625 180"
+
+
+@pytest.mark.parametrize("target, hint", [
+    ("gestures/wave.gest", "'wave' is a library gesture: give its name alone, wave"),
+    ("gestures/wave", "'wave' is a library gesture: give its name alone, wave"),
+    ("gestures/wav.gest", "did you mean 'wave'? (a library gesture: give its name alone)"),
+])
+def test_a_path_that_is_nowhere_hints_at_the_gesture_meant(target, hint, capsys):
+    for main, argv in ((gestplay.main, [target, "--port", "sim://"]),
+                       (gestc.main, ["show", target])):
+        assert main(argv) == 1
+        assert capsys.readouterr().err.splitlines()[-2:] == [
+            f"{'gestplay' if main is gestplay.main else 'gestc'}: error: cannot find "
+            f"'{target}'", f"  hint: {hint}"]
+
+
+def test_a_file_of_several_gestures_asks_which(capsys):
+    assert gestplay.main([str(ROOT / "gestures" / "motion.gest"), "--port", "sim://"]) == 1
+    err = capsys.readouterr().err
+    assert "motion.gest defines 4 gestures: drum, bye, beckon, wave" in err
+    assert err.endswith("hint: choose one with --gesture NAME\n")
+
+
+def test_a_file_name_typed_at_the_repl_hints_at_its_gesture(rhand):
+    from inmoov_dsl.drive import library_program
+    from inmoov_dsl.live import line_steps
+
+    with pytest.raises(GestError) as info:
+        line_steps("peace.gest", library_program(None), rhand)
+    assert info.value.first.hint == "a step names a gesture, not its file: peace"

@@ -130,6 +130,7 @@ def test_syntax_errors_say_what_and_where(source, first, caret):
     ("p:\n    index 90\n    wiat 1s", "did you mean 'wait'?"),
     ("p: hodl 0.5s", "did you mean 'hold'?"),
     ("p:\n    repaet 3: index 9", "did you mean 'repeat'?"),
+    ("p: peace.gest", "a step names a gesture, not its file: peace"),
 ])
 def test_syntax_errors_suggest_a_fix(source, hint):
     with pytest.raises(GestError) as info:
