@@ -5,9 +5,11 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
+from pathlib import Path
 
 from . import syntax as ast
 from .errors import Diagnostic, GestError, did_you_mean
+from .library import scan
 from .profile import Profile, profiles_with
 from .program import Program
 
@@ -53,6 +55,7 @@ class NameTable:
     def __init__(self, program: Program, profile: Profile):
         """Build the table; names that clash are GestErrors, all reported at once."""
         self.profile = profile
+        self.search = program.search
         self._table = _table(program, profile)
 
     def get(self, name: str) -> Entity | None:
@@ -60,11 +63,17 @@ class NameTable:
         return self._table.get(name)
 
     def hint(self, name: str) -> str | None:
-        """A hint for an unknown ``name``: the built-in profile that has it, or the
-        closest name. Every command that resolves a name words it here."""
+        """A hint for an unknown ``name``: the built-in profile that has it, the library
+        file that defines it (a file's names come in with ``use``), or the closest name.
+        Every command that resolves a name words it here."""
         others = [p for p in profiles_with(name) if p != self.profile.name]
         if others:
             return f"'{name}' is in profile '{others[0]}': add --profile {others[0]}"
+        if self.search:
+            entry = scan([Path(d) for d in self.search]).entries.get(name)
+            if entry is not None:
+                return (f"'{name}' is a library gesture, defined in {entry.path.name}: "
+                        f"add the line  use \"{entry.path.name}\"  to this file")
         return did_you_mean(name, self._table)
 
 

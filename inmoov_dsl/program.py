@@ -32,6 +32,7 @@ class Program:
     poses: dict[str, ast.PoseDef] = field(default_factory=dict)
     groups: dict[str, ast.GroupDef] = field(default_factory=dict)
     own: list[str] = field(default_factory=list)  #: gestures defined in the root file
+    search: tuple[str, ...] = ()  #: where its ``use`` lines look, after beside each file
     #: one resolve.Resolver per profile (see ``resolve.resolver``), and the SHA-256 of
     #: every text
     resolvers: dict[int, Any] = field(default_factory=dict, repr=False)
@@ -55,7 +56,7 @@ def load_program(path: str, read: Reader, search: Sequence[str] = (),
     ``first_wins`` (a library along its search path): then a name already defined by
     another file is shadowed, and only one file defining it twice is an error.
     """
-    loader = _Loader(Program(path), read, search, first_wins)
+    loader = _Loader(Program(path, search=tuple(search)), read, search, first_wins)
     loader.visit(path, read(path) if text is None else text, True)
     if loader.errors:
         raise GestError(loader.errors)

@@ -358,3 +358,14 @@ def test_a_file_name_typed_at_the_repl_hints_at_its_gesture(rhand):
     with pytest.raises(GestError) as info:
         line_steps("peace.gest", library_program(None), rhand)
     assert info.value.first.hint == "a step names a gesture, not its file: peace"
+
+
+def test_a_library_gesture_named_in_a_file_says_which_use_line_brings_it(tmp_path, capsys):
+    mine = tmp_path / "both.gest"
+    mine.write_text("both: peace & nod\n")
+    assert gestc.main(["check", str(mine), "--profile", "inmoov"]) == 1
+    assert capsys.readouterr().err.splitlines()[-1] == (
+        "  hint: 'peace' is a library gesture, defined in peace.gest: add the line  "
+        "use \"peace.gest\"  to this file")
+    mine.write_text('use "peace.gest"\nuse "body.gest"\nboth: peace & nod\n')
+    assert gestc.main(["check", str(mine), "--profile", "inmoov"]) == 0
