@@ -7,6 +7,8 @@ from __future__ import annotations
 import sys
 from typing import TYPE_CHECKING
 
+from ..posebars import bar_lines
+
 if TYPE_CHECKING:
     from ..sim import VirtualBoard
 
@@ -24,9 +26,8 @@ class BarsView:
         self.height = 0  # lines drawn last time
 
     def lines(self, values: list[int]) -> list[str]:
-        """A line per servo: its name, value and a bar."""
-        return [f"  {name:<10} {value:>3}  {'#' * (value * 30 // 180)}"
-                for name, value in zip(self.names, values, strict=True)]
+        """A line per servo: its name, value and a bar (``posebars``)."""
+        return bar_lines(zip(self.names, values, strict=True))
 
     def draw(self, board: VirtualBoard, now: float) -> None:
         """Redraw if the values changed and a frame has passed."""
