@@ -20,7 +20,7 @@ from .board import BoardCore
 from .compiler import load
 from .errors import Diagnostic, GestError, SourceMap
 from .library import library_dirs, library_files, scan
-from .live import Segment, Session, line_steps
+from .live import LINE, Segment, Session, line_steps
 from .player import POLL, SPIN, Link, drain
 from .profile import Profile
 from .program import Program
@@ -112,8 +112,10 @@ class Drive:
 
     def __init__(self, links: list[Link], profile: Profile, pose: dict[str, int],
                  program: Program, tell: Tell, take_over: bool = True,
-                 now: clock.Clock = clock.now, sleep: clock.Sleep = clock.sleep):
+                 now: clock.Clock = clock.now, sleep: clock.Sleep = clock.sleep,
+                 file: str = LINE):
         self.links, self.profile, self.program = links, profile, program
+        self.file, self.lines = file, 0  #: typed lines are lines of ``file``; how many came
         self.tell, self.take_over = tell, take_over
         self.now, self.sleep = now, sleep
         start = [pose.get(s.name, s.rest) for s in profile.servos]
@@ -154,6 +156,11 @@ class Drive:
                 self.moving = True
             self._send()
 
+    def settled(self) -> bool:
+        """The steps requested so far are done: nothing to send, nothing queued, no
+        move or wait running."""
+        return not self.events and not self.session.busy(self.now())
+
     def _still(self, t: float) -> bool:
         """Nothing to send and nothing to do; says "done" once after a move."""
         if self.events or self.session.busy(t):
@@ -177,19 +184,20 @@ class Drive:
         if isinstance(request, Steps):
             steps, sources, name = list(request.actions), request.sources, request.name
         else:
+            self.lines += 1
             name = request.strip()
             if not name or name.startswith("#"):
                 return None
             try:
-                steps, sources = line_steps(request, self.program, self.profile)
+                steps, sources = line_steps(request, self.program, self.profile,
+                                            self.file, self.lines)
             except GestError as exc:
                 self.tell(Note("error", tuple(exc.diagnostics), name))
                 return None
         run = self.session.submit if self.take_over else self.session.append
         try:
             segment = run(steps, t, self.mirror.held(), sources)
-        except GestError as exc:
-            self.session.queue.clear()
+        except GestError as exc:  # the session has dropped what was queued with the step
             self.tell(Note("error", tuple(exc.diagnostics), name))
             return None
         self.tell(Note("start", text=name))
@@ -202,7 +210,6 @@ class Drive:
         try:
             segment = self.session.next(t, self.mirror.held())
         except GestError as exc:
-            self.session.queue.clear()
             self.tell(Note("error", tuple(exc.diagnostics), aside=True))
             return None
         if segment is not None and segment.warnings:

@@ -18,14 +18,15 @@ from dataclasses import dataclass, replace
 
 from . import snippet
 from .encode import Stream, encode
-from .errors import Diagnostic, SourceMap
+from .errors import Diagnostic, GestError, Pos, SourceMap
 from .plan import MotionState, Plan, Planner
 from .profile import Profile
 from .program import Program
 from .resolve import Action, Resolver
 from .syntax import GestureDef
 
-LINE = "<repl>"  #: the file name diagnostics give for a typed line
+LINE = "<repl>"  #: the file name diagnostics give for lines typed at a terminal
+STDIN = "<stdin>"  #: and for lines read from a pipe or a file
 _NAME = "_"  #: the typed line becomes this gesture
 _PREFIX = f"{_NAME}: "
 
@@ -89,7 +90,17 @@ class Session:
         return self._start(max(now, self.end), held)
 
     def _start(self, now: float, held: Sequence[int]) -> Segment:
+        """Plan the first queued step; if it cannot be, the steps queued with it (the
+        rest of its line) are dropped and the GestError goes on."""
         step, sources = self.queue.popleft()
+        try:
+            return self._plan(step, sources, now, held)
+        except GestError:
+            self.queue = deque(q for q in self.queue if q[1] is not sources)
+            raise
+
+    def _plan(self, step: Action, sources: SourceMap | None, now: float,
+              held: Sequence[int]) -> Segment:
         if sources is not None:
             self.planner.sources = sources
         final = list(self.current.plan.final)
@@ -106,17 +117,34 @@ class Session:
         return self.current
 
 
-def line_steps(line: str, program: Program, profile: Profile) -> tuple[list[Action], SourceMap]:
+class _Typed(SourceMap):
+    """The texts of a program, and one typed line: line ``number`` of ``file``."""
+
+    def __init__(self, program: Program, file: str, number: int, text: str):
+        super().__init__()
+        for name, source in program.texts.items():
+            self.add(name, source)
+        self.typed = (file, number, text)
+
+    def line(self, pos: Pos | None) -> str | None:
+        """The source line at ``pos``."""
+        if pos is not None and (pos.file, pos.line) == self.typed[:2]:
+            return self.typed[2]
+        return super().line(pos)
+
+
+def line_steps(line: str, program: Program, profile: Profile, file: str = LINE,
+               number: int = 1) -> tuple[list[Action], SourceMap]:
     """The steps of one typed line, e.g. ``index 90, middle 45 over 0.5s``, ``wait 1s``
-    or the name of a gesture or pose of ``program``. Errors point into the line."""
-    sources = SourceMap()
-    for file, source in program.texts.items():
-        sources.add(file, source)
-    sources.add(LINE, line)
-    with snippet.parsed(line, LINE, _PREFIX) as module:
+    or the name of a gesture or pose of ``program``. Errors point into the line, line
+    ``number`` of ``file`` (the input it came from)."""
+    sources = _Typed(program, file, number, line)
+    sources.add(file, line)  # what the steps are resolved from (wrapped: unwrap says it)
+    with snippet.parsed(line, file, _PREFIX, number) as module:
         gesture = next(item for item in module.items if isinstance(item, GestureDef))
-        typed = Program(LINE, sources, program.texts, {**program.gestures, _NAME: gesture},
+        typed = Program(file, sources, program.texts, {**program.gestures, _NAME: gesture},
                         program.poses, program.groups, [_NAME])
         actions = Resolver(typed, profile).gesture(_NAME)
-    back = functools.partial(snippet.shift, text=line, file=LINE, prefix=_PREFIX)
+    back = functools.partial(snippet.shift, text=line, file=file, prefix=_PREFIX,
+                             line=number)
     return [replace(a, pos=back(a.pos), over_pos=back(a.over_pos)) for a in actions], sources

@@ -122,3 +122,39 @@ def test_a_warning_about_a_typed_line_points_into_it(program):
     (warning,) = segment.warnings
     assert (warning.pos.line, warning.pos.column) == (1, line.index("0.01s") + 1)
     assert warning.format().splitlines()[1:3] == [f"    {line}", " " * 19 + "^~~~~"]
+
+
+@pytest.mark.parametrize(("file", "number"), [("<stdin>", 4), ("<repl>", 12)])
+def test_errors_and_warnings_name_the_line_of_the_input(program, file, number):
+    with pytest.raises(GestError) as caught:
+        line_steps("indx 90", program, RHAND, file, number)
+    assert caught.value.first.format().splitlines()[:2] == [
+        f"{file}:{number}:1: error: unknown servo or group 'indx'", "    indx 90"]
+    line = "index 180 over 0.01s"
+    actions, sources = line_steps(line, program, RHAND, file, number)
+    (warning,) = Session(RHAND, REST, 0.0, sources).submit(actions, 0.0, REST,
+                                                          sources).warnings
+    said = warning.format().splitlines()
+    assert said[0].startswith(f"{file}:{number}:16: warning: move stretched")
+    assert said[1] == f"    {line}"
+
+
+def test_a_step_that_cannot_be_planned_drops_its_line_not_the_next(program, monkeypatch):
+    session = Session(RHAND, REST, now=0.0)
+    broken, broken_sources = line_steps("count", program, RHAND)  # a gesture: many steps
+    after, after_sources = line_steps("middle 90", program, RHAND)
+    plan = session.planner.plan
+
+    def refuse_the_second(steps, pose, *args, **kwargs):
+        if steps[0] is broken[1]:
+            raise GestError(broken_sources.error("cannot plan", steps[0].pos))
+        return plan(steps, pose, *args, **kwargs)
+
+    monkeypatch.setattr(session.planner, "plan", refuse_the_second)
+    first = session.append(broken, 0.0, REST, broken_sources)
+    session.append(after, 0.1, REST, after_sources)
+    with pytest.raises(GestError):
+        session.next(first.plan.duration, REST)  # the rest of 'count' goes with it
+    following = session.next(first.plan.duration, REST)
+    assert following.step.targets == ((RHAND.index("middle"), 90),)
+    assert not session.queue

@@ -3,8 +3,11 @@ same clock. No real time passes: the REPL's clock, its sleep and its wait for a 
 are the test's."""
 
 import os
+import select
+import signal
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
@@ -61,13 +64,13 @@ class ClockedPort:
         return self.board.read(self.timeline.t)[:size]
 
 
-def run_repl(script, take_over=True):
+def run_repl(script, take_over=True, status=0, timeline=None):
     """Play timed lines [(seconds, line)] into the REPL; the board and its log."""
-    timeline = Timeline(script)
+    timeline = timeline or Timeline(script)
     board = VirtualBoard(BoardCore.from_profile(RHAND, RHAND.boards[0]), 9600)
     link = Link(181, ClockedPort(board, timeline), "timeline")
     assert repl([link], RHAND, {}, timeline.next_line, take_over, now=timeline.now,
-                sleep=timeline.sleep) == 0
+                sleep=timeline.sleep) == status
     board.advance(timeline.t + 1)
     return board, board.log
 
@@ -115,13 +118,79 @@ def test_a_wait_typed_while_the_hand_moves_starts_when_the_move_ends():
     assert board.positions()[INDEX_ID] == 0
 
 
+PEACE = "wrist 0  thumb 180  index 0  middle 0  ring 180  pinky 180"
+
+
+class Printed:
+    """Standard output, each write with the timeline's time."""
+
+    def __init__(self, timeline: Timeline):
+        self.timeline, self.lines = timeline, []
+
+    def write(self, text: str) -> int:
+        self.lines += [(self.timeline.t, line) for line in text.splitlines() if line]
+        return len(text)
+
+    def flush(self) -> None:
+        pass
+
+
+def test_in_a_script_where_answers_once_the_steps_before_it_are_done(monkeypatch):
+    timeline = Timeline([(0.0, "index 90"), (0.0, "wait 1s"), (0.0, "where"),
+                         (0.0, "peace"), (0.0, "where")])
+    printed = Printed(timeline)
+    monkeypatch.setattr("sys.stdout", printed)
+    _, log = run_repl(None, take_over=False, timeline=timeline)
+    (t1, first), (_, second) = printed.lines
+    assert first == "wrist 0  thumb 0  index 90  middle 0  ring 0  pinky 0"
+    assert second == PEACE
+    reached = next(t for t, w in log if w.id == INDEX_ID and w.value == 90)
+    assert t1 >= reached + 1.0  # after the wait too
+
+
+def test_at_a_terminal_where_answers_at_once(monkeypatch):
+    timeline = Timeline([(0.0, "index 90 over 1s"), (0.5, "where")])
+    printed = Printed(timeline)
+    monkeypatch.setattr("sys.stdout", printed)
+    run_repl(None, timeline=timeline)
+    ((t, answer),) = printed.lines
+    index = int(answer.split()[5])
+    assert t == pytest.approx(0.5, abs=0.01) and 0 < index < 90  # on its way
+
+
+@pytest.mark.parametrize(("take_over", "file"), [(False, "<stdin>"), (True, "<repl>")])
+def test_errors_name_the_line_of_the_input_they_are_on(capsys, take_over, file):
+    run_repl([(0.0, "index 90"), (0.1, ""), (0.2, "# a comment"), (0.3, "where"),
+              (0.4, "indx 3")], take_over, status=int(not take_over))
+    assert f"{file}:5:1: error: unknown servo or group 'indx'" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(("take_over", "status"), [(False, 1), (True, 0)])
+def test_a_script_with_a_failing_line_carries_on_and_exits_1(capsys, take_over, status):
+    board, _ = run_repl([(0.0, "index 90"), (0.0, "indx 3"), (0.0, "middle 45")], take_over,
+                        status)
+    assert board.positions()[RHAND.servos[RHAND.index("middle")].id] == 45  # carried on
+    assert "error: unknown servo or group 'indx'" in capsys.readouterr().err
+
+
 # -- gestplay repl as a person or a script uses it --------------------------------------
 def test_gestplay_repl_reads_steps_from_a_pipe():
     done = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "repl", "--port",
                            "sim://?boot=0.05"], input="ring 45 over 0.2s\nwhere\nquit\n",
                           capture_output=True, text=True, timeout=60)
     assert done.returncode == 0, done.stderr
-    assert done.stdout.startswith("wrist 0  thumb 0  index 0  middle 0  ring 0  pinky 0")
+    assert done.stdout.startswith("wrist 0  thumb 0  index 0  middle 0  ring 45  pinky 0")
+
+
+def test_a_piped_script_says_where_at_its_point_names_lines_and_fails():
+    done = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "repl", "--port",
+                           "sim://?boot=0"],
+                          input="index 90\nwait 1s\nwhere\npeace\nindx 3\nwhere\n",
+                          capture_output=True, text=True, timeout=60)
+    assert done.stdout.splitlines() == [
+        "wrist 0  thumb 0  index 90  middle 0  ring 0  pinky 0", PEACE]
+    assert done.stderr.startswith("<stdin>:5:1: error: unknown servo or group 'indx'")
+    assert done.returncode == 1
 
 
 @pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
@@ -139,3 +208,43 @@ def test_at_a_terminal_each_reply_comes_before_the_next_prompt():
     typed, answer = screen.split("gest> indx 3", 1)[1], screen.split("gest> where", 1)[1]
     assert typed.index("error: unknown servo or group 'indx'") < typed.index("gest> ")
     assert answer.index("wrist 0  thumb 0") < answer.index("gest> ")
+
+
+@pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
+def test_keys_typed_after_a_ctrl_c_are_left_for_the_shell():
+    import termios
+
+    master, slave = os.openpty()  # the test keeps the terminal open, as the shell does
+    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "repl",
+                             "--port", "sim://?boot=0"], stdin=slave, stdout=slave,
+                            stderr=slave)
+    screen = b""
+
+    def read_until(text: bytes) -> None:
+        """Read the screen until ``text`` shows, or the program ends (or 20 s pass)."""
+        nonlocal screen
+        deadline = time.monotonic() + 20
+        while text not in screen and proc.poll() is None and time.monotonic() < deadline:
+            if select.select([master], [], [], 0.1)[0]:
+                screen += os.read(master, 4096)
+
+    try:
+        read_until(b"gest> ")
+        proc.send_signal(signal.SIGINT)
+        read_until(b"Ctrl-C again to relax it")
+        os.write(master, b"echo typed\n")  # within the second after the Ctrl-C
+        read_until(b"\xff never")
+        assert proc.wait(timeout=20) == 130, screen
+        modes = termios.tcgetattr(slave)[3]
+        assert modes & termios.ICANON and modes & termios.ECHO  # the terminal as it was
+        os.set_blocking(slave, False)
+        try:
+            left = os.read(slave, 100)
+        except BlockingIOError:
+            left = b""
+        assert left == b"echo typed\n"  # what the shell reads next
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        os.close(master)
+        os.close(slave)

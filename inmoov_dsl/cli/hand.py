@@ -23,6 +23,7 @@ from ..ports import open_port
 from ..profile import Profile
 from ..profile_types import Board
 from ..urlhandler import protocol_sim
+from . import typeahead
 from .common import EXIT_INTERRUPTED, Exit, Stopped, status_of, warn, why
 
 RELAX_WINDOW = 1.5  #: s after a Ctrl-C at a terminal in which a second one relaxes the hand
@@ -151,14 +152,16 @@ def opened(prog: str, profile: Profile, ports: list[str], blind: bool = False,
 
     Ctrl-C sends CANCEL, so that no half command is pending, and leaves (``Exit``) with
     status 130 and the hand holding its pose; at a terminal, a second Ctrl-C soon after
-    relaxes the hand (its servos go limp). SIGTERM and SIGHUP do as Ctrl-C (exit 143,
-    129). A lost link sends CANCEL where it still can and is one line of error."""
+    relaxes the hand (its servos go limp), and what is typed meanwhile is left for the
+    shell (``typeahead``). SIGTERM and SIGHUP do as Ctrl-C (exit 143, 129). A lost link
+    sends CANCEL where it still can and is one line of error."""
+    modes = typeahead.modes()  # the terminal as found, before any line editor
     links = connect(parse_ports(ports, profile, boards), profile)
     try:
         yield Hand(profile, links, board_pose(links, profile, blind, going_on))
     except KeyboardInterrupt as exc:
         cancel_all(links)
-        raise Exit(_interrupted(prog, links, exc)) from None
+        raise Exit(_interrupted(prog, links, exc, modes)) from None
     except serial.SerialException as exc:
         cancel_all(links)
         where = ", ".join(f"board {link.board} on {link.name}" for link in links)
@@ -167,10 +170,14 @@ def opened(prog: str, profile: Profile, ports: list[str], blind: bool = False,
         close(links)
 
 
-def _interrupted(prog: str, links: list[Link], exc: KeyboardInterrupt) -> int:
+def _interrupted(prog: str, links: list[Link], exc: KeyboardInterrupt,
+                 modes: typeahead.Modes | None) -> int:
     """Say that the hand holds its pose; at a terminal, relax it on a second Ctrl-C.
+    The terminal goes back to ``modes``, and what is typed from now on to the shell.
     The exit status."""
-    if isinstance(exc, Stopped) or not sys.stdin.isatty():
+    at_terminal = sys.stdin.isatty()
+    typeahead.release(modes)
+    if isinstance(exc, Stopped) or not at_terminal:
         print(f"\n{prog}: {why(exc)}: CANCEL sent, the hand holds its pose", file=sys.stderr)
         return status_of(exc)
     try:  # a second Ctrl-C may come as soon as the first one is answered

@@ -21,10 +21,11 @@ from typing import Literal
 from ... import clock
 from ...drive import Drive, Note, library_program
 from ...library import library_dirs
+from ...live import LINE, STDIN
 from ...player import Link
 from ...profile import Profile, load_profile
 from .. import hand
-from ..common import EXIT_OK, add_blind, add_lib, report
+from ..common import EXIT_ERROR, EXIT_OK, add_blind, add_lib, report
 
 PROG = "gestplay repl"
 HELP = """\
@@ -107,38 +108,70 @@ def repl(links: list[Link], profile: Profile, pose: dict[str, int],
          dirs: list[Path] | None = None, screen: Screen | None = None) -> int:
     """Run until the input ends and the hand is still. ``next_line(timeout)`` waits at
     most ``timeout`` s for a line (``waiting_on`` a queue). Each line takes over the
-    running move (``take_over``, a person typing), or waits for the steps before it (a
-    script). With a ``screen``, each line is answered before the next prompt."""
-    drive = Drive(links, profile, pose, library_program(dirs), functools.partial(
-        _tell, screen=screen), take_over, now, sleep)
-    drive.run(functools.partial(_commands, next_line, drive))
-    return EXIT_OK
+    running move (``take_over``, a person typing: errors say ``<repl>:N``), or waits for
+    the steps before it (a script: errors say ``<stdin>:N``, and a line that failed
+    makes the exit status 1, once every line has run). With a ``screen``, each line is
+    answered before the next prompt."""
+    told = _Told(screen)
+    drive = Drive(links, profile, pose, library_program(dirs), told, take_over, now, sleep,
+                  LINE if take_over else STDIN)
+    drive.run(_Commands(next_line, drive))
+    return EXIT_ERROR if told.errors and not take_over else EXIT_OK
 
 
-def _commands(next_line: Callable[[float], Line], drive: Drive, timeout: float) -> Line:
-    """The next line for the drive loop; the repl's own words are answered here."""
-    line = next_line(timeout)
-    words = line.strip() if isinstance(line, str) else ""
-    if words in ("quit", "exit"):
-        return None
-    if words == "help":
-        print(HELP, flush=True)
-        return ""
-    if words == "where":
+class _Commands:
+    """The next line for the drive loop; the repl's own words are answered here. In a
+    script, ``where`` answers once the steps before it are done."""
+
+    def __init__(self, next_line: Callable[[float], Line], drive: Drive):
+        self.next_line, self.drive = next_line, drive
+        self.where = False  #: a ``where`` waits for the steps before it
+
+    def __call__(self, timeout: float) -> Line:
+        if self.where:
+            if not self.drive.settled():
+                self.drive.sleep(max(timeout, 0.0))
+                return False
+            self.where = False
+            return self._where()
+        line = self.next_line(timeout)
+        words = line.strip() if isinstance(line, str) else ""
+        if words in ("quit", "exit"):
+            return None
+        if words == "help":
+            print(HELP, flush=True)
+            return ""
+        if words == "where":
+            if self.drive.take_over or self.drive.settled():
+                return self._where()
+            self.where = True
+            return False
+        return line
+
+    def _where(self) -> str:
+        """Print what the boards hold; the line, answered."""
+        drive = self.drive
         print("  ".join(f"{s.name} {v}" for s, v in zip(drive.profile.servos,
                                                          drive.mirror.held(), strict=True)),
               flush=True)
         return ""
-    return line
 
 
-def _tell(note: Note, screen: Screen | None) -> None:
-    """Errors and warnings to stderr (above the prompt when they come while it waits)."""
-    if note.kind in ("error", "warning"):
-        say = functools.partial(report, note.diagnostics, "gestplay")
-        screen.aside(say) if screen and note.aside else say()
-    elif note.kind == "answered" and screen is not None:
-        screen.answered.set()
+class _Told:
+    """What the drive loop tells: errors and warnings to stderr (above the prompt when
+    they come while it waits), and how many errors there were."""
+
+    def __init__(self, screen: Screen | None):
+        self.screen, self.errors = screen, 0
+
+    def __call__(self, note: Note) -> None:
+        screen = self.screen
+        if note.kind in ("error", "warning"):
+            self.errors += note.kind == "error"
+            say = functools.partial(report, note.diagnostics, "gestplay")
+            screen.aside(say) if screen and note.aside else say()
+        elif note.kind == "answered" and screen is not None:
+            screen.answered.set()
 
 
 def waiting_on(lines: queue.Queue) -> Callable[[float], Line]:
