@@ -193,6 +193,15 @@ def test_a_piped_script_says_where_at_its_point_names_lines_and_fails():
     assert done.returncode == 1
 
 
+def test_a_script_saved_by_notepad_starts_with_its_first_step():
+    done = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "repl", "--port",
+                           "sim://?boot=0"], input=b"\xef\xbb\xbfindex 90\r\nwhere\r\n",
+                          capture_output=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.decode().splitlines() == [
+        "wrist 0  thumb 0  index 90  middle 0  ring 0  pinky 0"]
+
+
 @pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
 def test_at_a_terminal_each_reply_comes_before_the_next_prompt():
     term = AtTerminal([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "repl", "--port",

@@ -93,10 +93,14 @@ def _typed_so_far() -> str:
 
 
 def read_lines(lines: queue.Queue) -> None:
-    """Lines from a program or a file: read ahead, one after another."""
+    """Lines from a program or a file: read ahead, one after another (without the
+    byte-order mark a Windows editor puts at the start of a file)."""
+    first = True
     while True:
         try:
-            lines.put(input())
+            line = input()
+            lines.put(line.removeprefix("\ufeff") if first else line)
+            first = False
         except (EOFError, KeyboardInterrupt, OSError, ValueError):
             lines.put(None)
             return
