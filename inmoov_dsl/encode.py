@@ -37,6 +37,12 @@ class Stream:
         """Seconds one byte takes on this board's link."""
         return protocol.byte_time(self.baud)
 
+    @property
+    def idle(self) -> bool:
+        """Does it move none of its board's servos: signals only (such as the CANCEL
+        every stream starts with), no servo ID or value?"""
+        return all(b > protocol.MAX_VALUE for b in self.data)
+
 
 def frame_ends(count: int) -> np.ndarray:
     """End of servo frames 0..count-1; frame f is (f * 20 ms, (f + 1) * 20 ms]."""

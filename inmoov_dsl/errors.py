@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import difflib
 from collections.abc import Iterable
 from dataclasses import dataclass
 
@@ -128,6 +127,8 @@ def did_you_mean(name: str, known: Iterable[str]) -> str | None:
     if len(name) > MAX_SUGGESTED:
         return None
     candidates = sorted({k for k in known if len(k) <= MAX_SUGGESTED})
+    import difflib  # here: only a mistake needs it (start-up time)
+
     close = difflib.get_close_matches(name, candidates, n=1, cutoff=0.6)
     return f"did you mean '{close[0]}'?" if close else None
 

@@ -80,13 +80,6 @@ def _board_ids(profile: Profile, board: Board) -> frozenset[int]:
     return frozenset(profile.servos[profile.index(name)].id for name in board.servos)
 
 
-def idle(plan: Plan, stream: Stream) -> bool:
-    """Does ``stream`` move none of its board's servos (signals only, such as the CANCEL
-    every stream starts with)?"""
-    board = next(b for b in plan.profile.boards if b.id == stream.board)
-    return not writes(stream, _board_ids(plan.profile, board))
-
-
 def sent_values(plan: Plan, compiled: Compiled) -> dict[int, tuple[np.ndarray, np.ndarray]]:
     """Servo index -> (arrival times, values) of every pair the boards act on."""
     profile = plan.profile

@@ -306,6 +306,20 @@ def test_a_name_in_two_library_files_names_both(tmp_path):
         f"gesture 'wave' is defined in two library files of {tmp_path}: a.gest and b.gest")
 
 
+def test_gestc_knows_each_command_by_its_module_and_lists_them_all(capsys):
+    for name in gestc.COMMANDS:  # a command line that names one builds that one alone
+        assert list(gestc.parser(name)._subparsers._group_actions[0].choices) == [name]
+    with pytest.raises(SystemExit):
+        gestc.main(["--help"])
+    listed = capsys.readouterr().out
+    assert all(f"    {name} " in listed for name in gestc.COMMANDS)
+    with pytest.raises(SystemExit) as exit_:
+        gestc.main(["compil", "x"])
+    assert exit_.value.code == 2
+    assert "invalid choice: 'compil' (choose from 'compile', 'check'," in \
+        capsys.readouterr().err
+
+
 @pytest.mark.parametrize("tool", ["gestc", "gestplay", "gestsim"])
 def test_every_tool_tells_its_version(capsys, tool):
     import importlib

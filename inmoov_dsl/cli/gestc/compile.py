@@ -11,12 +11,11 @@ from .target import add_arguments, compile_target, output_path
 
 if TYPE_CHECKING:
     from ...compiled import Compiled
-    from ...plan import Plan
 
 
 def run(args: argparse.Namespace) -> int:
     """Compile the gesture and write it (``-o -``: to standard output)."""
-    compiled, plan = compile_target(args)
+    compiled, _ = compile_target(args)
     if args.format == "timed":
         text = to_timed(compiled.stream(args.board))
         out = output_path(args.output, compiled.gesture, (".timed",), True)
@@ -24,16 +23,14 @@ def run(args: argparse.Namespace) -> int:
         text = to_json(compiled)
         out = output_path(args.output, compiled.gesture, (".gestc",), True)
     write_out(out, text, f": {compiled.gesture}, {compiled.duration:.2f} s, "
-              f"{sizes(compiled, plan)}")
+              f"{sizes(compiled)}")
     return EXIT_OK
 
 
-def sizes(compiled: Compiled, plan: Plan) -> str:
+def sizes(compiled: Compiled) -> str:
     """Each board's bytes, and which boards the gesture leaves idle (sent CANCEL only):
     ``board 181: 1,029 bytes, board 186: 1,323 bytes; boards 183, 185 idle``."""
-    from ...metrics import idle
-
-    still = [s.board for s in compiled.streams if idle(plan, s)]
+    still = [s.board for s in compiled.streams if s.idle]
     text = ", ".join(f"board {s.board}: {len(s.data):,} byte{'' if len(s.data) == 1 else 's'}"
                      for s in compiled.streams if s.board not in still)
     if not still:
