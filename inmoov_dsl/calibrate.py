@@ -7,18 +7,87 @@ straight, then curled; the angles at those two values are the new calibration, a
 whether straight is the higher angle says if the servo is reversed. The speed limits
 in the profile are command degrees per second, so they are rescaled to keep the
 servo's real speed.
+
+``Ends`` is the session at the bench: keys come in (the bench tools' one key map,
+``keymap``), the value moves, Enter keeps it as straight, then as curled.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, field
 
 import tomlkit
 import tomlkit.exceptions
 
+from . import keymap
 from .errors import Diagnostic, GestError
 from .profile import Servo
 from .profile_keys import KeyIndex
+from .protocol import MAX_VALUE
+
+ENDS = ("straight", "curled")
+HELP = "Move the finger straight and press Enter, then curled and Enter again.\n" + \
+    keymap.help_text(
+        ("move", "keep", "undo", "save", "quit"),
+        {"keep": "keep the pose as an end", "undo": "take back the last end",
+         "save": "write the ends into the profile", "quit": "leave without writing"})
+
+
+@dataclass
+class Ends:
+    """One servo at the bench: the value it is at, and the values kept as its ends
+    (straight, then curled). ``angle`` is the servo angle a value gives on the board."""
+
+    name: str
+    value: int
+    angle: Callable[[int], int]
+    kept: list[int] = field(default_factory=list)
+    asking: bool = False  #: q was pressed with ends not written: q again leaves
+    note: str = ""
+
+    def press(self, key: str) -> str | None:
+        """Apply a key; returns what the caller must do: 'send' (the new value),
+        'save' (both ends are kept), 'quit', or None (only redraw). Leaving with ends
+        kept asks first: q again leaves, any other key carries on."""
+        act, amount = keymap.action(key) or ("", 0)
+        asked, self.asking, self.note = self.asking, False, ""
+        if act == "move":
+            value = max(0, min(MAX_VALUE, self.value + int(amount)))
+            if value == self.value:
+                return None
+            self.value = value
+            return "send"
+        if act == "keep" and len(self.kept) < 2:
+            self.kept.append(self.value)
+        elif act == "keep":
+            self.note = "both ends kept: s writes them, u takes back the curled one"
+        elif act == "undo" and self.kept:
+            self.kept.pop()
+        elif act == "save" and len(self.kept) == 2:
+            return "save"
+        elif act == "save":
+            self.note = "keep both ends first: Enter at straight, then at curled"
+        elif act == "quit":
+            if not self.kept or asked:
+                return "quit"
+            self.asking = True
+        return None
+
+    def marks(self) -> dict[str, int]:
+        """The ends kept so far, as servo angles: {'straight': .., 'curled': ..}."""
+        return {end: self.angle(v) for end, v in zip(ENDS, self.kept, strict=False)}
+
+    def line(self) -> str:
+        """The state in one line: value, angle, the ends kept, and what comes next."""
+        if self.asking:
+            return (f"{len(self.kept)} end{'' if len(self.kept) == 1 else 's'} not "
+                    f"written: q again leaves without them, any other key goes on")
+        kept = "  ".join(f"{k} {v}" for k, v in self.marks().items())
+        then = self.note or (f"Enter keeps {ENDS[len(self.kept)]}" if len(self.kept) < 2
+                             else "s writes them")
+        return (f"{self.name}: value {self.value:>3}  angle {self.angle(self.value):>3}"
+                f"  |  {kept + '  |  ' if kept else ''}{then}")
 
 
 @dataclass(frozen=True)

@@ -9,17 +9,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from . import keymap
 from .profile import Profile
 from .protocol import MAX_VALUE
 from .record import Keyframe, to_gest
 
-STEPS = {"up": 1, "down": -1, "pageup": 10, "pagedown": -10}
-MIN_OVER, MAX_OVER, OVER_STEP = 0.1, 10.0, 0.1  #: s
-HELP = """\
-left/right or 1..9 choose a servo   up/down +-1   page up/down +-10
-Enter or space  keep this pose as a keyframe      u  undo the last one
-+/-  time to the next keyframe +-0.1 s            p  play the keyframes back
-s  save                                           q  quit"""
+MIN_OVER, MAX_OVER = 0.1, 10.0  #: s
+HELP = keymap.help_text(
+    ("move", "next", "pick", "keep", "undo", "time", "play", "save", "quit"),
+    {"keep": "keep the pose as a keyframe", "undo": "take back the last keyframe",
+     "time": "time to the next keyframe +-0.1 s", "play": "play the keyframes back",
+     "save": "save them to the file"})
 
 
 @dataclass
@@ -38,39 +38,43 @@ class Teach:
         """Apply a key; returns what the caller must do: 'send' (the chosen servo's new
         value), 'play', 'save', 'quit', or None (only redraw). Quitting with keyframes
         not saved asks first: q again quits, any other key carries on."""
-        count = len(self.profile.servos)
+        act, amount = keymap.action(key) or ("", 0)
         asked, self.asking = self.asking, False
-        if key in STEPS:
-            value = max(0, min(MAX_VALUE, self.pose[self.selected] + STEPS[key]))
-            servo = self.profile.servos[self.selected]
-            value = max(servo.lo, min(servo.hi, value))
-            if value == self.pose[self.selected]:
-                return None
-            self.pose[self.selected] = value
-            return "send"
-        if key in ("left", "right"):
-            self.selected = (self.selected + (1 if key == "right" else -1)) % count
-        elif key.isdigit() and 1 <= int(key) <= count:
-            self.selected = int(key) - 1
-        elif key in ("enter", " "):
+        if act == "move":
+            return self._move(int(amount))
+        count = len(self.profile.servos)
+        if act == "next":
+            self.selected = (self.selected + int(amount)) % count
+        elif act == "pick" and amount <= count:
+            self.selected = int(amount) - 1
+        elif act == "keep":
             self.keys.append((0.0 if not self.keys else self.over, tuple(self.pose)))
             self.saved = False
-        elif key == "u" and self.keys:
+        elif act == "undo" and self.keys:
             self.keys.pop()
             self.saved = False
-        elif key in ("+", "="):
-            self.over = min(MAX_OVER, round(self.over + OVER_STEP, 3))
-        elif key in ("-", "_"):
-            self.over = max(MIN_OVER, round(self.over - OVER_STEP, 3))
-        elif key == "p" and len(self.keys) > 1:
+        elif act == "time":
+            self.over = max(MIN_OVER, min(MAX_OVER, round(self.over + amount, 3)))
+        elif act == "play" and len(self.keys) > 1:
             return "play"
-        elif key == "s" and self.keys:
+        elif act == "save" and self.keys:
             return "save"
-        elif key in ("q", "esc"):
+        elif act == "quit":
             if self.saved or not self.keys or asked:
                 return "quit"
             self.asking = True
         return None
+
+    def _move(self, step: int) -> str | None:
+        """The chosen servo ``step`` further, within its range: 'send', or None when it
+        is at its end already."""
+        servo = self.profile.servos[self.selected]
+        value = max(0, min(MAX_VALUE, self.pose[self.selected] + step))
+        value = max(servo.lo, min(servo.hi, value))
+        if value == self.pose[self.selected]:
+            return None
+        self.pose[self.selected] = value
+        return "send"
 
     def line(self) -> str:
         """The state in one line: every servo's value (the chosen one in brackets)."""

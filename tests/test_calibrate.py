@@ -1,4 +1,4 @@
-"""gestplay calibrate: arrow keys at a real terminal, the result written into the profile."""
+"""gestplay calibrate: the keys of teach at a real terminal, the result written into the profile."""
 
 import os
 import sys
@@ -6,7 +6,7 @@ import sys
 import pytest
 from terminal import AtTerminal
 
-from inmoov_dsl.calibrate import edit_profile, found
+from inmoov_dsl.calibrate import HELP, Ends, edit_profile, found
 from inmoov_dsl.errors import GestError
 from inmoov_dsl.profile import find_profile, load_profile, parse_profile
 
@@ -121,24 +121,29 @@ def test_a_servo_without_a_table_of_its_own_is_a_clear_error():
 
 
 def calibrate(tmp_path, keys, *argv):
-    """Run gestplay calibrate on sim:// at a real pseudo-terminal, pressing ``keys``."""
+    """Run gestplay calibrate on a new sim:// board (at rest) at a real pseudo-terminal,
+    pressing ``keys``."""
     term = AtTerminal([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "calibrate",
-                       "--port", "sim://?boot=0", *argv], cwd=tmp_path)
+                       "--port", "sim://?boot=0&fresh", *argv], cwd=tmp_path)
     term.read_until(b"value   0")
     term.press(*keys, pause=0.02)
     return term.finish()
 
 
-RIGHT, UP = "\x1b[C", "\x1b[A"
+RIGHT, UP, PGUP, SHIFT_UP = "\x1b[C", "\x1b[A", "\x1b[5~", "\x1b[1;2A"
 
 
 @POSIX
-def test_arrow_keys_find_the_ends_and_enter_writes_them(tmp_path):
+def test_the_keys_of_teach_find_the_ends_and_s_writes_them(tmp_path):
     mine = tmp_path / "mine.toml"
     mine.write_text(RHAND_TEXT, encoding="utf-8")
-    code, out = calibrate(tmp_path, [RIGHT] * 5 + [UP, "s"] + [UP] * 8 + ["c", "\r"],
-                          "--servo", "index", "--profile", str(mine))
+    # up by 1 and page up by 10, as in gestplay teach; Enter keeps straight, then curled
+    code, out = calibrate(tmp_path, [RIGHT] + [UP] * 5 + [PGUP, "\r"] + [PGUP] * 7
+                          + [SHIFT_UP, "\r", "s"], "--servo", "index", "--profile", str(mine))
     assert code == 0, out
+    assert HELP.replace("\n", "\r\n") in out  # the keys, on screen, as teach shows its own
+    assert "index: value   0  angle 155  |  Enter keeps straight" in out
+    assert "index: value   1  angle 154" in out
     # index maps 0..180 onto 155..55 (reversed, the original firmware's map(v, 180, 0,
     # 55, 155)): value 15 is angle 146, 95 is 102
     assert "index: value  15  angle 146" in out
@@ -149,13 +154,32 @@ def test_arrow_keys_find_the_ends_and_enter_writes_them(tmp_path):
 
 @POSIX
 def test_a_built_in_profile_is_copied_and_q_writes_nothing(tmp_path):
-    code, out = calibrate(tmp_path, [RIGHT, "q"], "--servo", "ring")
+    code, out = calibrate(tmp_path, [UP, "q"], "--servo", "ring")
     assert code == 0 and "nothing written" in out
-    assert not (tmp_path / "rhand.toml").exists()
-    code, out = calibrate(tmp_path, ["s", UP, "c", "\r"], "--servo", "ring")
+    code, out = calibrate(tmp_path, ["\r", "q", "q"], "--servo", "ring")
+    assert code == 0 and "1 end not written: q again leaves without them" in out
+    assert "nothing written" in out and not (tmp_path / "rhand.toml").exists()
+    code, out = calibrate(tmp_path, ["\r", PGUP, "\r", "s"], "--servo", "ring")
     assert code == 0, out
     assert load_profile(str(tmp_path / "rhand.toml")).servos[4].calibration == (139, 145)
     assert find_profile("rhand").read_text(encoding="utf-8") == RHAND_TEXT
+
+
+def test_enter_keeps_straight_then_curled_and_s_needs_both():
+    ends = Ends("index", 0, lambda value: 155 - value)
+    assert ends.press("s") is None
+    assert ends.line() == ("index: value   0  angle 155  |  keep both ends first: Enter at "
+                           "straight, then at curled")
+    ends.press("enter")
+    assert ends.line() == "index: value   0  angle 155  |  straight 155  |  Enter keeps curled"
+    assert [ends.press("pageup") for _ in range(3)] == ["send"] * 3
+    ends.press("enter")
+    assert ends.marks() == {"straight": 155, "curled": 125}
+    assert ends.press("enter") is None and ends.kept == [0, 30]  # a third is not kept
+    assert "both ends kept: s writes them, u takes back the curled one" in ends.line()
+    assert ends.press("u") is None and ends.marks() == {"straight": 155}
+    ends.value = 180
+    assert ends.press("up") is None  # at the end of the range: nothing to send
 
 
 def test_an_unknown_servo_is_named_with_a_suggestion(capsys):

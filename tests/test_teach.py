@@ -8,6 +8,10 @@ import pytest
 from terminal import AtTerminal
 
 from inmoov_dsl import compile_source, load_profile
+from inmoov_dsl.calibrate import HELP as CALIBRATE_HELP
+from inmoov_dsl.calibrate import Ends
+from inmoov_dsl.cli.keys import _posix_keys
+from inmoov_dsl.teach import HELP as TEACH_HELP
 from inmoov_dsl.teach import Teach
 
 POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
@@ -66,6 +70,54 @@ def test_the_taught_gesture_compiles_to_its_keyframes():
     assert compiled.final == (0, 10, 110, 30, 40, 50)
 
 
+def test_a_key_does_the_same_thing_in_teach_and_in_calibrate():
+    teach = Teach(load_profile("rhand"), [90] * 6)
+    teach.press("3")  # index
+    ends = Ends("index", 90, lambda value: value)
+    for key, step in (("up", 1), ("down", -1), ("pageup", 10), ("pagedown", -10),
+                      ("shift-up", 10), ("shift-down", -10)):
+        assert teach.press(key) == ends.press(key) == "send", key
+        assert teach.pose[2] == ends.value == 90 + step, key
+        teach.pose[2] = ends.value = 90
+    assert teach.press("right") is ends.press("right") is None  # calibrate has one servo
+    assert teach.selected == 3 and ends.value == 90
+    teach.press("left")
+    for _ in range(2):  # Enter keeps the pose: a keyframe, an end
+        teach.press("enter")
+        ends.press("enter")
+    assert len(teach.keys) == len(ends.kept) == 2
+    assert (teach.press("u"), ends.press("u")) == (None, None)  # takes back the last one
+    assert len(teach.keys) == len(ends.kept) == 1
+    teach.press(" ")
+    ends.press(" ")
+    assert teach.press("s") == ends.press("s") == "save"
+    assert teach.press("q") is ends.press("q") is None  # not saved yet: it asks
+    assert teach.press("q") == ends.press("q") == "quit"
+
+
+def test_both_tools_show_the_same_keys_for_the_same_things():
+    for row in ("up/down  move +1/-1", "page up/down  move +10/-10", "Enter or space  keep "
+                "the pose as a", "u  take back the last", "q or Esc  "):
+        assert row in TEACH_HELP and row in CALIBRATE_HELP, row
+    assert "left/right  choose a servo" in TEACH_HELP
+    assert "s  save them to the file" in TEACH_HELP
+    assert "s  write the ends into the profile" in CALIBRATE_HELP
+    assert all(len(line) <= 80 for line in (TEACH_HELP + "\n" + CALIBRATE_HELP).splitlines())
+
+
+@POSIX
+def test_keys_that_send_sequences_are_read_whole():
+    read, write = os.pipe()
+    os.write(write, b"\x1b[1;2A\x1b[H\x1b[[A\x1bOB\x1b[6~x\x1b")  # ends on a lone Esc
+    os.close(write)
+    try:
+        keys = list(_posix_keys(read))
+    finally:
+        os.close(read)
+    # shift+up, then Home and F1 (no action: skipped, never Esc), down, page down
+    assert keys == ["shift-up", "down", "pagedown", "x", "esc"]
+
+
 @POSIX
 def test_teach_at_a_terminal_poses_plays_back_and_saves(tmp_path):
     term = AtTerminal([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "teach",
@@ -91,4 +143,5 @@ def test_teach_at_a_terminal_poses_plays_back_and_saves(tmp_path):
                     "    index 90 over 1000ms\n"
                     "    index 0 over 800ms\n")
     assert "[thumb 25]" in screen and "[index 90]" in screen
+    assert TEACH_HELP.replace("\n", "\r\n") in screen  # the keys, on screen
     assert "Traceback" not in screen

@@ -10,16 +10,18 @@ from collections.abc import Iterator
 
 _ESCAPES = {"[A": "up", "[B": "down", "[C": "right", "[D": "left",
             "OA": "up", "OB": "down", "OC": "right", "OD": "left",
-            "[5~": "pageup", "[6~": "pagedown"}
+            "[5~": "pageup", "[6~": "pagedown",
+            "[1;2A": "shift-up", "[1;2B": "shift-down", "[a": "shift-up", "[b": "shift-down"}
 _WINDOWS = {"H": "up", "P": "down", "M": "right", "K": "left", "I": "pageup", "Q": "pagedown"}
 
 
 @contextlib.contextmanager
 def key_reader() -> Iterator[Iterator[str]]:
     """The terminal in key-at-a-time mode (no echo, Ctrl-C still interrupts), and the
-    keys pressed: 'up', 'down', 'left', 'right', 'pageup', 'pagedown', 'enter', 'esc',
-    or the character typed, until the input ends. Enter it before saying "press a
-    key", so that no early key is lost or echoed."""
+    keys pressed: 'up', 'down', 'left', 'right', 'pageup', 'pagedown', 'shift-up',
+    'shift-down', 'enter', 'esc', or the character typed, until the input ends. Other
+    keys that send a sequence (Home, F1, Alt+letter) are skipped, never taken for Esc.
+    Enter it before saying "press a key", so that no early key is lost or echoed."""
     if sys.platform == "win32":  # pragma: no cover - Windows only
         yield _windows_keys()
         return
@@ -51,12 +53,32 @@ def _posix_keys(fd: int) -> Iterator[str]:
         if ch != "\x1b":
             yield _plain(ch)
             continue
-        seq = ""
-        while len(seq) < 3 and select.select([fd], [], [], 0.05)[0]:
+        seq = _sequence(fd)
+        if not seq:
+            yield "esc"
+        elif seq in _ESCAPES:
+            yield _ESCAPES[seq]
+
+
+def _sequence(fd: int) -> str:
+    """What follows an ESC at once: "" for the Esc key alone, else a key's sequence read
+    whole ('[' and its parameters up to the final letter or '~', 'O' and one letter, or
+    the one character of Alt+key), so none of it is left over as keys typed."""
+    if not _ready(fd):
+        return ""
+    seq = _read(fd)
+    if seq == "O" and _ready(fd):
+        seq += _read(fd)
+    elif seq == "[":
+        while len(seq) < 8 and _ready(fd):
             seq += _read(fd)
-            if seq in _ESCAPES:
+            if "@" <= seq[-1] <= "~" and seq != "[[":  # the final byte ([[A: Linux F1)
                 break
-        yield _ESCAPES.get(seq, "esc")
+    return seq
+
+
+def _ready(fd: int) -> bool:
+    return bool(select.select([fd], [], [], 0.05)[0])
 
 
 def _plain(ch: str) -> str:

@@ -1,5 +1,5 @@
-"""gestplay calibrate: find a servo's straight and curled angles with the arrow keys,
-and write them into the profile."""
+"""gestplay calibrate: find a servo's straight and curled angles with the bench tools'
+keys (``keymap``, as in gestplay teach), and write them into the profile."""
 
 from __future__ import annotations
 
@@ -8,24 +8,18 @@ import sys
 from pathlib import Path
 
 from ...board import BoardServo
-from ...calibrate import edit_profile, found
+from ...calibrate import HELP, Ends, edit_profile, found
 from ...errors import Diagnostic, GestError, did_you_mean
 from ...player import ask_dump, wait_ready
 from ...ports import open_port
 from ...profile import Servo, find_profile, load_profile, parse_profile
-from ...protocol import MAX_VALUE, Signal
+from ...protocol import Signal
 from ...resources import profiles_dir
 from ...urlhandler import protocol_sim
 from ..common import EXIT_OK, send_value, status_line, status_of, warn, why
 from ..keys import key_reader
 
 PROG = "gestplay calibrate"
-HELP = """\
-Move the servo until the finger is straight, press s; until it is curled, press c.
-  left/right  -1/+1      down/up  -10/+10
-  s  mark straight       c  mark curled
-  Enter  write both into the profile      q or Esc  leave without writing"""
-STEPS = {"left": -1, "right": 1, "down": -10, "up": 10, "pagedown": -30, "pageup": 30}
 
 
 def run(args: argparse.Namespace) -> int:
@@ -49,26 +43,22 @@ def run(args: argparse.Namespace) -> int:
         if values is None or servo.id not in values:
             warn(f"no DUMP reply from board {board.id}: starting at the rest value "
                  f"{servo.rest}", PROG)
-        value = values.get(servo.id, servo.rest) if values else servo.rest
-        marks: dict[str, int] = {}
+        ends = Ends(servo.name, values.get(servo.id, servo.rest) if values else servo.rest,
+                    mapping.angle)
         with key_reader() as keys:
             print(HELP)
-            send_value(port, servo.id, value)
-            _show(servo.name, value, mapping, marks)
+            send_value(port, servo.id, ends.value)
+            status_line(ends.line())
             for key in keys:
-                if key in STEPS:
-                    value = max(0, min(MAX_VALUE, value + STEPS[key]))
-                    send_value(port, servo.id, value)
-                elif key in ("s", "c"):
-                    marks["straight" if key == "s" else "curled"] = mapping.angle(value)
-                elif key == "enter":
-                    if len(marks) == 2:
-                        break
-                    print(f"\n{PROG}: mark both ends first (s and c)", file=sys.stderr)
-                elif key in ("q", "esc"):
+                action = ends.press(key)
+                if action == "send":
+                    send_value(port, servo.id, ends.value)
+                elif action == "save":
+                    break
+                elif action == "quit":
                     print(f"\n{PROG}: nothing written")
                     return EXIT_OK
-                _show(servo.name, value, mapping, marks)
+                status_line(ends.line())
             else:
                 print(f"\n{PROG}: input ended: nothing written")
                 return EXIT_OK
@@ -78,7 +68,7 @@ def run(args: argparse.Namespace) -> int:
         return status_of(exc)
     finally:
         port.close()
-    _write(source, output, servo, marks)
+    _write(source, output, servo, ends.marks())
     return EXIT_OK
 
 
@@ -105,14 +95,9 @@ def _output(source: Path, name: str) -> Path:
     return Path.cwd() / f"{name}.toml"
 
 
-def _show(name: str, value: int, mapping: BoardServo, marks: dict[str, int]) -> None:
-    mark = "  ".join(f"{k} {v}" for k, v in marks.items()) or "no ends marked"
-    status_line(f"{name}: value {value:>3}  angle {mapping.angle(value):>3}  |  {mark}")
-
-
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestplay calibrate --port PORT --servo NAME``."""
-    p = sub.add_parser("calibrate", help="find a servo's ends with the arrow keys and "
+    p = sub.add_parser("calibrate", help="find a servo's ends from the keyboard and "
                        "write them into the profile", description=HELP,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--port", required=True)
