@@ -155,20 +155,21 @@ def _hint(tok: Token, expected: set[str]) -> str | None:
     return None
 
 
-_FILE_NAME = re.compile(r"([A-Za-z_][\w-]*)\.gest\b")
+_FILE_NAME = r"([A-Za-z_][\w-]*)\.gest\b"  # patterns compiled when a mistake needs them
 
 
 def _file_name(text: str, at: int) -> str | None:
     """A hint when the '.' at ``at`` is in a file name (``peace.gest``) where a step
     names a gesture."""
     start, end = text.rfind("\n", 0, at) + 1, text.find("\n", at)
-    for found in _FILE_NAME.finditer(text, start, len(text) if end < 0 else end):
-        if found.start() < at < found.end():
+    for found in re.finditer(_FILE_NAME, text[start:len(text) if end < 0 else end]):
+        found_at = start + found.start(), start + found.end()
+        if found_at[0] < at < found_at[1]:
             return f"a step names a gesture, not its file: {found[1]}"
     return None
 
 
-_STEP_START = re.compile(r"\s*(?:[A-Za-z_]\w*\s*:\s*)?([A-Za-z_]\w*)\s+\d")
+_STEP_START = r"\s*(?:[A-Za-z_]\w*\s*:\s*)?([A-Za-z_]\w*)\s+\d"
 _STEP_KEYWORDS = ("wait", "hold", "repeat")  #: the keywords a step starts with, then a number
 
 
@@ -176,7 +177,7 @@ def _step_keyword(text: str, line: int) -> str | None:
     """A hint when the step on ``line`` starts with a misspelt keyword (``wiat 1s``,
     read as a servo and its value until the unit)."""
     lines = text.split("\n")
-    found = _STEP_START.match(lines[line - 1]) if 1 <= line <= len(lines) else None
+    found = re.match(_STEP_START, lines[line - 1]) if 1 <= line <= len(lines) else None
     if found is None or found[1] in KEYWORDS:
         return None
     return did_you_mean(found[1], _STEP_KEYWORDS)

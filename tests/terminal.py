@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import select
 import subprocess
 import termios
 import time
@@ -22,7 +23,9 @@ class AtTerminal:
     def read_until(self, text: bytes, timeout: float = 20) -> None:
         """Read the screen until ``text`` appears (or the program ends, or time is up)."""
         deadline = time.monotonic() + timeout
-        while text not in self.out and time.monotonic() < deadline:
+        while text not in self.out and (left := deadline - time.monotonic()) > 0:
+            if not select.select([self.master], [], [], min(left, 0.5))[0]:
+                continue  # nothing yet: the deadline holds even when the program is quiet
             try:
                 self.out += os.read(self.master, 4096)
             except OSError:  # the program has ended
