@@ -9,7 +9,6 @@ from pathlib import Path
 
 from . import syntax as ast
 from .errors import Diagnostic, GestError, did_you_mean
-from .library import scan
 from .profile import Profile, profiles_with
 from .program import Program
 
@@ -70,6 +69,8 @@ class NameTable:
         if others:
             return f"'{name}' is in profile '{others[0]}': add --profile {others[0]}"
         if self.search:
+            from .library import scan  # here: only a mistake needs the library scanned
+
             entry = scan([Path(d) for d in self.search]).entries.get(name)
             if entry is not None:
                 return (f"'{name}' is a library gesture, defined in {entry.path.name}: "

@@ -288,8 +288,8 @@ def test_blind_plays_on_a_link_that_cannot_answer(capsys, monkeypatch):
     (["once.gest", "--profile", "inmoov", "--port", "loop://"],  # the boards of 'a & b'
      "gestplay: error: this needs 3 boards: give a port for each\n"
      "  hint: --port 181=PORT --port 183=PORT --port 184=PORT"),
-    (["peace", "--port", "sim://nosuchprofile"], "gestplay: error: cannot open port "
-                                                 "sim://nosuchprofile: sim://: unknown profile"),
+    (["peace", "--port", "sim://nosuchprofile"],
+     "gestplay: error: cannot open port sim://nosuchprofile: unknown profile 'nosuchprofile'"),
     (["dump", "--port", "loop://"], "gestplay: error: no DUMP reply from loop://"),
 ])
 def test_bad_ports_and_options_are_one_clear_message(capsys, tmp_path, monkeypatch, argv,
