@@ -26,8 +26,8 @@ def library_gestures(profiles=("rhand", "inmoov")):
     """(name, program, profile) of every library gesture, each on the first of
     ``profiles`` that has its servos (hand gestures on the hand, the rest on the robot)."""
     from inmoov_dsl import GestError, load_library, load_profile
-    from inmoov_dsl.compiler import load
-    from inmoov_dsl.resolve import Resolver
+    from inmoov_dsl.compiling.resolve import Resolver
+    from inmoov_dsl.language.load import load
 
     loaded = [load_profile(p) for p in profiles]
     out = []

@@ -20,7 +20,7 @@ from pathlib import Path
 from common import ROOT, library_gestures
 
 from inmoov_dsl import load_profile, to_timed
-from inmoov_dsl.compiler import compile_program
+from inmoov_dsl.compiling.compiler import compile_program
 
 ORIGINAL_FLASH = 3872  #: bytes: the original servo firmware, real Servo library, no LTO
 CELL_WRITES = 100_000  #: erase/write cycles an ATmega328P EEPROM cell is rated for

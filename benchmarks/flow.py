@@ -15,7 +15,8 @@ import re
 import numpy as np
 
 from inmoov_dsl import load_library, load_profile, measure
-from inmoov_dsl.compiler import compile_program, load
+from inmoov_dsl.compiling.compiler import compile_program
+from inmoov_dsl.language.load import load
 
 SWEEPS = {
     "sweep": "sweep:\n    wrist 90 through\n    wrist 180\n",

@@ -11,9 +11,10 @@ from __future__ import annotations
 
 from common import best_and_median, library_gestures
 
-from inmoov_dsl.compiler import compile_program, load
-from inmoov_dsl.library import library_files
-from inmoov_dsl.parse import parser
+from inmoov_dsl.compiling.compiler import compile_program
+from inmoov_dsl.language.library import library_files
+from inmoov_dsl.language.load import load
+from inmoov_dsl.language.parse import parser
 
 
 def compile_library(profiles: dict) -> int:

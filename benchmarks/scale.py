@@ -13,7 +13,8 @@ from dataclasses import replace
 from common import HERE, best_and_median, random_gesture
 
 from inmoov_dsl import load_profile, measure
-from inmoov_dsl.compiler import compile_program, load
+from inmoov_dsl.compiling.compiler import compile_program
+from inmoov_dsl.language.load import load
 
 
 def main() -> None:

@@ -32,8 +32,8 @@ import time
 import numpy as np
 
 from inmoov_dsl import compile_source, load_library
-from inmoov_dsl.player import Link, play, schedule, wait_until
-from inmoov_dsl.ports import open_port
+from inmoov_dsl.wire.player import Link, play, schedule, wait_until
+from inmoov_dsl.wire.ports import open_port
 
 
 def receive() -> None:

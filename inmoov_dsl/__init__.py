@@ -15,12 +15,15 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 _WHERE = {
-    "Compiled": "compiled", "from_json": "compiled", "to_json": "compiled",
-    "to_timed": "compiled", "compile_file": "compiler", "compile_program": "compiler",
-    "compile_source": "compiler", "load": "compiler", "plan_gesture": "compiler",
-    "Stream": "encode", "encode": "encode", "Diagnostic": "errors", "GestError": "errors",
-    "load_library": "library", "LinkReport": "metrics", "measure": "metrics", "Plan": "plan",
-    "Profile": "profile", "load_profile": "profile",
+    "Compiled": "compiling.compiled", "from_json": "compiling.compiled_reader",
+    "to_json": "compiling.compiled", "to_timed": "compiling.compiled",
+    "compile_file": "compiling.compiler", "compile_program": "compiling.compiler",
+    "compile_source": "compiling.compiler", "load": "language.load",
+    "plan_gesture": "compiling.compiler", "Stream": "compiling.compiled",
+    "encode": "compiling.encode", "Diagnostic": "errors", "GestError": "errors",
+    "load_library": "language.library", "LinkReport": "compiling.metrics",
+    "measure": "compiling.metrics", "Plan": "compiling.plan", "Profile": "profiles.profile",
+    "load_profile": "profiles.profile",
 }
 __all__ = [
     "Compiled", "Diagnostic", "GestError", "LinkReport", "Plan", "Profile", "Stream",
@@ -30,14 +33,17 @@ __all__ = [
 __version__ = "0.1.0"
 
 if TYPE_CHECKING:
-    from .compiled import Compiled, from_json, to_json, to_timed
-    from .compiler import compile_file, compile_program, compile_source, load, plan_gesture
-    from .encode import Stream, encode
+    from .compiling.compiled import Compiled, Stream, to_json, to_timed
+    from .compiling.compiled_reader import from_json
+    from .compiling.compiler import compile_file, compile_program, compile_source, plan_gesture
+    from .compiling.encode import encode
+    from .compiling.metrics import LinkReport, measure
+    from .compiling.plan import Plan
     from .errors import Diagnostic, GestError
-    from .library import load_library
-    from .metrics import LinkReport, measure
-    from .plan import Plan
-    from .profile import Profile, load_profile
+    from .language.library import load_library
+    from .language.load import load
+    from .profiles.data import Profile
+    from .profiles.profile import load_profile
 
 
 def __getattr__(name: str) -> Any:

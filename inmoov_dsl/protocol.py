@@ -27,6 +27,7 @@ class Signal(IntEnum):
 MAX_VALUE = 180  #: largest servo value; a board clamps larger non-signal values to it
 MAX_SERVO_ID = 180  #: servo IDs are values too: 0..180 (181 of them)
 FIRST_BOARD_ID = 181  #: board IDs start here (right hand 181, right glove 182)
+MAX_BAUD = 2_000_000  #: the fastest link a board or glove may declare
 POSE_SETTLE = 1.0  #: s without a servo command before a board stores its pose (EEPROM)
 
 BITS_PER_BYTE = 10  #: 8N1: start bit, 8 data bits, stop bit

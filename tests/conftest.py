@@ -7,7 +7,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 
 from inmoov_dsl import load_profile  # noqa: E402
-from inmoov_dsl.profile import parse_profile  # noqa: E402
+from inmoov_dsl.profiles.profile import parse_profile  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -19,7 +19,7 @@ def _fresh_virtual_boards(tmp_path_factory, monkeypatch):
     keeps it between programs): each test has a state directory of its own, which the
     programs it starts inherit."""
     from inmoov_dsl.resources import STATE_ENV
-    from inmoov_dsl.urlhandler.protocol_sim import power_off
+    from inmoov_dsl.wire.urlhandler.protocol_sim import power_off
 
     monkeypatch.setenv(STATE_ENV, str(tmp_path_factory.mktemp("state")))
     power_off()

@@ -221,9 +221,10 @@ class Seed:
 def seeds() -> dict[str, list[Seed]]:
     """The inputs to mutate: the library's .gest files, the built-in profiles, and a few
     compiled library gestures."""
-    from inmoov_dsl.compiled import to_json
-    from inmoov_dsl.compiler import compile_program, load
+    from inmoov_dsl.compiling.compiled import to_json
+    from inmoov_dsl.compiling.compiler import compile_program
     from inmoov_dsl.errors import GestError
+    from inmoov_dsl.language.load import load
     from inmoov_dsl.resources import library_dir, profiles_dir
 
     gest = []
@@ -249,7 +250,7 @@ def seeds() -> dict[str, list[Seed]]:
 
 
 def _file_of(gesture: str) -> str:
-    from inmoov_dsl.library import load_library
+    from inmoov_dsl.language.library import load_library
 
     return Path(load_library()[gesture]).name
 
@@ -336,9 +337,11 @@ def _gest(seed: Seed, data: bytes):
     then each compiled gesture must read back from its .gestc. A mutant read as bytes
     goes through the file reader's decoding; one in three is given as text that keeps
     undecodable bytes as lone surrogates (as a caller of compile_source may)."""
-    from inmoov_dsl.compiled import from_json, to_json
-    from inmoov_dsl.compiler import compile_program, load
+    from inmoov_dsl.compiling.compiled import to_json
+    from inmoov_dsl.compiling.compiled_reader import from_json
+    from inmoov_dsl.compiling.compiler import compile_program
     from inmoov_dsl.errors import decode_utf8
+    from inmoov_dsl.language.load import load
     from inmoov_dsl.resources import library_dir
 
     if len(data) % 3 == 0:
@@ -360,10 +363,11 @@ def _gest(seed: Seed, data: bytes):
 def _toml(seed: Seed, data: bytes):
     """Like ``load_profile``: decode, parse, check; then compile a gesture moving every
     servo on it, and read the result back and against the profile."""
-    from inmoov_dsl.compiled import check_profile, from_json, to_json
-    from inmoov_dsl.compiler import compile_source
+    from inmoov_dsl.compiling.compiled import check_profile, to_json
+    from inmoov_dsl.compiling.compiled_reader import from_json
+    from inmoov_dsl.compiling.compiler import compile_source
     from inmoov_dsl.errors import decode_utf8
-    from inmoov_dsl.profile import parse_profile
+    from inmoov_dsl.profiles.profile import parse_profile
 
     profile = parse_profile(decode_utf8(data, seed.name), seed.name)
     lo = max(s.lo for s in profile.servos)
@@ -383,8 +387,9 @@ def _toml(seed: Seed, data: bytes):
 def _gestc(seed: Seed, data: bytes):
     """Like the player: read the file (as bytes, or as text for even lengths), check
     what it accepts against the rules of the protocol, then against the profile."""
-    from inmoov_dsl.compiled import check_profile, from_json
-    from inmoov_dsl.profile import load_profile
+    from inmoov_dsl.compiling.compiled import check_profile
+    from inmoov_dsl.compiling.compiled_reader import from_json
+    from inmoov_dsl.profiles.profile import load_profile
 
     if len(data) % 2 == 0:
         text = data.decode("utf-8", "surrogateescape")

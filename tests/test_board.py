@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 from vectors import BOARD as VECTORS
 from vectors import vector_board
 
-from inmoov_dsl.board import BoardCore
+from inmoov_dsl.wire.board import BoardCore
 
 
 @pytest.mark.parametrize("case", VECTORS["cases"], ids=lambda c: c["name"])
@@ -50,7 +50,7 @@ def test_the_original_firmware_ignores_the_relax_bytes_and_stays_in_step():
     it does not have, and the CANCEL drops it before any value."""
     from boardmodel import read_stream
 
-    from inmoov_dsl.player import RELAX
+    from inmoov_dsl.wire.player import RELAX
 
     data = [255, 2, 90, *RELAX, 3, 60, *RELAX, *RELAX, 4, 30]
     events = read_stream(range(len(data)), data, 9600, owned={0, 1, 2, 3, 4, 5})

@@ -11,7 +11,7 @@ import pytest
 
 from inmoov_dsl import compile_file
 from inmoov_dsl.cli import gestc
-from inmoov_dsl.profile import load_profile, parse_profile
+from inmoov_dsl.profiles.profile import load_profile, parse_profile
 
 ROOT = Path(__file__).resolve().parent.parent
 BOM = b"\xef\xbb\xbf"

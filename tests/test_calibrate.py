@@ -6,9 +6,9 @@ import sys
 import pytest
 from terminal import AtTerminal
 
-from inmoov_dsl.calibrate import HELP, Ends, edit_profile, found
 from inmoov_dsl.errors import GestError
-from inmoov_dsl.profile import find_profile, load_profile, parse_profile
+from inmoov_dsl.live.calibrate import HELP, Ends, edit_profile, found
+from inmoov_dsl.profiles.profile import find_profile, load_profile, parse_profile
 
 RHAND_TEXT = find_profile("rhand").read_text(encoding="utf-8")
 RHAND = load_profile("rhand")

@@ -6,7 +6,7 @@ from pathlib import Path
 import pytest
 
 from inmoov_dsl import compile_source
-from inmoov_dsl.compiler import load
+from inmoov_dsl.language.load import load
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = sorted((ROOT / "docs").glob("*.md")) + [ROOT / "README.md"]

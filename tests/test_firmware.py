@@ -20,13 +20,14 @@ import serial
 from toolchain import need
 
 from inmoov_dsl import load_profile, to_timed
-from inmoov_dsl.board import PULSE_MAX, PULSE_MIN, BoardCore, BoardServo, pulse_us
-from inmoov_dsl.compiler import compile_program, load
-from inmoov_dsl.firmware import sketches
-from inmoov_dsl.library import scan_library
-from inmoov_dsl.player import Link, ask_dump, play, wait_ready
+from inmoov_dsl.compiling.compiler import compile_program
+from inmoov_dsl.firmware.sketches import sketches
+from inmoov_dsl.language.library import scan_library
+from inmoov_dsl.language.load import load
 from inmoov_dsl.protocol import FIRST_BOARD_ID, MAX_SERVO_ID, MAX_VALUE, POSE_SETTLE, Signal
-from inmoov_dsl.sim import VirtualBoard
+from inmoov_dsl.wire.board import PULSE_MAX, PULSE_MIN, BoardCore, BoardServo, pulse_us
+from inmoov_dsl.wire.player import Link, ask_dump, play, wait_ready
+from inmoov_dsl.wire.sim import VirtualBoard
 
 ROOT = Path(__file__).resolve().parent.parent
 FIRMWARE = ROOT / "firmware"
@@ -295,7 +296,7 @@ def test_the_python_glove_answers_like_the_firmware_glove(driver):
     glove of gestsim --glove): the same bytes."""
     import random
 
-    from inmoov_dsl.glove import GloveCore as PythonGlove
+    from inmoov_dsl.wire.glove import GloveCore as PythonGlove
 
     rng = random.Random(5)
     script = []

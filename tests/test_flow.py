@@ -9,10 +9,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from inmoov_dsl.compiler import compile_program, load
+from inmoov_dsl.compiling.compiler import compile_program
 from inmoov_dsl.errors import GestError
-from inmoov_dsl.fmt import format_source
-from inmoov_dsl.profile import load_profile
+from inmoov_dsl.language.fmt import format_source
+from inmoov_dsl.language.load import load
+from inmoov_dsl.profiles.profile import load_profile
 
 RHAND = load_profile("rhand")
 SERVOS = ["wrist", "thumb", "index", "middle", "ring", "pinky"]

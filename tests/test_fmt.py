@@ -9,8 +9,9 @@ from hypothesis import HealthCheck, given, settings
 from test_stream import gestures
 
 from inmoov_dsl.cli import gestc
-from inmoov_dsl.compiler import compile_program, load
-from inmoov_dsl.fmt import format_source
+from inmoov_dsl.compiling.compiler import compile_program
+from inmoov_dsl.language.fmt import format_source
+from inmoov_dsl.language.load import load
 
 ROOT = Path(__file__).resolve().parent.parent
 LIBRARY = sorted((ROOT / "gestures").glob("*.gest"))

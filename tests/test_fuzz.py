@@ -9,7 +9,7 @@ from mutate import KINDS, attempt, mutate, seeds
 
 from inmoov_dsl import compile_source
 from inmoov_dsl.errors import GestError
-from inmoov_dsl.parse import parse
+from inmoov_dsl.language.parse import parse
 
 WORDS = ["peace", "g", "index", "middle", "fingers", "all", "fist", "pose", "group", "use",
          "wait", "hold", "repeat", "over", "stagger", ":", ",", "90", "180", "200", "-3",

@@ -10,9 +10,10 @@ from boardmodel import final_values, read_stream
 
 from inmoov_dsl import GestError, clock, load_profile, measure
 from inmoov_dsl.cli import gestc, gestplay, hand
-from inmoov_dsl.compiler import compile_program, load
-from inmoov_dsl.library import find_gesture, library_dirs, scan_library
-from inmoov_dsl.player import play
+from inmoov_dsl.compiling.compiler import compile_program
+from inmoov_dsl.language.library import find_gesture, library_dirs, scan_library
+from inmoov_dsl.language.load import load
+from inmoov_dsl.wire.player import play
 
 ROOT = Path(__file__).resolve().parent.parent
 LIBRARY = scan_library([ROOT / "gestures"])
@@ -314,8 +315,8 @@ def test_every_command_names_the_profile_a_body_gesture_needs(argv, capsys):
 
 
 def test_the_repl_names_the_profile_a_servo_is_in(rhand):
-    from inmoov_dsl.drive import library_program
-    from inmoov_dsl.live import line_steps
+    from inmoov_dsl.live.drive import library_program
+    from inmoov_dsl.live.session import line_steps
 
     with pytest.raises(GestError) as info:
         line_steps("rothead 90", library_program(None), rhand)
@@ -352,8 +353,8 @@ def test_a_file_of_several_gestures_asks_which(capsys):
 
 
 def test_a_file_name_typed_at_the_repl_hints_at_its_gesture(rhand):
-    from inmoov_dsl.drive import library_program
-    from inmoov_dsl.live import line_steps
+    from inmoov_dsl.live.drive import library_program
+    from inmoov_dsl.live.session import line_steps
 
     with pytest.raises(GestError) as info:
         line_steps("peace.gest", library_program(None), rhand)

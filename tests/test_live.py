@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 
 from inmoov_dsl.cli.gestplay.repl import library_program
+from inmoov_dsl.compiling.plan import MotionState
 from inmoov_dsl.errors import GestError
-from inmoov_dsl.live import Session, line_steps
-from inmoov_dsl.plan import MotionState
-from inmoov_dsl.profile import load_profile
+from inmoov_dsl.live.session import Session, line_steps
+from inmoov_dsl.profiles.profile import load_profile
 
 RHAND = load_profile("rhand")
 INDEX = RHAND.index("index")

@@ -8,8 +8,8 @@ import pytest
 
 from inmoov_dsl import GestError
 from inmoov_dsl.cli import gestc, gestplay
-from inmoov_dsl.firmware import sketches
-from inmoov_dsl.profile import parse_profile
+from inmoov_dsl.firmware.sketches import sketches
+from inmoov_dsl.profiles.profile import parse_profile
 
 POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
 

@@ -2,9 +2,9 @@
 
 import pytest
 
-from inmoov_dsl import syntax as ast
 from inmoov_dsl.errors import GestError
-from inmoov_dsl.parse import parse, parser
+from inmoov_dsl.language import syntax as ast
+from inmoov_dsl.language.parse import parse, parser
 
 
 def test_the_calling_card_parses_exactly_as_written():
@@ -217,7 +217,7 @@ def test_tabs_and_spaces_are_not_mixed_in_indentation(source, first):
 def test_a_file_over_the_size_limit_is_refused_before_parsing():
     import time
 
-    from inmoov_dsl.parse import MAX_SOURCE
+    from inmoov_dsl.language.parse import MAX_SOURCE
     text = "g: index 9\n" * (MAX_SOURCE // 11 + 1)
     started = time.perf_counter()
     with pytest.raises(GestError) as info:
@@ -234,7 +234,7 @@ def test_a_file_over_the_size_limit_is_refused_before_parsing():
 
 
 def test_a_line_over_the_length_limit_is_refused_and_shown_cut():
-    from inmoov_dsl.parse import MAX_LINE
+    from inmoov_dsl.language.parse import MAX_LINE
     source = "ok: index 9\ng: " + "index 9, " * 2_000 + "index 9\n"
     with pytest.raises(GestError) as info:
         parse(source, "long.gest")
@@ -254,7 +254,7 @@ def test_lines_are_counted_at_newlines_only():
 
 
 def test_repeats_nested_too_deep_are_a_syntax_error():
-    from inmoov_dsl.parse import MAX_DEPTH
+    from inmoov_dsl.language.parse import MAX_DEPTH
     parse("g: " + "repeat 2: " * MAX_DEPTH + "index 9", "e.gest")
     with pytest.raises(GestError) as info:
         parse("g: " + "repeat 2: " * (MAX_DEPTH + 1) + "index 9", "e.gest")

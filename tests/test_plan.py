@@ -4,10 +4,11 @@ import numpy as np
 import pytest
 from ruckig import InputParameter, Ruckig, Trajectory
 
-from inmoov_dsl.compiler import load, plan_gesture
+from inmoov_dsl.compiling.actions import Action
+from inmoov_dsl.compiling.compiler import plan_gesture
+from inmoov_dsl.compiling.plan import Planner
 from inmoov_dsl.errors import GestError
-from inmoov_dsl.plan import Planner
-from inmoov_dsl.resolve import Action
+from inmoov_dsl.language.load import load
 
 
 def solo_time(servo, distance):
@@ -162,7 +163,7 @@ class RefusingRuckig(FailingRuckig):
     (RefusingRuckig, "ErrorSynchronizationCalculation"),
 ])
 def test_any_failure_of_ruckig_is_an_error_naming_the_step(rhand, monkeypatch, ruckig, why):
-    from inmoov_dsl import plan as planner
+    from inmoov_dsl.compiling import plan as planner
     monkeypatch.setattr(planner, "Ruckig", ruckig)
     program = load("f.gest", "up: index 90 over 0.5s\ng:\n    wait 1s\n    up\n")
     with pytest.raises(GestError) as info:
@@ -189,7 +190,7 @@ def test_a_stretch_is_told_once_per_place_with_its_count(rhand, body):
 
 
 def test_a_stretch_says_enough_decimals_to_tell_the_two_apart():
-    from inmoov_dsl.plan import stretch_message
+    from inmoov_dsl.compiling.plan import stretch_message
     assert stretch_message(0.5049, 0.5) == "move stretched: needs 0.505 s, asked 0.500 s"
     assert stretch_message(0.62, 0.4) == "move stretched: needs 0.62 s, asked 0.40 s"
 

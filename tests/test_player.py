@@ -15,10 +15,11 @@ from boardmodel import final_values, read_stream
 
 from inmoov_dsl import clock, compile_file, load_library
 from inmoov_dsl.cli import gestplay, hand
-from inmoov_dsl.compiler import compile_program, load
-from inmoov_dsl.player import Link, play, schedule, wait_ready
-from inmoov_dsl.ports import open_port
-from inmoov_dsl.profile import load_profile
+from inmoov_dsl.compiling.compiler import compile_program
+from inmoov_dsl.language.load import load
+from inmoov_dsl.profiles.profile import load_profile
+from inmoov_dsl.wire.player import Link, play, schedule, wait_ready
+from inmoov_dsl.wire.ports import open_port
 
 ROOT = Path(__file__).resolve().parent.parent
 TWO = ROOT / "tests" / "data" / "two.toml"

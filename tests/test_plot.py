@@ -7,9 +7,10 @@ import numpy as np
 import pytest
 
 from inmoov_dsl.cli import gestc
-from inmoov_dsl.compiler import compile_program, load
-from inmoov_dsl.library import scan_library
-from inmoov_dsl.plot import moving_servos, sent_values
+from inmoov_dsl.compiling.compiler import compile_program
+from inmoov_dsl.language.library import scan_library
+from inmoov_dsl.language.load import load
+from inmoov_dsl.model.plot import moving_servos, sent_values
 
 ROOT = Path(__file__).resolve().parent.parent
 LIBRARY = scan_library([ROOT / "gestures"])

@@ -7,7 +7,7 @@ import sys
 import pytest
 
 from inmoov_dsl.cli import gestc, gestplay
-from inmoov_dsl.ports import not_found
+from inmoov_dsl.wire.ports import not_found
 
 POSIX_NAMES = pytest.mark.skipif(sys.platform == "win32", reason="COM3 is a port name on "
                                   "Windows")

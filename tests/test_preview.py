@@ -15,9 +15,10 @@ from PIL import Image
 
 from inmoov_dsl import GestError, load_profile
 from inmoov_dsl.cli import gestc
-from inmoov_dsl.compiler import compile_program, load
-from inmoov_dsl.library import scan_library
-from inmoov_dsl.preview import draw_hand, hand_servos, poses
+from inmoov_dsl.compiling.compiler import compile_program
+from inmoov_dsl.language.library import scan_library
+from inmoov_dsl.language.load import load
+from inmoov_dsl.model.preview import draw_hand, hand_servos, poses
 
 LIBRARY = scan_library()
 POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")

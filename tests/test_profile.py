@@ -5,7 +5,7 @@ from conftest import board_toml, servo_toml
 
 from inmoov_dsl import compile_source, load_profile
 from inmoov_dsl.errors import GestError
-from inmoov_dsl.profile import builtin_profiles, parse_profile
+from inmoov_dsl.profiles.profile import builtin_profiles, parse_profile
 
 
 def test_the_right_hand_is_the_original_one(rhand):
@@ -237,7 +237,7 @@ def test_a_profile_that_is_not_utf8_is_an_error_at_the_byte(tmp_path):
 
 
 def test_a_profile_too_large_is_not_read(tmp_path):
-    from inmoov_dsl.profile import MAX_PROFILE
+    from inmoov_dsl.profiles.profile import MAX_PROFILE
     path = tmp_path / "huge.toml"
     path.write_bytes(SERVO.encode() + b"#" * MAX_PROFILE)
     with pytest.raises(GestError, match="larger than 1,000,000 bytes: it is not read"):
@@ -586,8 +586,8 @@ def walk(value, path=()):
 def test_every_key_and_item_of_the_built_in_profiles_is_found_where_it_is():
     import tomllib
 
-    from inmoov_dsl.profile import find_profile
-    from inmoov_dsl.profile_keys import KeyIndex
+    from inmoov_dsl.profiles.keys import KeyIndex
+    from inmoov_dsl.profiles.profile import find_profile
 
     for name in builtin_profiles():
         text = find_profile(name).read_text(encoding="utf-8")

@@ -9,12 +9,13 @@ import numpy as np
 import pytest
 
 from inmoov_dsl import load_profile
-from inmoov_dsl.compiler import compile_program, load
+from inmoov_dsl.compiling.compiler import compile_program
 from inmoov_dsl.decode import StreamReader
-from inmoov_dsl.glove import GloveCore, Imperfections, glove_stream, on_the_clock
-from inmoov_dsl.library import scan_library
+from inmoov_dsl.language.library import scan_library
+from inmoov_dsl.language.load import load
+from inmoov_dsl.live.record import Recording, keyframes, shortest_path, start_pose, to_gest, traces
 from inmoov_dsl.protocol import SERVO_FRAME
-from inmoov_dsl.record import Recording, keyframes, shortest_path, start_pose, to_gest, traces
+from inmoov_dsl.wire.glove import GloveCore, Imperfections, glove_stream, on_the_clock
 
 RHAND = load_profile("rhand")
 GLOVE = RHAND.gloves[0]

@@ -13,11 +13,11 @@ import numpy as np
 import pytest
 from terminal import AtTerminal
 
-from inmoov_dsl.board import BoardCore
 from inmoov_dsl.cli.gestplay.repl import repl
-from inmoov_dsl.player import Link
-from inmoov_dsl.profile import load_profile
-from inmoov_dsl.sim import VirtualBoard
+from inmoov_dsl.profiles.profile import load_profile
+from inmoov_dsl.wire.board import BoardCore
+from inmoov_dsl.wire.player import Link
+from inmoov_dsl.wire.sim import VirtualBoard
 
 RHAND = load_profile("rhand")
 INDEX_ID = RHAND.servos[RHAND.index("index")].id

@@ -5,7 +5,8 @@ from pathlib import Path
 
 from inmoov_dsl import measure
 from inmoov_dsl.cli import gestc
-from inmoov_dsl.compiler import compile_program, load
+from inmoov_dsl.compiling.compiler import compile_program
+from inmoov_dsl.language.load import load
 
 ROOT = Path(__file__).resolve().parent.parent
 IDLE = "idle, none of its servos moves (it is sent CANCEL only)"

@@ -15,12 +15,12 @@ import serial
 from terminal import AtTerminal, listen_as_a_plain_program
 
 from inmoov_dsl import load_profile
-from inmoov_dsl.board import BoardCore
 from inmoov_dsl.cli import gestplay
-from inmoov_dsl.player import ask_dump, wait_ready
-from inmoov_dsl.ports import leave_dtr_up, open_port
 from inmoov_dsl.protocol import POSE_SETTLE
-from inmoov_dsl.sim import VirtualBoard
+from inmoov_dsl.wire.board import BoardCore
+from inmoov_dsl.wire.player import ask_dump, wait_ready
+from inmoov_dsl.wire.ports import leave_dtr_up, open_port
+from inmoov_dsl.wire.sim import VirtualBoard
 
 POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
 REST = [0, 0, 0, 0, 0, 0]

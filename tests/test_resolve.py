@@ -5,10 +5,10 @@ import os
 import pytest
 
 from inmoov_dsl import compile_source
-from inmoov_dsl.compiler import load, plan_gesture, read_text
+from inmoov_dsl.compiling.compiler import plan_gesture
+from inmoov_dsl.compiling.resolve import Resolver
 from inmoov_dsl.errors import GestError
-from inmoov_dsl.program import load_program
-from inmoov_dsl.resolve import Resolver
+from inmoov_dsl.language.load import load, load_program, read_text
 
 
 def steps_of(source, rhand, gesture="g", read=None):
@@ -78,9 +78,9 @@ def test_start_pose_from_a_pose_or_targets(rhand):
 
 
 def test_lookup_says_what_a_name_is(rhand):
+    from inmoov_dsl.compiling.names import Gesture, Group, Pose, Servo
     from inmoov_dsl.errors import Pos
-    from inmoov_dsl.names import Gesture, Group, Pose, Servo
-    from inmoov_dsl.syntax import Name
+    from inmoov_dsl.language.syntax import Name
     program = load_program("main.gest", {"main.gest": (
         "group pair: index, middle\npose fist: fingers 180\ng: pair 9\n")}.__getitem__)
     resolver = Resolver(program, rhand)
@@ -293,7 +293,7 @@ def test_a_file_that_is_not_utf8_is_an_error_at_the_byte(tmp_path):
 
 
 def test_a_file_too_large_to_parse_is_refused_before_it_is_read(tmp_path):
-    from inmoov_dsl.parse import MAX_SOURCE
+    from inmoov_dsl.language.parse import MAX_SOURCE
     path = tmp_path / "huge.gest"
     path.write_bytes(b"g: index 9\n" * (4 * MAX_SOURCE // 11 + 1))
     with pytest.raises(GestError) as info:
@@ -303,7 +303,7 @@ def test_a_file_too_large_to_parse_is_refused_before_it_is_read(tmp_path):
 
 
 def test_the_gestures_of_one_program_expand_to_a_bounded_total(rhand, monkeypatch):
-    from inmoov_dsl import resolve
+    from inmoov_dsl.compiling import resolve
     monkeypatch.setattr(resolve, "MAX_TOTAL_STEPS", 25)
     source = "big:\n    repeat 10: index 9\n" + "".join(f"c{i}: big\n" for i in range(3))
     program = load_program("main.gest", {"main.gest": source}.__getitem__)
@@ -330,8 +330,8 @@ def test_a_long_call_chain_is_abbreviated(rhand):
 def test_checking_every_gesture_of_a_file_does_the_shared_work_once(rhand):
     # what made gestc check quadratic: per gesture, the profile read again, every name
     # checked again, the whole text hashed again
-    from inmoov_dsl.compiler import compile_program
-    from inmoov_dsl.profile import load_profile
+    from inmoov_dsl.compiling.compiler import compile_program
+    from inmoov_dsl.profiles.profile import load_profile
     program = load("many.gest", "".join(f"g{i}: index {i}\n" for i in range(50)))
     for name in program.own:
         compile_program(program, name, "rhand")

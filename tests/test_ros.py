@@ -30,9 +30,9 @@ from pathlib import Path
 import pytest
 from toolchain import need
 
-from inmoov_dsl import joints
 from inmoov_dsl.errors import GestError
-from inmoov_dsl.profile import load_profile
+from inmoov_dsl.model import joints
+from inmoov_dsl.profiles.profile import load_profile
 from inmoov_dsl.ros import core, trajectory
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -186,7 +186,7 @@ def test_the_node_tells_its_version_and_usage_with_or_without_rospy(capsys):
 @pytest.mark.skipif(sys.platform == "win32", reason="COM3 is a port name on Windows")
 @pytest.mark.parametrize("listen", [False, True])
 def test_a_wrong_port_name_gets_the_hint_every_command_gives(listen):
-    from inmoov_dsl.ports import not_found
+    from inmoov_dsl.wire.ports import not_found
 
     args = Namespace(port=["COM3"], profile="rhand", listen=listen, rate=50.0, blind=False,
                      lib=[])

@@ -44,7 +44,7 @@ def test_a_pickle_planted_where_lark_kept_its_cache_is_not_read(tmp_path):
     shared.mkdir()
     # the file Lark's own cache=True would use in this temp dir: made by Lark itself
     make_old_cache = (
-        "from inmoov_dsl import parse\n"
+        "from inmoov_dsl.language import parse\n"
         "parse.Lark(parse.grammar_path().read_text(encoding='utf-8'), parser='lalr', "
         "lexer='contextual', postlex=parse._Indenter(), maybe_placeholders=False, "
         "transformer=parse._TO_AST, cache=True)\n")

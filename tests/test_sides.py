@@ -7,10 +7,11 @@ import pytest
 from boardmodel import final_values, read_stream
 
 from inmoov_dsl.cli import gestplay, hand
-from inmoov_dsl.compiler import compile_program, load
+from inmoov_dsl.compiling.compiler import compile_program
 from inmoov_dsl.errors import GestError
-from inmoov_dsl.fmt import format_source
-from inmoov_dsl.profile import load_profile, parse_profile
+from inmoov_dsl.language.fmt import format_source
+from inmoov_dsl.language.load import load
+from inmoov_dsl.profiles.profile import load_profile, parse_profile
 from inmoov_dsl.resources import profiles_dir
 
 INMOOV = load_profile("inmoov")

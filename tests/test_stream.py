@@ -12,9 +12,11 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from inmoov_dsl import compile_source, from_json, load_profile, measure, protocol, to_json
-from inmoov_dsl.compiled import check_profile, read_compiled
-from inmoov_dsl.compiler import compile_program, load
+from inmoov_dsl.compiling.compiled import check_profile
+from inmoov_dsl.compiling.compiled_reader import read_compiled
+from inmoov_dsl.compiling.compiler import compile_program
 from inmoov_dsl.errors import GestError
+from inmoov_dsl.language.load import load
 
 FRAME = protocol.SERVO_FRAME
 
@@ -278,7 +280,7 @@ def test_the_error_points_at_the_field(tmp_path):
 
 def test_every_library_gesture_reads_back():
     from inmoov_dsl import load_library
-    from inmoov_dsl.compiler import compile_file
+    from inmoov_dsl.compiling.compiler import compile_file
     for name, path in load_library().items():
         profile = "inmoov" if path.name == "body.gest" else "rhand"
         compiled = compile_file(path, name, profile)
@@ -287,7 +289,7 @@ def test_every_library_gesture_reads_back():
 
 
 def test_read_compiled_caps_the_size_before_reading(tmp_path, monkeypatch):
-    from inmoov_dsl import compiled as module
+    from inmoov_dsl.compiling import compiled_reader as module
     path = tmp_path / "g.gestc"
     path.write_text(to_json(compile_source("g: index 9")), encoding="utf-8")
     assert read_compiled(path).final == (0, 0, 9, 0, 0, 0)

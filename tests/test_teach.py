@@ -8,11 +8,11 @@ import pytest
 from terminal import AtTerminal
 
 from inmoov_dsl import compile_source, load_profile
-from inmoov_dsl.calibrate import HELP as CALIBRATE_HELP
-from inmoov_dsl.calibrate import Ends
 from inmoov_dsl.cli.keys import _posix_keys
-from inmoov_dsl.teach import HELP as TEACH_HELP
-from inmoov_dsl.teach import Teach
+from inmoov_dsl.live.calibrate import HELP as CALIBRATE_HELP
+from inmoov_dsl.live.calibrate import Ends
+from inmoov_dsl.live.teach import HELP as TEACH_HELP
+from inmoov_dsl.live.teach import Teach
 
 POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
 UP, DOWN, PGUP, PGDN, RIGHT = "\x1b[A", "\x1b[B", "\x1b[5~", "\x1b[6~", "\x1b[C"

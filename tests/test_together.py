@@ -5,10 +5,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from inmoov_dsl.compiler import compile_program, load
+from inmoov_dsl.compiling.compiler import compile_program
 from inmoov_dsl.errors import GestError
-from inmoov_dsl.fmt import format_source
-from inmoov_dsl.profile import load_profile
+from inmoov_dsl.language.fmt import format_source
+from inmoov_dsl.language.load import load
+from inmoov_dsl.profiles.profile import load_profile
 
 INMOOV = load_profile("inmoov")
 LIB = ("peace: thumb 180, ring 180, pinky 180, index 0, middle 0 over 0.7s\n"

@@ -15,7 +15,7 @@ from toolchain import need
 from inmoov_dsl import load_profile
 from inmoov_dsl.cli import gestc
 from inmoov_dsl.errors import GestError
-from inmoov_dsl.upload import build, explain, read_hex
+from inmoov_dsl.firmware.upload import build, explain, read_hex
 
 POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
 LINUX = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="Linux port names")

@@ -11,12 +11,12 @@ import numpy as np
 import pytest
 from toolchain import need
 
-from inmoov_dsl import joints
 from inmoov_dsl.cli import gestc
 from inmoov_dsl.errors import GestError
-from inmoov_dsl.profile import builtin_profiles, load_profile, parse_profile
+from inmoov_dsl.model import joints
+from inmoov_dsl.model.urdf import model
+from inmoov_dsl.profiles.profile import builtin_profiles, load_profile, parse_profile
 from inmoov_dsl.resources import profiles_dir
-from inmoov_dsl.urdf import model
 
 PROFILES = builtin_profiles()
 

@@ -156,8 +156,8 @@ def status_line(text: str) -> None:
 def send_value(port, servo_id: int, value: int) -> None:
     """Move one servo now: CANCEL (the board may be mid-command), then the pair; the
     board's WAIT bytes are read off, so a pulled cable raises here."""
-    from ..player import drain
     from ..protocol import Signal
+    from ..wire.player import drain
 
     port.write(bytes([Signal.CANCEL, servo_id, value]))
     drain(port)
@@ -165,7 +165,7 @@ def send_value(port, servo_id: int, value: int) -> None:
 
 def gesture_name(name: str) -> str:
     """``name`` if it can name a gesture; a GestError saying why not otherwise."""
-    from ..syntax import KEYWORDS
+    from ..language.syntax import KEYWORDS
 
     if not name.isidentifier() or not name.isascii():
         raise GestError(Diagnostic("error", f"'{name}' cannot name a gesture",
@@ -185,3 +185,11 @@ def write_out(path: str | None, text: str, about: str = "") -> None:
         return
     Path(path).write_text(text, encoding="utf-8")
     print(f"wrote {path}{about}", file=sys.stderr)
+
+
+def stdin_bytes() -> bytes:
+    """All of standard input, as bytes (a text stream put in its place, as tests do, is
+    encoded back to UTF-8)."""
+    buffer = getattr(sys.stdin, "buffer", None)
+    return buffer.read() if buffer is not None else \
+        sys.stdin.read().encode("utf-8", "surrogatepass")

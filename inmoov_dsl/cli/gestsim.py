@@ -20,11 +20,12 @@ from dataclasses import dataclass
 from typing import TextIO
 
 from .. import clock
-from ..board import BoardCore
 from ..errors import Diagnostic, GestError
-from ..glove import VirtualGlove
-from ..profile import Glove, load_profile
-from ..sim import DtrLine, VirtualBoard
+from ..profiles.data import Glove
+from ..profiles.profile import load_profile
+from ..wire.board import BoardCore
+from ..wire.glove import VirtualGlove
+from ..wire.sim import DtrLine, VirtualBoard
 from .common import EXIT_OK, add_version, number, parse_args, report, run
 from .gestsim_views import BarsView, HandView
 
@@ -180,7 +181,7 @@ def _web(args: argparse.Namespace, profile, board_cfg):
     if args.glove:
         raise GestError(Diagnostic("error", "--web shows a board's pose; with --glove "
                                    "gestsim is a glove", hint="leave out --web or --glove"))
-    from ..webview import WebView
+    from ..model.webview import WebView
 
     return WebView(profile, board_cfg, args.http_port)
 
@@ -205,9 +206,10 @@ class _Glove:
 def _glove(args: argparse.Namespace, profile) -> _Glove:
     """The glove (``--board``: its ID, default the profile's first) performing a
     gesture, untidy as asked."""
-    from ..compiler import compile_program, load
-    from ..glove import Imperfections, glove_stream
-    from ..library import find_gesture
+    from ..compiling.compiler import compile_program
+    from ..language.library import find_gesture
+    from ..language.load import load
+    from ..wire.glove import Imperfections, glove_stream
 
     if not profile.gloves:
         raise GestError(Diagnostic("error", f"profile '{profile.name}' has no glove",

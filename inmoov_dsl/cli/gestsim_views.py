@@ -7,10 +7,10 @@ from __future__ import annotations
 import sys
 from typing import TYPE_CHECKING
 
-from ..posebars import bar_lines
+from ..model.posebars import bar_lines
 
 if TYPE_CHECKING:
-    from ..sim import VirtualBoard
+    from ..wire.sim import VirtualBoard
 
 FRAME = 0.05  #: s between redraws of the live view
 
@@ -48,7 +48,7 @@ class HandView(BarsView):
     """The hand drawn in the terminal (gestc preview's picture)."""
 
     def __init__(self, profile, board_cfg):
-        from ..preview import draw_hand, hand_servos, pose_of, to_terminal
+        from ..model.preview import draw_hand, hand_servos, pose_of, to_terminal
 
         super().__init__(profile, board_cfg)
         hand_servos(profile)  # a profile without a hand is an error now, not later

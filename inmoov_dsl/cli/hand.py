@@ -18,11 +18,10 @@ import serial
 
 from .. import clock
 from ..errors import Diagnostic, GestError
-from ..player import Link, Port, ask_dump, cancel_all, relax_all, wait_ready
-from ..ports import open_port
-from ..profile import Profile
-from ..profile_types import Board
-from ..urlhandler import protocol_sim
+from ..profiles.data import Board, Profile
+from ..wire.player import Link, Port, ask_dump, cancel_all, relax_all, wait_ready
+from ..wire.ports import open_port
+from ..wire.urlhandler import protocol_sim
 from . import typeahead
 from .common import EXIT_INTERRUPTED, Exit, Stopped, status_of, warn, why
 
@@ -131,7 +130,7 @@ def reach(link: Link, profile: Profile, blind: bool, going_on: str) -> dict[int,
 
 def no_answer(link: Link, profile: Profile) -> Diagnostic:
     """What to say when nothing answers on a link (no WAIT, no DUMP reply)."""
-    from ..firmware import sketch_names
+    from ..firmware.sketches import sketch_names
 
     board = next(b for b in profile.boards if b.id == link.board)
     sketch = next(n for n, i in sketch_names(profile).items() if i == board.id)

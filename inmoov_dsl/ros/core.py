@@ -29,13 +29,14 @@ import serial
 from ..cli import hand
 from ..cli.common import EXIT_OK, add_blind, add_lib, add_version, number
 from ..decode import RECORDER, Pair, Reader
-from ..drive import Drive, Mirror, Next, Note, library_program
 from ..errors import Diagnostic, GestError
-from ..joints import names, positions
-from ..library import library_dirs
-from ..ports import open_port
-from ..profile import Profile, load_profile
-from ..urlhandler import protocol_sim
+from ..language.library import library_dirs
+from ..live.drive import Drive, Mirror, Next, Note, library_program
+from ..model.joints import names, positions
+from ..profiles.data import Profile
+from ..profiles.profile import load_profile
+from ..wire.ports import open_port
+from ..wire.urlhandler import protocol_sim
 from . import trajectory
 
 PROG = "inmoov_dsl.ros"

@@ -14,7 +14,8 @@ gets its CANCEL before the node leaves, as gestplay's does.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Sequence
+from typing import Protocol
 
 import rospy
 from sensor_msgs.msg import JointState
@@ -23,8 +24,25 @@ from trajectory_msgs.msg import JointTrajectory
 
 from ..errors import Diagnostic, GestError
 
-if TYPE_CHECKING:
-    from .core import Node
+
+class Node(Protocol):
+    """What the graph asks of the node (``core.Node``)."""
+
+    def joint_names(self) -> list[str]:
+        """The joints it publishes, in order."""
+
+    def joint_positions(self) -> list[float]:
+        """Their positions now (rad)."""
+
+    def gesture(self, text: str) -> None:
+        """Play a gesture (a name or steps)."""
+
+    def trajectory(self, joints: list[str],
+                   points: Sequence[tuple[Sequence[float], float]]) -> None:
+        """Play a joint trajectory: (positions, time from start) per point."""
+
+    def close(self) -> None:
+        """Stop: CANCEL to the boards."""
 
 NAME = "inmoov_hand"  #: the node's name, unless roslaunch gives it another (__name:=)
 LOG = {"error": rospy.logerr, "warning": rospy.logwarn, "info": rospy.loginfo}

@@ -17,11 +17,10 @@ import math
 from collections.abc import Sequence
 from typing import NoReturn
 
-from .. import joints
-from ..drive import Steps
+from ..compiling.actions import Action, Steps
 from ..errors import Diagnostic, GestError, did_you_mean
-from ..profile import Profile
-from ..resolve import Action
+from ..model import joints
+from ..profiles.data import Profile
 
 #: one point of a trajectory: the joints' positions (radians, in the order of the
 #: names), and its time from the start (s)

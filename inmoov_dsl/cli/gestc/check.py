@@ -5,13 +5,13 @@ from __future__ import annotations
 import argparse
 from collections.abc import Iterable
 
-from ...compiler import compile_program, load
+from ...compiling.compiler import compile_program
+from ...compiling.plan import without_count
 from ...errors import Diagnostic, GestError, Pos, decode_utf8
-from ...library import library_dirs
-from ...plan import without_count
-from ...program import Program
-from ..common import EXIT_ERROR, EXIT_OK, report
-from .fmt import stdin_bytes
+from ...language.library import library_dirs
+from ...language.load import load
+from ...language.program import Program
+from ..common import EXIT_ERROR, EXIT_OK, report, stdin_bytes
 from .target import PROG, add_arguments, link_keeps_up
 
 STDIN = "<stdin>"  #: the name of the text read from standard input (``-``)

@@ -5,12 +5,12 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from ...compiled import to_json, to_timed
+from ...compiling.compiled import to_json, to_timed
 from ..common import EXIT_OK, write_out
 from .target import add_arguments, compile_target, output_path
 
 if TYPE_CHECKING:
-    from ...compiled import Compiled
+    from ...compiling.compiled import Compiled
 
 
 def run(args: argparse.Namespace) -> int:

@@ -10,7 +10,7 @@ from .target import add_arguments, compile_target
 
 def run(args: argparse.Namespace) -> int:
     """Write the joint states as CSV (``-``: to standard output)."""
-    from ...export import joint_states, to_csv
+    from ...model.export import joint_states, to_csv
 
     compiled, plan = compile_target(args)
     text = to_csv(*joint_states(plan, compiled, 1 / args.rate))

@@ -6,7 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from ...profile import load_profile
+from ...profiles.profile import load_profile
 from ..common import EXIT_ERROR, EXIT_OK
 
 BAUDS = (9600, 19200, 38400, 57600, 115200)  #: the link speeds a sketch may use
@@ -14,7 +14,7 @@ BAUDS = (9600, 19200, 38400, 57600, 115200)  #: the link speeds a sketch may use
 
 def run(args: argparse.Namespace) -> int:
     """Write (or, with --check, compare) the sketch folders of a profile's boards."""
-    from ...upload import stale_files, write_sketchbook
+    from ...firmware.upload import stale_files, write_sketchbook
 
     profile = load_profile(args.profile_name)
     out = Path(args.output)

@@ -8,7 +8,7 @@ import sys
 from pathlib import Path
 
 from ...errors import GestError, decode_utf8
-from ..common import EXIT_ERROR, EXIT_OK, report
+from ..common import EXIT_ERROR, EXIT_OK, report, stdin_bytes
 from .target import PROG
 
 
@@ -16,7 +16,7 @@ def run(args: argparse.Namespace) -> int:
     """Rewrite files in the canonical layout (``-``: stdin to stdout). The text is read
     as UTF-8; a byte-order mark at its start is dropped (a file that has one is
     rewritten without it)."""
-    from ...fmt import format_source
+    from ...language.fmt import format_source
 
     status = EXIT_OK
     for file in args.files:
@@ -39,14 +39,6 @@ def run(args: argparse.Namespace) -> int:
                 Path(file).write_text(formatted, encoding="utf-8")
                 print(f"{file}: reformatted", file=sys.stderr)
     return status
-
-
-def stdin_bytes() -> bytes:
-    """All of standard input, as bytes (a text stream put in its place, as tests do, is
-    encoded back to UTF-8)."""
-    buffer = getattr(sys.stdin, "buffer", None)
-    return buffer.read() if buffer is not None else \
-        sys.stdin.read().encode("utf-8", "surrogatepass")
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:

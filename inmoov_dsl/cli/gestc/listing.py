@@ -5,11 +5,11 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ...compiler import load
 from ...errors import GestError
-from ...library import Entry, library_dirs, scan
-from ...profile import load_profile
-from ...program import Program
+from ...language.library import Entry, library_dirs, scan
+from ...language.load import load
+from ...language.program import Program
+from ...profiles.profile import load_profile
 from ..common import EXIT_OK, add_lib, report
 from .target import PROG
 
@@ -35,8 +35,8 @@ def run(args: argparse.Namespace) -> int:
 def profiles_needed(entries: list[Entry], dirs: list[Path]) -> dict[str, str]:
     """Gesture name -> the built-in profile it is for: rhand (the default) if its names
     are all there, else the first profile that has them all; '-' if none has."""
-    from ...profile import builtin_profiles
-    from ...resolve import resolver
+    from ...compiling.resolve import resolver
+    from ...profiles.profile import builtin_profiles
 
     names = ["rhand", *(n for n in builtin_profiles() if n != "rhand")]
     profiles = [load_profile(n) for n in names]

@@ -11,7 +11,7 @@ from .target import add_arguments, compile_target, output_path
 
 def run(args: argparse.Namespace) -> int:
     """Write the GIF."""
-    from ...preview import write_gif
+    from ...model.preview import write_gif
 
     compiled, plan = compile_target(args)
     out = output_path(args.output, compiled.gesture, (".gif",))

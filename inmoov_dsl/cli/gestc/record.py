@@ -21,8 +21,8 @@ if TYPE_CHECKING:
     import serial
 
     from ...decode import StreamReader
-    from ...profile import Glove, Profile
-    from ...record import Fit
+    from ...live.record import Fit
+    from ...profiles.data import Glove, Profile
 
 PROG = "gestc record"
 
@@ -30,11 +30,11 @@ PROG = "gestc record"
 def run(args: argparse.Namespace) -> int:
     """Record from ``--port`` into ``--output``: listen, choose keyframes, write them."""
     from ...decode import StreamReader
-    from ...glove import on_the_clock
-    from ...ports import open_port
-    from ...profile import load_profile
-    from ...record import DEFAULT_TOLERANCE, keyframes, to_gest, traces
-    from ...urlhandler import protocol_sim
+    from ...live.record import DEFAULT_TOLERANCE, keyframes, to_gest, traces
+    from ...profiles.profile import load_profile
+    from ...wire.glove import on_the_clock
+    from ...wire.ports import open_port
+    from ...wire.urlhandler import protocol_sim
 
     tolerance = DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance
     profile = load_profile(args.profile)

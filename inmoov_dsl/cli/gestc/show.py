@@ -10,12 +10,12 @@ from ..common import EXIT_OK
 from .target import add_arguments, compile_target
 
 if TYPE_CHECKING:
-    from ... import metrics
+    from ...compiling import metrics
 
 
 def run(args: argparse.Namespace) -> int:
     """Print the step table and each link's figures."""
-    from ...metrics import measure
+    from ...compiling.metrics import measure
 
     compiled, plan = compile_target(args)
     print(f"{compiled.gesture}: {compiled.duration:.3f} s on profile '{compiled.profile}'")

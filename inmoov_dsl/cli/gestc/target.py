@@ -6,12 +6,13 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ...compiled import Compiled
-from ...compiler import compile_program, load
+from ...compiling.compiled import Compiled
+from ...compiling.compiler import compile_program
+from ...compiling.plan import Plan
 from ...errors import Diagnostic, GestError
-from ...library import find_gesture, library_dirs
-from ...plan import Plan
-from ...program import Program
+from ...language.library import find_gesture, library_dirs
+from ...language.load import load
+from ...language.program import Program
 from ..common import add_lib, report
 
 PROG = "gestc"
@@ -58,7 +59,7 @@ def compile_one(program: Program, gesture: str | None, profile: str, start: str 
 def link_keeps_up(program: Program, compiled: Compiled, plan: Plan) -> None:
     """A link that cannot send every value the plan needs (frame coverage below 100%)
     is an error at the gesture's name."""
-    from ...metrics import measure
+    from ...compiling.metrics import measure
 
     node = program.gestures[compiled.gesture]
     errors = [program.sources.error(

@@ -10,7 +10,8 @@ from dataclasses import replace
 from pathlib import Path
 
 from ...errors import Diagnostic, GestError
-from ...profile import Profile, load_profile
+from ...profiles.data import Profile
+from ...profiles.profile import load_profile
 from ..common import EXIT_OK, report
 from .firmware import BAUDS
 from .target import PROG
@@ -18,7 +19,7 @@ from .target import PROG
 
 def run(args: argparse.Namespace) -> int:
     """Build boards' firmware from their profile and flash it through the bootloader."""
-    from ...upload import OLD_NANO_BAUD, UNO_BAUD, build
+    from ...firmware.upload import OLD_NANO_BAUD, UNO_BAUD, build
 
     profile, names = _boards(args.profile, args.board)
     targets = [args.board] if args.board else list(names)
@@ -44,7 +45,7 @@ def check_ports(ports: list[str], dry_run: bool) -> None:
     """Each port avrdude will open is there, before anything is built: the message
     every command gives for that port name (``ports.not_found``). With ``--dry-run``,
     which flashes nothing, a warning."""
-    from ...ports import device_problem
+    from ...wire.ports import device_problem
 
     for port in ports:
         problem = device_problem(port)
@@ -59,7 +60,7 @@ def dry_run(args: argparse.Namespace, profile: Profile, targets: list[str],
     """The commands that do what ``gestc upload`` would, to run as they are: write the
     sketchbook (``--build-dir``, default ./firmware, which stays), build it, flash
     each board; with ``--hex``, only the flashing."""
-    from ...upload import avrdude_command
+    from ...firmware.upload import avrdude_command
 
     if args.hex:
         hexes = {targets[0]: Path(args.hex)}
@@ -78,7 +79,7 @@ def dry_run(args: argparse.Namespace, profile: Profile, targets: list[str],
 def _flash(hexes: dict[str, Path], ports: dict[str, str], baud: int,
            args: argparse.Namespace) -> None:
     """Flash each board its .hex, saying what goes where."""
-    from ...upload import flash, read_hex
+    from ...firmware.upload import flash, read_hex
 
     for name, hex_file in hexes.items():
         size = len(read_hex(hex_file))
@@ -90,8 +91,8 @@ def _flash(hexes: dict[str, Path], ports: dict[str, str], baud: int,
 
 def _boards(profile_name: str | None, board: str | None) -> tuple[Profile, dict[str, int]]:
     """The profile to build from, and its sketches (name -> board ID)."""
-    from ...firmware import sketch_names
-    from ...upload import find_sketch
+    from ...firmware.sketches import sketch_names
+    from ...firmware.upload import find_sketch
 
     if profile_name:
         profile = load_profile(profile_name)

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 import argparse
 
-from ...profile import load_profile
+from ...profiles.profile import load_profile
 from ..common import EXIT_OK, write_out
 
 
 def run(args: argparse.Namespace) -> int:
     """Write the URDF of the profile's robot (``-o``: to a file)."""
-    from ...urdf import model
+    from ...model.urdf import model
 
     write_out(args.output, model(load_profile(args.profile)))
     return EXIT_OK

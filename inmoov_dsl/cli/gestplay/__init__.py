@@ -2,25 +2,27 @@
 
 ``gestplay GESTURE`` plays a gesture; ``gestplay play NAME`` plays one whatever its
 name (a gesture called ``dump``, say); ``gestplay TOOL`` runs a bench tool. Every
-subcommand is a module of this package with ``add_parser(sub)``.
+subcommand is a module of this package with ``add_parser(sub)``; a command line that
+names its tool imports that tool's module alone.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
-from collections.abc import Collection
 
 from ..common import add_version, parse_args, run
-from . import calibrate, dump, play, ports, relax, repl, send, teach
 
 PROG = "gestplay"
-TOOLS = (play, ports, dump, send, relax, calibrate, repl, teach)  #: each with add_parser
+#: each tool (``play`` for a gesture) -> its module, in the order ``--help`` lists them
+TOOLS = {"play": "play", "ports": "ports", "dump": "dump", "send": "send", "relax": "relax",
+         "calibrate": "calibrate", "repl": "repl", "teach": "teach"}
 
 
-def parser() -> tuple[argparse.ArgumentParser, Collection[str]]:
-    """gestplay's arguments (a tool and its arguments: ``play`` for a gesture), and the
-    tools' names."""
+def parser(tool: str | None = None) -> argparse.ArgumentParser:
+    """gestplay's arguments (a tool and its arguments: ``play`` for a gesture); only
+    ``tool``'s, when given."""
     ap = argparse.ArgumentParser(
         prog=PROG, usage="%(prog)s GESTURE [options]\n       %(prog)s TOOL [options]",
         description="Play a gesture on the InMoov hand: gestplay GESTURE --port PORT "
@@ -28,23 +30,23 @@ def parser() -> tuple[argparse.ArgumentParser, Collection[str]]:
         "whatever its name). The bench tools: gestplay TOOL --help.")
     add_version(ap)
     sub = ap.add_subparsers(dest="command", required=True, metavar="GESTURE|TOOL", prog=PROG)
-    for module in TOOLS:
-        module.add_parser(sub)
-    return ap, sub.choices
+    for name in [tool] if tool in TOOLS else TOOLS:
+        importlib.import_module(f".{TOOLS[name]}", __name__).add_parser(sub)
+    return ap
 
 
-def playing_by_default(argv: list[str], tools: Collection[str]) -> list[str]:
+def playing_by_default(argv: list[str]) -> list[str]:
     """``gestplay GESTURE ...`` is ``gestplay play GESTURE ...``: a first word that is
     neither an option nor a tool is the gesture."""
-    if argv and argv[0] not in tools and not argv[0].startswith("-"):
+    if argv and argv[0] not in TOOLS and not argv[0].startswith("-"):
         return ["play", *argv]
     return argv
 
 
 def main(argv: list[str] | None = None) -> int:
     """The console script."""
-    ap, tools = parser()
-    args = parse_args(ap, playing_by_default(sys.argv[1:] if argv is None else argv, tools))
+    argv = playing_by_default(sys.argv[1:] if argv is None else argv)
+    args = parse_args(parser(argv[0] if argv else None), argv)
     return run(PROG, lambda: args.func(args))
 
 

@@ -7,15 +7,16 @@ import argparse
 import sys
 from pathlib import Path
 
-from ...board import BoardServo
-from ...calibrate import HELP, Ends, edit_profile, found
 from ...errors import Diagnostic, GestError, did_you_mean
-from ...player import ask_dump, wait_ready
-from ...ports import open_port
-from ...profile import Servo, find_profile, load_profile, parse_profile
+from ...live.calibrate import HELP, Ends, edit_profile, found
+from ...profiles.data import Servo
+from ...profiles.profile import find_profile, load_profile, parse_profile
 from ...protocol import Signal
 from ...resources import profiles_dir
-from ...urlhandler import protocol_sim
+from ...wire.board import BoardServo
+from ...wire.player import ask_dump, wait_ready
+from ...wire.ports import open_port
+from ...wire.urlhandler import protocol_sim
 from ..common import EXIT_OK, send_value, status_line, status_of, warn, why
 from ..keys import key_reader
 

@@ -5,10 +5,10 @@ from __future__ import annotations
 import argparse
 
 from ...errors import Diagnostic, GestError
-from ...player import ask_dump, wait_ready
-from ...profile import Profile, load_profile
-from ...profile_types import Board
-from ...urlhandler import protocol_sim
+from ...profiles.data import Board, Profile
+from ...profiles.profile import load_profile
+from ...wire.player import ask_dump, wait_ready
+from ...wire.urlhandler import protocol_sim
 from ..common import EXIT_OK
 from ..hand import open_first, parse_ports
 

@@ -8,15 +8,17 @@ import os
 import sys
 from collections.abc import Callable
 
-from ...compiled import Compiled, check_profile, read_compiled, to_timed
-from ...compiler import compile_program, load, pick_gesture
+from ...compiling.compiled import Compiled, check_profile, to_timed
+from ...compiling.compiled_reader import read_compiled
+from ...compiling.compiler import compile_program, pick_gesture
+from ...compiling.resolve import resolver
 from ...errors import Diagnostic, GestError
-from ...library import find_gesture, library_dirs
-from ...player import play
-from ...posebars import bar_lines
-from ...profile import load_profile
-from ...profile_tables import SIDES
-from ...resolve import resolver
+from ...language.library import find_gesture, library_dirs
+from ...language.load import load
+from ...model.posebars import bar_lines
+from ...profiles.profile import load_profile
+from ...profiles.tables import SIDES
+from ...wire.player import play
 from .. import hand
 from ..common import EXIT_OK, add_blind, add_lib, number, report, warn
 

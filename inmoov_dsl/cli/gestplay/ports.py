@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ...ports import available
+from ...wire.ports import available
 from ..common import EXIT_OK
 
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from ...player import drain, relax_all
-from ...profile import load_profile
+from ...profiles.profile import load_profile
+from ...wire.player import drain, relax_all
 from .. import hand
 from ..common import EXIT_OK, add_blind
 

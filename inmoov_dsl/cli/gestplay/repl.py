@@ -19,11 +19,12 @@ from pathlib import Path
 from typing import Literal
 
 from ... import clock
-from ...drive import Drive, Note, library_program
-from ...library import library_dirs
-from ...live import LINE, STDIN
-from ...player import Link
-from ...profile import Profile, load_profile
+from ...language.library import library_dirs
+from ...live.drive import Drive, Note, library_program
+from ...live.session import LINE, STDIN
+from ...profiles.data import Profile
+from ...profiles.profile import load_profile
+from ...wire.player import Link
 from .. import hand
 from ..common import EXIT_ERROR, EXIT_OK, add_blind, add_lib, report
 

@@ -6,9 +6,9 @@ import argparse
 
 from ... import clock
 from ...errors import Diagnostic, GestError
-from ...player import drain, wait_ready
-from ...profile import load_profile
+from ...profiles.profile import load_profile
 from ...protocol import Signal
+from ...wire.player import drain, wait_ready
 from ..common import EXIT_OK, number
 from ..hand import open_first
 

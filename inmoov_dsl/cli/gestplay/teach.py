@@ -7,10 +7,11 @@ import argparse
 import sys
 from pathlib import Path
 
-from ...compiler import compile_program, load
-from ...player import Link, play
-from ...profile import load_profile
-from ...teach import HELP, Teach
+from ...compiling.compiler import compile_program
+from ...language.load import load
+from ...live.teach import HELP, Teach
+from ...profiles.profile import load_profile
+from ...wire.player import Link, play
 from .. import hand
 from ..common import EXIT_OK, add_blind, gesture_name, report, send_value, status_line
 from ..keys import key_reader

@@ -1,0 +1,165 @@
+"""What the compiler makes: a board's timed byte ``Stream``, a ``Compiled`` gesture,
+and the writing of its file formats.
+
+``.gestc`` (JSON, versioned) carries each board's bytes with absolute send times,
+the board, baud, profile and source hashes, so the player can load it without the
+compiler. ``timed`` text is one line per byte, ``<seconds> <byte>``: the contract
+for tools. Both are described in docs/compiled-format.md; ``compiled_reader`` reads a
+``.gestc`` back, after the checks it passes.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import protocol
+from ..errors import Diagnostic, GestError, Pos
+from ..profiles.data import Board, Profile
+
+FORMAT = "inmoov-dsl-compiled"  #: a .gestc document's "format"
+VERSION = 1  #: and its "version"
+
+
+@dataclass(frozen=True)
+class Stream:
+    """The bytes for one board and the time (s from the stream's start) each goes out."""
+
+    board: int
+    baud: int
+    times: np.ndarray
+    data: bytes
+
+    @property
+    def byte_time(self) -> float:
+        """Seconds one byte takes on this board's link."""
+        return protocol.byte_time(self.baud)
+
+    @property
+    def idle(self) -> bool:
+        """Does it move none of its board's servos: signals only (such as the CANCEL
+        every stream starts with), no servo ID or value?"""
+        return all(b > protocol.MAX_VALUE for b in self.data)
+
+
+
+
+@dataclass(frozen=True)
+class StepSummary:
+    """One step of the plan, for ``gestc show``: where it is in the source, its kind
+    ("move" or "hold") and times (s), the duration asked for and whether it was
+    stretched to keep the servos' limits."""
+
+    where: str
+    file: str | None
+    line: int | None
+    kind: str
+    start: float
+    end: float
+    asked: float | None
+    stretched: bool
+
+
+@dataclass(frozen=True)
+class Compiled:
+    """Everything the player needs: streams, poses, steps, and where they came from."""
+
+    gesture: str
+    profile: str
+    profile_sha256: str
+    sources: tuple[tuple[str, str], ...]  #: (path, sha256) of every file read
+    servos: tuple[str, ...]
+    start: tuple[int, ...]
+    final: tuple[int, ...]
+    duration: float  #: s; the plan's end (a final hold sends no bytes but counts)
+    steps: tuple[StepSummary, ...]
+    streams: tuple[Stream, ...]
+    warnings: tuple[Diagnostic, ...] = ()
+
+    def stream(self, board: int | None = None) -> Stream:
+        """The stream of ``board``; with no board, the only one."""
+        if board is None:
+            if len(self.streams) != 1:
+                boards = ", ".join(str(s.board) for s in self.streams)
+                raise GestError(Diagnostic(
+                    "error", f"profile '{self.profile}' has {len(self.streams)} boards "
+                    f"({boards}): choose one", hint="add --board ID"))
+            return self.streams[0]
+        for s in self.streams:
+            if s.board == board:
+                return s
+        raise GestError(Diagnostic("error", f"no board {board} in profile '{self.profile}'"))
+
+
+def to_json(c: Compiled) -> str:
+    """The ``.gestc`` document of ``c``; times rounded to 1e-9 s."""
+    doc = {
+        "format": FORMAT,
+        "version": VERSION,
+        "gesture": c.gesture,
+        "profile": {"name": c.profile, "sha256": c.profile_sha256},
+        "sources": [{"path": p, "sha256": h} for p, h in c.sources],
+        "duration": round(c.duration, 9),
+        "servos": list(c.servos),
+        "start": list(c.start),
+        "final": list(c.final),
+        "steps": [
+            {"where": s.where, "file": s.file, "line": s.line, "kind": s.kind,
+             "start": round(s.start, 9), "end": round(s.end, 9), "asked": s.asked,
+             "stretched": s.stretched}
+            for s in c.steps
+        ],
+        "streams": [
+            {"board": s.board, "baud": s.baud,
+             "times": [round(t, 9) for t in s.times.tolist()], "bytes": list(s.data)}
+            for s in c.streams
+        ],
+    }
+    return json.dumps(doc, indent=1) + "\n"
+
+
+def check_profile(c: Compiled, profile: Profile) -> None:
+    """Raise GestError unless ``profile`` can play ``c``: each stream's board is a board
+    of the profile, its servo IDs are that board's servos', and its baud is no faster
+    than the board's link (bytes timed for a faster link would pile up). Errors point
+    at the board in the profile."""
+    boards = {b.id: b for b in profile.boards}
+    hint = f"compile it for this profile: gestc compile GESTURE --profile {profile.name}"
+    errors = []
+    for s in c.streams:
+        board = boards.get(s.board)
+        if board is None:
+            errors.append(Diagnostic(
+                "error", f"'{c.gesture}' has a stream for board {s.board}, and profile "
+                f"'{profile.name}' has no board {s.board} (its boards: "
+                f"{', '.join(str(b) for b in boards)})", _board_pos(profile, None), hint))
+            continue
+        ids = {profile.servos[profile.index(n)].id for n in board.servos}
+        foreign = sorted(set(s.data[1::2]) - ids)
+        if foreign:
+            errors.append(Diagnostic(
+                "error", f"'{c.gesture}' commands servo ID{'s' if len(foreign) > 1 else ''} "
+                f"{', '.join(map(str, foreign))} on board {s.board}, which profile "
+                f"'{profile.name}' does not give that board", _board_pos(profile, board), hint))
+        if s.baud > board.baud:
+            errors.append(Diagnostic(
+                "error", f"'{c.gesture}' is timed for board {s.board} at {s.baud} baud, and "
+                f"profile '{profile.name}' runs that board at {board.baud}",
+                _board_pos(profile, board), "compile it again for the board's baud"))
+    if errors:
+        raise GestError(errors)
+
+
+def _board_pos(profile: Profile, board: Board | None) -> Pos:
+    """Where ``board`` (or the first board) is in the profile's file."""
+    board = board or (profile.boards[0] if profile.boards else None)
+    return (board.pos if board is not None and board.pos is not None
+            else Pos(profile.path or "<profile>", 1, 1))
+
+
+def to_timed(stream: Stream) -> str:
+    """One line per byte: seconds from the stream's start, then the byte."""
+    return "".join(f"{t:.6f} {b}\n" for t, b in zip(stream.times.tolist(), stream.data,
+                                                      strict=True))

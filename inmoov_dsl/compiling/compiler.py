@@ -1,0 +1,142 @@
+"""The compiler's entry points: source or file in, Compiled (timed streams) out."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from collections.abc import Mapping
+from pathlib import Path
+
+from ..errors import Diagnostic, GestError, did_you_mean
+from ..language import snippet
+from ..language.load import load
+from ..language.program import Program
+from ..profiles.data import Profile
+from ..profiles.profile import load_profile
+from .compiled import Compiled, StepSummary
+from .encode import encode
+from .plan import Plan, Planner
+from .resolve import resolver
+
+
+def _sha256(text: str) -> str:
+    # surrogatepass: a str given as source may hold a lone surrogate (a file never does)
+    return hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()
+
+
+def source_digests(program: Program) -> tuple[tuple[str, str], ...]:
+    """(path, SHA-256) of every text of the program, each hashed once."""
+    for path, text in program.texts.items():
+        if path not in program.digests:
+            program.digests[path] = _sha256(text)
+    return tuple((p, program.digests[p]) for p in program.texts)
+
+
+def as_profile(profile: str | Profile) -> Profile:
+    """``profile`` itself, or the profile of that name or path, loaded."""
+    return profile if isinstance(profile, Profile) else load_profile(profile)
+
+
+def pick_gesture(program: Program, name: str | None) -> str:
+    """The gesture to compile: the one asked for, or the file's only one, or the one
+    named like the file."""
+    if name is not None:
+        if name not in program.gestures:
+            hint = did_you_mean(name, program.gestures) or (
+                "it defines: " + ", ".join(program.own) if program.own else None)
+            raise GestError(Diagnostic("error", f"no gesture '{name}' in {program.root}",
+                                       hint=hint))
+        return name
+    own = program.own
+    if len(own) == 1:
+        return own[0]
+    stem = Path(program.root).stem
+    if stem in own:
+        return stem
+    if not own:
+        raise GestError(Diagnostic("error", f"{program.root} defines no gesture"))
+    raise GestError(Diagnostic(
+        "error", f"{program.root} defines {len(own)} gestures: {', '.join(own)}",
+        hint="choose one with --gesture NAME"))
+
+
+Start = str | Mapping[str, int] | None  #: ``--from`` text, or servo name -> value
+
+
+def resolve_start(program: Program, profile: Profile,
+                  text: str | Mapping[str, int] | None) -> tuple[int, ...]:
+    """The start pose: the profile's rest pose, changed by ``--from`` (a pose or targets
+    as text) or by servo name -> value (the pose a board reports)."""
+    pose = [s.rest for s in profile.servos]
+    if not text:
+        return tuple(pose)
+    if isinstance(text, Mapping):
+        for name, value in text.items():
+            pose[profile.index(name)] = value
+        return tuple(pose)
+    file, prefix = "--from", "pose start__: "
+    if len(text.splitlines()) > 1:
+        raise GestError(Diagnostic("error", "--from takes one line: a pose name or targets",
+                                   hint='--from "fingers 90, wrist 45"'))
+    program.sources.add(file, prefix + text)
+    with snippet.parsed(text, file, prefix) as module:
+        (item,) = module.items
+        targets = resolver(program, profile).targets(item.targets)
+    for index, value in targets.items():
+        pose[index] = value
+    return tuple(pose)
+
+
+def plan_gesture(program: Program, gesture: str, profile: Profile, start: Start = None,
+                 strict: bool = False, side: str | None = None) -> Plan:
+    """Resolve and plan gesture ``gesture`` of ``program`` for ``profile``, from the
+    ``start`` pose (see resolve_start); ``strict``: a stretched move is an error;
+    ``side``: played on that side of the robot (sides.py)."""
+    steps = resolver(program, profile).gesture(gesture, side)
+    pose = resolve_start(program, profile, start)
+    return Planner(profile, program.sources).plan(steps, pose, strict)
+
+
+def compile_program(program: Program, gesture: str | None = None,
+                    profile: str | Profile = "rhand", start: Start = None,
+                    strict: bool = False, side: str | None = None
+                    ) -> tuple[Compiled, Plan]:
+    """Compile one gesture of a loaded program (on ``side`` of the robot, when given);
+    also return its plan (for reports)."""
+    prof = as_profile(profile)
+    name = pick_gesture(program, gesture)
+    plan = plan_gesture(program, name, prof, start, strict, side)
+    streams = encode(plan)
+    steps = tuple(
+        StepSummary(s.where, s.pos.file if s.pos else None, s.pos.line if s.pos else None,
+                    s.kind, s.start, s.end, s.asked, s.stretched)
+        for s in plan.steps
+    )
+    compiled = Compiled(
+        gesture=name,
+        profile=prof.name,
+        profile_sha256=prof.sha256,
+        sources=source_digests(program),
+        servos=prof.names,
+        start=plan.start,
+        final=plan.final,
+        duration=plan.duration,
+        steps=steps,
+        streams=streams,
+        warnings=plan.warnings,
+    )
+    return compiled, plan
+
+
+def compile_source(text: str, gesture: str | None = None, profile: str | Profile = "rhand",
+                   start: Start = None, strict: bool = False,
+                   file: str = "<string>") -> Compiled:
+    """Compile .gest source text. ``use`` imports resolve against the library."""
+    return compile_program(load(file, text), gesture, profile, start, strict)[0]
+
+
+def compile_file(path: str | os.PathLike, gesture: str | None = None,
+                 profile: str | Profile = "rhand", start: Start = None,
+                 strict: bool = False) -> Compiled:
+    """Compile one gesture of a .gest file."""
+    return compile_program(load(str(path)), gesture, profile, start, strict)[0]

@@ -1,0 +1,128 @@
+"""Encode a plan into timed byte streams, one per board (stage 4).
+
+The stream opens with CANCEL, then ``(servo ID, value)`` pairs. Time is cut into
+20 ms servo frames, ``(f * 20 ms, (f + 1) * 20 ms]``; a servo takes one value per
+frame, so each servo gets at most one pair per frame, and only when the rounded
+plan moved. Pairs are packed at the end of their frame so the board holds the
+freshest value when the frame closes; each value is the plan at the moment the
+pair has arrived, rounded to a whole degree.
+
+When a board's servos all fit in a frame (6 servos need 6 of the 9 pair slots at
+9600 baud), each servo has its own slot and the schedule is computed with numpy.
+When they do not, every frame's slots go to the servos furthest behind their plan.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .. import protocol
+from .compiled import Stream
+from .plan import Plan
+
+
+def frame_ends(count: int) -> np.ndarray:
+    """End of servo frames 0..count-1; frame f is (f * 20 ms, (f + 1) * 20 ms]."""
+    return (np.arange(count) + 1) * protocol.SERVO_FRAME
+
+
+def round_values(x: np.ndarray) -> np.ndarray:
+    """Round half up to whole degrees within 0..180 (numpy's round is half to even)."""
+    return np.clip(np.floor(np.asarray(x) + 0.5), 0, protocol.MAX_VALUE).astype(np.int64)
+
+
+def encode(plan: Plan) -> tuple[Stream, ...]:
+    """One timed stream per board of the plan's profile."""
+    profile = plan.profile
+    frames = int(plan.duration / protocol.SERVO_FRAME) + 2  # the last frame is past the end
+    ends = frame_ends(frames)
+    streams = []
+    for board in profile.boards:
+        servos = [profile.index(name) for name in board.servos]
+        slots = protocol.pairs_per_frame(board.baud)
+        pair_time = protocol.PAIR_BYTES * protocol.byte_time(board.baud)
+        if len(servos) <= slots:
+            events = _fixed_slots(plan, servos, ends, pair_time)
+        else:
+            events = _furthest_behind(plan, servos, ends, pair_time, slots)
+        streams.append(_serialise(board.id, board.baud, events))
+    return tuple(streams)
+
+
+def _fixed_slots(plan: Plan, servos: list[int], ends: np.ndarray, pair_time: float):
+    """Servo j of n arrives (n-1-j) pair times before each frame's end."""
+    arrivals, ids, values = [], [], []
+    n = len(servos)
+    for j, i in enumerate(servos):
+        track = plan.tracks[i]
+        if len(track.breaks) == 1 and track.coefs[0, 0] == plan.start[i]:
+            continue  # it never moves: nothing to send
+        at = ends - (n - 1 - j) * pair_time
+        q = round_values(track.position(at))
+        previous = np.concatenate(([plan.start[i]], q[:-1]))
+        changed = q != previous
+        arrivals.append(at[changed])
+        values.append(q[changed])
+        ids.append(np.full(int(changed.sum()), plan.profile.servos[i].id))
+    if not arrivals:
+        return np.empty(0), np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64)
+    return np.concatenate(arrivals), np.concatenate(ids), np.concatenate(values)
+
+
+def _furthest_behind(plan: Plan, servos: list[int], ends: np.ndarray, pair_time: float,
+                     slots: int):
+    """A link too slow for every servo every frame: slots go to the largest lag first."""
+    tracks = [plan.tracks[i] for i in servos]
+    ids = [plan.profile.servos[i].id for i in servos]
+    held = [float(plan.start[i]) for i in servos]
+    out_a: list[float] = []
+    out_id: list[int] = []
+    out_v: list[int] = []
+    chunk = max(1, 2_000_000 // (slots * len(servos)))
+    for first in range(0, len(ends), chunk):
+        block = ends[first:first + chunk]
+        at_end = np.stack([t.position(block) for t in tracks], axis=1).tolist()
+        # the rounded plan at every slot of every frame of the block: [slot][frame][servo]
+        at_slot = [
+            round_values(np.stack([t.position(block - m * pair_time) for t in tracks],
+                                  axis=1)).tolist()
+            for m in range(slots)
+        ]
+        for f, row in enumerate(at_end):
+            behind = [(abs(x - h), j) for j, (x, h) in enumerate(zip(row, held, strict=True))
+                      if math.floor(x + 0.5) != h]
+            if not behind:
+                continue
+            behind.sort(reverse=True)
+            # packed at the frame's end, the servo furthest behind first
+            slot = min(len(behind), slots) - 1
+            for _, j in behind:
+                if slot < 0:
+                    break
+                value = at_slot[slot][f][j]
+                if value == held[j]:
+                    continue
+                out_a.append(float(block[f] - slot * pair_time))
+                out_id.append(ids[j])
+                out_v.append(value)
+                held[j] = value
+                slot -= 1
+    return np.asarray(out_a, dtype=float), np.asarray(out_id), np.asarray(out_v)
+
+
+def _serialise(board: int, baud: int, events) -> Stream:
+    arrivals, ids, values = events
+    order = np.argsort(arrivals, kind="stable")
+    arrivals, ids, values = arrivals[order], ids[order], values[order]
+    tau = protocol.byte_time(baud)
+    times = np.empty(1 + 2 * len(arrivals))
+    times[0] = 0.0
+    times[1::2] = arrivals - 2 * tau
+    times[2::2] = arrivals - tau
+    data = np.empty(len(times), dtype=np.uint8)
+    data[0] = protocol.Signal.CANCEL
+    data[1::2] = ids
+    data[2::2] = values
+    return Stream(board, baud, times, data.tobytes())

@@ -1,0 +1,292 @@
+"""Resolve names (stage 2): poses, groups, calls and repeats, for one profile.
+
+A gesture of a Program (see ``program``) becomes a flat tuple of Actions over the
+profile's servos. Every name is looked up in one table (``Resolver.lookup``); a
+gesture is expanded in one pass, within a step budget.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import NoReturn
+
+from ..errors import GestError, Pos
+from ..language import syntax as ast
+from ..language.program import Program
+from ..profiles.data import Profile
+from . import sides
+from .actions import Action, Frame
+from .names import ANYTHING, Entity, Gesture, Group, NameTable, Pose, Servo, call_chain
+
+MAX_STEPS = 100_000  #: the most steps one gesture may expand to
+MAX_NESTING = 100  #: the deepest chain of calls and repeats, or of poses within poses
+#: the most steps all the gestures of one program may expand to for one profile, each
+#: gesture counted once however often it is compiled (``gestc check`` compiles them all)
+MAX_TOTAL_STEPS = 1_000_000
+
+
+class _Targets:
+    """The names of a Program for one profile, and the targets of a step."""
+
+    def __init__(self, program: Program, profile: Profile):
+        self.program = program
+        self.profile = profile
+        self.src = program.sources
+        self.names = NameTable(program, profile)
+        # what is expanded once and kept: each pose's targets and nesting height, each
+        # gesture's nesting height, each move's targets (by the node's id; the program
+        # keeps the nodes), and the gestures counted against MAX_TOTAL_STEPS
+        self._poses: dict[str, tuple[dict[int, int], int]] = {}
+        self._heights: dict[str, int] = {}
+        self._moves: dict[int, tuple[tuple[int, int], ...]] = {}
+        self._counted: set[str] = set()
+        self._total = 0
+        # while one gesture expands: (callee, where) -> where its Actions are in the
+        # output, so a gesture called again from the same place is copied, not walked
+        self._spans: dict[tuple[str, str], tuple[int, int]] = {}
+
+    def fail(self, message: str, pos: Pos | None, hint: str | None = None) -> NoReturn:
+        """Raise the GestError ``message`` at ``pos``, with the line it points into."""
+        raise GestError(self.src.error(message, pos, hint))
+
+    def lookup(self, name: ast.Name, what: str = ANYTHING) -> Entity:
+        """What ``name`` is; an unknown name fails, as an unknown ``what``, with a hint:
+        the profile that has it, or the closest known name."""
+        found = self.names.get(name.text)
+        if found is None:
+            self.fail(f"unknown {what} '{name.text}'", name.pos, self.names.hint(name.text))
+        return found
+
+    # -- targets ----------------------------------------------------------------
+    def targets(self, targets: Sequence[ast.Target], chain: tuple[str, ...] = ()
+                ) -> dict[int, int]:
+        """Servo index -> value, in order of first mention; later mentions win
+        (``chain``: the poses being expanded, outermost first)."""
+        out: dict[int, int] = {}
+        direct: set[str] = set()
+        for t in targets:
+            match self.lookup(t.name, "servo or group" if t.value is not None else ANYTHING):
+                case Pose():
+                    out.update(self._pose(t, chain))
+                case Gesture():
+                    self.fail(f"'{t.name.text}' is a gesture: call it on a line of its own",
+                              t.name.pos, "a step can mix servos, groups and poses, not "
+                              "gestures")
+                case Servo() | Group() as found:
+                    self._set(t, found, direct, out)
+        return out
+
+    def _pose(self, t: ast.Target, chain: tuple[str, ...]) -> dict[int, int]:
+        """The targets of the pose ``t`` names, expanded once (with how deep poses nest
+        in it): poses built from poses cost the size of their text, not 2^depth."""
+        name = t.name.text
+        if t.value is not None:
+            self.fail(f"'{name}' is a pose; it takes no value", t.value_pos,
+                      f"write just '{name}'")
+        if name in chain:
+            cycle = " -> ".join([*chain[chain.index(name):], name])
+            self.fail(f"pose '{name}' refers to itself: {cycle}", t.name.pos)
+        if name not in self._poses:
+            if len(chain) >= MAX_NESTING:
+                self.fail(f"poses are nested more than {MAX_NESTING} deep", t.name.pos)
+            node = self.program.poses[name]
+            inner = self.targets(node.targets, (*chain, name))
+            below = [self._poses[x.name.text][1] for x in node.targets if x.name.text in
+                     self._poses]  # the poses among its targets, all expanded now
+            self._poses[name] = (inner, max(below, default=0) + 1)
+        inner, height = self._poses[name]
+        if len(chain) + height > MAX_NESTING:
+            self.fail(f"poses are nested more than {MAX_NESTING} deep", t.name.pos)
+        return inner
+
+    def _set(self, t: ast.Target, found: Servo | Group, direct: set[str],
+             out: dict[int, int]) -> None:
+        """Set the servo or the group's servos ``t`` names to its value, in ``out``."""
+        name = t.name.text
+        kind, members = ("servo", (found.name,)) if isinstance(found, Servo) \
+            else ("group", found.members)
+        if t.value is None:
+            self.fail(f"{kind} '{name}' needs a value", t.name.pos, f"for example '{name} 90'")
+        if name in direct:
+            self.fail(f"'{name}' is set twice in this step", t.name.pos)
+        direct.add(name)
+        for member in members:
+            index = self.profile.index(member)
+            servo = self.profile.servos[index]
+            if not servo.lo <= t.value <= servo.hi:
+                self.fail(f"value {t.value} is outside the range of '{member}' "
+                          f"({servo.lo}..{servo.hi})", t.value_pos)
+            out[index] = t.value
+
+
+
+class Resolver(_Targets):
+    """Turns a gesture of a Program into Actions for one profile."""
+
+    def gesture(self, name: str, side: str | None = None) -> tuple[Action, ...]:
+        """The steps of gesture ``name``, with calls and repeats expanded: at most
+        MAX_STEPS of them, and MAX_TOTAL_STEPS for all the gestures of the program;
+        played on ``side`` ("left" or "right", ``sides.py``) when given."""
+        node = self.program.gestures[name]
+        out: list[Action] = []
+        self._spans = {}
+        self._heights[name] = self._expand(node.steps, Frame((name,), name), out)
+        if side is not None:
+            self._to_side(out, 0, side, name, None)
+        if name not in self._counted:
+            if self._total + len(out) > MAX_TOTAL_STEPS:
+                self.fail(f"with '{name}', the gestures of this program expand to more "
+                          f"than {MAX_TOTAL_STEPS:,} steps in all", node.name.pos,
+                          "split the file: each gesture's calls and repeats are expanded")
+            self._counted.add(name)
+            self._total += len(out)
+        return tuple(out)
+
+    def _expand(self, steps: Sequence[ast.Step], at: Frame, out: list[Action]) -> int:
+        """Append the Actions of ``steps`` to ``out``; return how deep the calls and
+        repeats among them nest."""
+        height = 0
+        for step in steps:
+            match step:
+                case ast.Wait():
+                    out.append(Action((), hold=step.duration.seconds, pos=step.pos,
+                                      where=at.where))
+                case ast.Repeat():
+                    height = max(height, self._repeat(step, at, out))
+                case ast.Together():
+                    height = max(height, self._together(step, at, out))
+                case ast.Move() if (callee := self._callee(step)) is not None:
+                    height = max(height, self._call(step, callee, at, out))
+                case ast.Move():
+                    out.append(self._move(step, at.where))
+            self._within_budget(len(out), at)
+        return height
+
+    def _within_budget(self, steps: int, at: Frame) -> None:
+        if steps > MAX_STEPS:
+            node = self.program.gestures[at.chain[0]]
+            self.fail(f"gesture '{node.name.text}' expands to more than {MAX_STEPS:,} steps",
+                      node.name.pos, "lower a repeat count")
+
+    def _nest(self, step: ast.Step, depth: int) -> None:
+        if depth > MAX_NESTING:
+            self.fail(f"calls and repeats are nested more than {MAX_NESTING} deep", step.pos)
+
+    def _repeat(self, step: ast.Repeat, at: Frame, out: list[Action]) -> int:
+        """Expand the body once and copy it; return its nesting height."""
+        self._nest(step, at.depth + 1)
+        start = len(out)
+        below = self._expand(step.body, Frame(at.chain, at.where, at.depth + 1), out)
+        self._within_budget(start + (len(out) - start) * step.count, at)
+        out.extend(out[start:] * (step.count - 1))
+        return below + 1
+
+    def _call(self, step: ast.Move, callee: str, at: Frame, out: list[Action]) -> int:
+        """Expand the gesture ``callee``; return its nesting height (which is kept, so a
+        gesture reached again further down is too deep at the call)."""
+        self._nest(step, at.depth + 1)
+        if callee in at.chain:
+            cycle = " -> ".join([*at.chain[at.chain.index(callee):], callee])
+            self.fail(f"gesture '{callee}' calls itself: {cycle}", step.pos)
+        if callee in self._heights:
+            self._nest(step, at.depth + 1 + self._heights[callee])
+        side = step.side.text if step.side else None
+        shown = f"{side} {callee}" if side else callee
+        inner = Frame((*at.chain, callee), call_chain(at.where, shown), at.depth + 1)
+        span = self._spans.get((callee, inner.where))
+        if span is not None:  # the same Actions again (a cycle would have failed before)
+            self._within_budget(len(out) + span[1] - span[0], at)
+            out.extend(out[span[0]:span[1]])
+        else:
+            start = len(out)
+            self._heights[callee] = self._expand(self.program.gestures[callee].steps, inner,
+                                                 out)
+            if side:
+                self._to_side(out, start, side, callee, step.side)
+            self._spans[(callee, inner.where)] = (start, len(out))
+        return self._heights[callee] + 1
+
+    def _together(self, step: ast.Together, at: Frame, out: list[Action]) -> int:
+        """``a & b``: each part expanded on its own, into one Action of their branches;
+        a servo moved by two parts fails, naming both. Returns the nesting height."""
+        branches: list[tuple[Action, ...]] = []
+        owner: dict[int, ast.Move] = {}
+        height = 0
+        saved, self._spans = self._spans, {}  # the spans are places in one output list
+        for part in step.parts:
+            branch: list[Action] = []
+            if (callee := self._callee(part)) is not None:
+                height = max(height, self._call(part, callee, at, branch))
+            else:
+                branch.append(self._move(part, at.where))
+            for i in sorted(set().union(*(a.servos() for a in branch))):
+                if i in owner:
+                    first = owner[i]
+                    self.fail(f"'{self.profile.servos[i].name}' is moved by two parts of "
+                              f"this step: '{first.targets[0].name.text}' at column "
+                              f"{first.pos.column} and '{part.targets[0].name.text}'",
+                              part.pos, "each part of 'a & b' moves servos of its own")
+                owner[i] = part
+            branches.append(tuple(branch))
+            self._within_budget(len(out) + sum(map(len, branches)), at)
+        self._spans = saved
+        out.append(Action((), pos=step.pos, where=at.where, branches=tuple(branches)))
+        return height
+
+    def _to_side(self, out: list[Action], start: int, side: str, name: str,
+                 at: ast.Name | None) -> None:
+        """Move ``out[start:]`` (gesture ``name``'s steps) onto ``side`` (``at``: the
+        word that asked for it, if one did)."""
+        partner = sides.onto(self.profile, side)
+        if not partner:
+            self.fail(f"profile '{self.profile.name}' has no [sides]: it cannot play "
+                      f"'{name}' on the {side}", at and at.pos, "a robot profile pairs its sides "
+                      "in [sides]; a hand alone has its own profile (--profile lhand)")
+        out[start:], clashes = sides.moved(out[start:], partner)
+        if clashes:
+            servo = self.profile.servos[clashes[0]].name
+            self.fail(f"on the {side}, '{name}' would set '{servo}' twice in one step: it "
+                      f"moves both sides", at and at.pos, f"play '{name}' as it is")
+
+    def _callee(self, move: ast.Move) -> str | None:
+        """The gesture ``move`` calls, if it is a call: a gesture's name alone."""
+        if len(move.targets) != 1:
+            return None
+        target = move.targets[0]
+        what = "servo or group" if target.value is not None else ANYTHING
+        if not isinstance(self.lookup(target.name, what), Gesture):
+            return None
+        name = target.name.text
+        if target.value is not None:
+            self.fail(f"'{name}' is a gesture; it takes no value", target.value_pos)
+        for timing in (move.over, move.stagger, move.through):
+            if timing is not None:
+                self.fail(f"a gesture call takes no timing: '{name}' sets its own",
+                          getattr(timing, "pos", timing), "time the gesture's own steps")
+        return name
+
+    def _move(self, step: ast.Move, where: str) -> Action:
+        """The Action of a move (its targets resolved once, however often it is played)."""
+        key = id(step)
+        if key not in self._moves:
+            if step.side:
+                self.fail(f"'{step.side.text}' goes before a gesture's name, alone on its "
+                          f"step", step.side.pos, f"for example '{step.side.text} peace'")
+            if step.through and step.stagger:
+                self.fail("a step that flows 'through' its keyframe cannot 'stagger'",
+                          step.through, "stagger the step before, or after, instead")
+            self._moves[key] = tuple(self.targets(step.targets).items())
+        return Action(self._moves[key], over=step.over.seconds if step.over else None,
+                      stagger=step.stagger.seconds if step.stagger else 0.0, pos=step.pos,
+                      over_pos=step.over.pos if step.over else None, where=where,
+                      through=step.through is not None)
+
+
+def resolver(program: Program, profile: Profile) -> Resolver:
+    """The Resolver of ``program`` for ``profile``, made once and kept in the program:
+    names are checked once and what is expanded stays expanded, so compiling every
+    gesture of a file costs about the file's size, not its square."""
+    found = program.resolvers.get(id(profile))
+    if found is None or found.profile is not profile:  # it holds the profile: no id reuse
+        found = program.resolvers[id(profile)] = Resolver(program, profile)
+    return found

@@ -1,0 +1,42 @@
+"""A gesture on the other side of the robot (pure): ``left peace``, ``gestplay peace
+--hand left``. A profile's ``[sides]`` pairs each servo of its right side with its
+mirror image on the left; playing a gesture on one side moves each servo of the other
+side to its partner, with the same value (the boards turn the left side's servos the
+other way, so the same value is the mirror image)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import replace
+
+from ..profiles.data import Profile
+from .actions import Action
+
+
+def onto(profile: Profile, side: str) -> dict[int, int]:
+    """Servo index -> its partner's, for the servos of the side opposite ``side``;
+    empty when the profile has no ``[sides]``."""
+    if not profile.sides:
+        return {}
+    other = "right" if side == "left" else "left"
+    return {profile.index(a): profile.index(b)
+            for a, b in zip(profile.sides[other], profile.sides[side], strict=True)}
+
+
+def moved(actions: Sequence[Action], partner: dict[int, int]
+          ) -> tuple[list[Action], list[int]]:
+    """``actions`` with each servo replaced by its ``partner`` (when it has one), in
+    their branches too, and the servos that a step would then set twice."""
+    clashes: list[int] = []
+
+    def move(action: Action) -> Action:
+        targets: dict[int, int] = {}
+        for i, v in action.targets:
+            j = partner.get(i, i)
+            if j in targets:
+                clashes.append(j)
+            targets[j] = v
+        branches = tuple(tuple(move(a) for a in branch) for branch in action.branches)
+        return replace(action, targets=tuple(targets.items()), branches=branches)
+
+    return [move(a) for a in actions], clashes

@@ -1,0 +1,163 @@
+"""Load a program: a .gest file and every file it ``use``s, parsed, with its names.
+
+File access goes through an injected ``read`` function, so loading stays testable;
+what a ``use`` may open is decided here (docs/security.md).
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+from ..errors import Diagnostic, GestError, Pos, SourceMap, decode_utf8
+from ..resources import read_regular
+from . import syntax as ast
+from .library import library_dirs, scan
+from .parse import MAX_SOURCE, parse
+from .program import Program
+
+GEST_SUFFIX = ".gest"
+
+Reader = Callable[[str], str]  #: path -> its text
+
+
+def read_text(path: str) -> str:
+    """The default reader for ``use``: a UTF-8 file (GestError where it is not UTF-8).
+    A file too large to hold at most MAX_SOURCE characters (four bytes each) is a
+    GestError before it is read; one that is not a regular file is a ValueError, like a
+    NUL in the path."""
+    data = read_regular(path, 4 * MAX_SOURCE)
+    if len(data) > 4 * MAX_SOURCE:
+        raise GestError(Diagnostic(
+            "error", f"the file is longer than {MAX_SOURCE:,} characters: it is not read",
+            Pos(path, 1, 1), "split it into several files joined with 'use'"))
+    return decode_utf8(data, path)
+
+
+def load(path: str, text: str | None = None, read: Reader = read_text,
+         search: Sequence[str] | None = None, first_wins: bool = False) -> Program:
+    """Parse a .gest file (or ``text`` under that name) with its imports
+    (``first_wins``: a name defined again by a later file is shadowed, not an error)."""
+    dirs = [str(d) for d in library_dirs()] if search is None else list(search)
+    try:
+        return load_program(path, read, dirs, text, first_wins)
+    except FileNotFoundError:
+        raise GestError(Diagnostic("error", f"cannot find '{path}'")) from None
+    except (OSError, ValueError) as exc:  # not UTF-8, too large, a NUL in the name
+        raise GestError(Diagnostic("error", f"cannot read '{path}': {exc}",
+                                   Pos(path, 1, 1))) from None
+
+
+def load_program(path: str, read: Reader, search: Sequence[str] = (),
+                 text: str | None = None, first_wins: bool = False) -> Program:
+    """Parse ``path`` (or ``text`` under that name) and every file it ``use``s.
+
+    Imports are looked up beside the importing file, then in ``search``; each file is
+    read once. Duplicate definitions are errors naming both places, unless
+    ``first_wins`` (a library along its search path): then a name already defined by
+    another file is shadowed, and only one file defining it twice is an error.
+    """
+    program = Program(path, in_library=functools.partial(in_library, tuple(search)))
+    loader = _Loader(program, read, search, first_wins)
+    loader.visit(path, read(path) if text is None else text, True)
+    if loader.errors:
+        raise GestError(loader.errors)
+    return loader.program
+
+
+def in_library(search: Sequence[str], name: str) -> str | None:
+    """The file of the library along ``search`` that defines ``name`` (its file name, as
+    a ``use`` line gives it), or None."""
+    entry = scan([Path(d) for d in search]).entries.get(name) if search else None
+    return entry.path.name if entry is not None else None
+
+
+class _Loader:
+    """What loading one program keeps track of: the files seen, the names defined."""
+
+    def __init__(self, program: Program, read: Reader, search: Sequence[str],
+                 first_wins: bool):
+        self.program = program
+        self.read = read
+        self.search = search
+        self.first_wins = first_wins
+        self.seen: set[str] = set()
+        self.defined: dict[str, Pos] = {}
+        self.errors: list[Diagnostic] = []
+
+    def visit(self, file: str, source: str, is_root: bool) -> None:
+        """Parse ``file``, define its names and visit the files it uses (once each)."""
+        program = self.program
+        self.seen.add(_key(file))
+        program.sources.add(file, source)
+        program.texts[file] = source
+        for item in parse(source, file).items:
+            match item:
+                case ast.Use():
+                    found, text = _find_import(item, file, self.search, self.read,
+                                               program.sources)
+                    if _key(found) not in self.seen:
+                        self.visit(found, text, False)
+                case _ if self._defines(item, file):
+                    self._add(item, is_root)
+
+    def _defines(self, item: ast.GroupDef | ast.PoseDef | ast.GestureDef, file: str) -> bool:
+        """Whether ``item`` defines its name: not if shadowed or defined twice."""
+        name = item.name.text
+        if name not in self.defined:
+            self.defined[name] = item.name.pos
+            return True
+        first = self.defined[name]
+        if self.first_wins and first.file != file:
+            return False  # shadowed by a file earlier on the search path
+        self.errors.append(self.program.sources.error(
+            f"'{name}' is defined twice", item.name.pos,
+            f"first defined at {first.file}:{first.line}"))
+        return False
+
+    def _add(self, item: ast.GroupDef | ast.PoseDef | ast.GestureDef, is_root: bool) -> None:
+        program, name = self.program, item.name.text
+        match item:
+            case ast.GestureDef():
+                program.gestures[name] = item
+                if is_root:
+                    program.own.append(name)
+            case ast.PoseDef():
+                program.poses[name] = item
+            case ast.GroupDef():
+                program.groups[name] = item
+
+
+def _key(file: str) -> str:
+    """One spelling for one file, so that it is read once however it is named."""
+    return os.path.normcase(os.path.abspath(file))
+
+
+def _find_import(use: ast.Use, importer: str, search: Sequence[str], read: Reader,
+                 sources: SourceMap) -> tuple[str, str]:
+    """The file ``use`` names: relative to the importing file's directory, then to each
+    directory of the search path (an absolute path as it is). It must be a gesture file,
+    its name and (through any symlink) its target's name ending in .gest: so a gesture
+    file from someone else cannot make the tools open, or quote a line of, anything else
+    (docs/security.md)."""
+    if not use.path.endswith(GEST_SUFFIX):
+        raise GestError(sources.error(f"use takes a {GEST_SUFFIX} file, not '{use.path}'",
+                                      use.pos, f'use "{Path(use.path).stem}{GEST_SUFFIX}"'))
+    places = [os.path.join(os.path.dirname(importer), use.path)]
+    places += [os.path.join(d, use.path) for d in search]
+    for place in places:
+        try:
+            target = os.path.realpath(place)
+            if not target.endswith(GEST_SUFFIX) and os.path.exists(place):
+                raise ValueError(f"it links to '{target}', which is not a {GEST_SUFFIX} "
+                                 f"file")
+            return place, read(place)
+        except FileNotFoundError:
+            continue
+        except (OSError, ValueError) as exc:  # a NUL in the path, not UTF-8, too large
+            raise GestError(sources.error(f"cannot read '{place}': {exc}", use.pos)) from None
+    raise GestError(sources.error(
+        f"cannot find '{use.path}'", use.pos,
+        "looked in " + ", ".join(os.path.dirname(p) or "." for p in places)))

@@ -1,0 +1,298 @@
+"""Parse .gest text into a syntax tree (stage 1 of the compiler).
+
+The Lark LALR parser is built once per process; syntax errors become
+GestError diagnostics with the position, the line and a caret.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import math
+import sys
+import threading
+from collections.abc import Iterator
+from typing import Any
+
+from lark import Lark, Token, Transformer, UnexpectedInput, v_args
+from lark import __version__ as lark_version
+from lark.indenter import Indenter
+
+from ..errors import Pos
+from ..resources import grammar_path, private_cache_dir, private_file
+from . import syntax as ast
+from .parse_errors import (
+    Span,
+    SyntaxProblem,
+    keyword_problem,
+    lark_problem,
+    pos_span,
+    shown,
+    tok_span,
+)
+from .syntax import KEYWORDS
+
+MAX_REPEAT = 1000
+MAX_DURATION = 600.0  #: s, the longest single move or wait
+MAX_SOURCE = 1_000_000  #: characters in one .gest file, checked before parsing
+MAX_LINE = 10_000  #: characters in one line, checked before parsing
+MAX_DEPTH = 100  #: repeats within repeats
+UNITS = {"s": 1.0, "ms": 0.001}
+
+
+class _Indenter(Indenter):
+    """Lark's indenter, which also refuses mixed indentation and keywords as names."""
+
+    NL_type = "_NL"
+    OPEN_PAREN_types: list[str] = []
+    CLOSE_PAREN_types: list[str] = []
+    INDENT_type = "_INDENT"
+    DEDENT_type = "_DEDENT"
+    tab_len = 8
+
+    def process(self, stream: Iterator[Token]) -> Iterator[Token]:
+        self.style: tuple[str, int] | None = None  # the first indentation: its char, line
+        return self._no_keyword_names(super().process(stream))
+
+    def _no_keyword_names(self, tokens: Iterator[Token]) -> Iterator[Token]:
+        """Where the grammar takes a name and not a keyword, the lexer makes a keyword a
+        NAME (``wait: index 90``): an error here, before it means anything."""
+        before = None
+        for tok in tokens:
+            if tok.type == "NAME" and str(tok) in KEYWORDS:
+                raise keyword_problem(tok, before, self.indent_level[-1] == 0)
+            before = tok
+            yield tok
+
+    def handle_NL(self, token: Token) -> Iterator[Token]:
+        indent_str = token.rsplit("\n", 1)[1]
+        if indent_str:
+            self._check_style(token, indent_str)
+        indent = indent_str.count(" ") + indent_str.count("\t") * self.tab_len
+        if indent < self.indent_level[-1] and indent not in self.indent_level:
+            raise SyntaxProblem(
+                "this line's indentation matches no enclosing block",
+                _next_line_pos(token, indent_str),
+                "indent each step of a block by the same amount",
+            )
+        yield from super().handle_NL(token)
+
+    def _check_style(self, token: Token, indent_str: str) -> None:
+        """One file indents with spaces or with tabs, never both (their widths would
+        be a guess)."""
+        pos = _next_line_pos(token, indent_str)
+        hint = "indent with spaces only (four per level), or with tabs only"
+        if " " in indent_str and "\t" in indent_str:
+            raise SyntaxProblem("this line's indentation mixes tabs and spaces",
+                                (pos[0], 1, len(indent_str)), hint)
+        char = indent_str[0]
+        if self.style is None:
+            self.style = (char, pos[0])
+        elif self.style[0] != char:
+            kinds = {" ": "spaces", "\t": "tabs"}
+            raise SyntaxProblem(f"this line is indented with {kinds[char]}, line "
+                                f"{self.style[1]} with {kinds[self.style[0]]}",
+                                (pos[0], 1, len(indent_str)), hint)
+
+
+def _next_line_pos(token: Token, indent_str: str) -> Span:
+    """The start of the line after the newline ``token``, indented by ``indent_str``."""
+    return (token.end_line or token.line, len(indent_str.expandtabs(1)) + 1, 1)
+
+
+@functools.cache
+def parser() -> Lark:
+    """The .gest parser, built once. It builds the syntax tree's dataclasses while it
+    parses (Lark's tree-less LALR mode); positions come from the tokens.
+
+    Lark can keep the analysed grammar between runs, but it reads its cache file with
+    pickle, which runs whatever the file says: the cache is kept only in this user's
+    private cache directory (resources.private_cache_dir), never in the shared temp
+    directory Lark would choose, and not at all when no private place can be trusted."""
+    text = grammar_path().read_text(encoding="utf-8")
+    return Lark(
+        text,
+        parser="lalr",
+        lexer="contextual",
+        postlex=_Indenter(),
+        maybe_placeholders=False,
+        transformer=_TO_AST,
+        cache=_cache_file(text),
+    )
+
+
+def _cache_file(grammar: str) -> str | bool:
+    """The private file for Lark's cache of ``grammar``, or False (no cache)."""
+    where = private_cache_dir()
+    if where is None:
+        return False
+    digest = hashlib.sha256(f"{grammar}{lark_version}{sys.version_info[:2]}".encode())
+    path = where / f"gest-grammar-{digest.hexdigest()[:16]}.lark"
+    return str(path) if private_file(path) else False
+
+
+@v_args(inline=True)
+class _ToAst(Transformer):
+    """Parse-tree rules -> syntax dataclasses. ``file`` is set for each parse."""
+
+    file = "<string>"
+    depths: dict[int, int] = {}  #: id of a Repeat -> how many repeats deep it goes
+
+    def _pos(self, tok: Token) -> Pos:
+        return Pos(self.file, tok.line, tok.column, max(1, len(str(tok))))
+
+    def start(self, *items):
+        return ast.Module(self.file, tuple(items))
+
+    def _name(self, tok: Token) -> ast.Name:
+        return ast.Name(str(tok), self._pos(tok))
+
+    def use_stmt(self, path: Token):
+        return ast.Use(path[1:-1], self._pos(path))
+
+    def group_def(self, name: Token, *members: Token):
+        return ast.GroupDef(self._name(name), tuple(self._name(m) for m in members))
+
+    def pose_def(self, name: Token, *targets: ast.Target):
+        return ast.PoseDef(self._name(name), targets)
+
+    def gesture_line(self, name: Token, step):
+        return ast.GestureDef(self._name(name), (step,))
+
+    def gesture_block(self, name: Token, *steps):
+        return ast.GestureDef(self._name(name), steps)
+
+    def repeat_block(self, count: Token, *steps):
+        return self._repeat(count, steps)
+
+    def repeat_line(self, count: Token, step):
+        return self._repeat(count, (step,))
+
+    def _repeat(self, count: Token, body: tuple) -> ast.Repeat:
+        """A repeat; one inside more than MAX_DEPTH others is an error (what walks the
+        tree, the formatter say, may recurse)."""
+        depth = 1 + max((self.depths.get(id(s), 0) for s in body), default=0)
+        if depth > MAX_DEPTH:
+            raise SyntaxProblem(f"repeats are nested more than {MAX_DEPTH} deep",
+                                tok_span(count))
+        node = ast.Repeat(self._count(count), body, self._pos(count))
+        self.depths[id(node)] = depth
+        return node
+
+    def _count(self, tok: Token) -> int:
+        text = str(tok)
+        digits = text.lstrip("+-")
+        # a count with more digits than MAX_REPEAT is too large before int() sees it
+        if not digits.isdigit() or len(digits.lstrip("0")) > len(str(MAX_REPEAT)) \
+                or not 1 <= int(text) <= MAX_REPEAT:
+            raise SyntaxProblem(f"repeat count must be a whole number from 1 to "
+                                f"{MAX_REPEAT}, got {shown(text)}", tok_span(tok))
+        return int(text)
+
+    def wait(self, duration: ast.Duration):
+        return ast.Wait(duration, duration.pos, "wait")
+
+    def hold(self, duration: ast.Duration):
+        return ast.Wait(duration, duration.pos, "hold")
+
+    def move(self, *parts):
+        side = self._name(parts[0]) if isinstance(parts[0], Token) else None
+        targets = tuple(p for p in parts if isinstance(p, ast.Target))
+        timing: dict[str, Any] = {}  # over and stagger: a Duration; through: a Pos
+        for kind, value in (p for p in parts if isinstance(p, tuple)):
+            if kind in timing:
+                raise SyntaxProblem(f"'{kind}' is given twice in this step",
+                                    pos_span(getattr(value, "pos", value)))
+            timing[kind] = value
+        return ast.Move(targets, timing.get("over"), timing.get("stagger"),
+                        (side or targets[0].name).pos, timing.get("through"), side)
+
+    def together(self, *parts: ast.Move):
+        return ast.Together(parts, parts[0].pos)
+
+    def over(self, duration: ast.Duration):  # the timings: (kind, value)
+        return ("over", duration)
+
+    def stagger(self, duration: ast.Duration):
+        return ("stagger", duration)
+
+    def through(self, keyword: Token):
+        return ("through", self._pos(keyword))
+
+    def target(self, name: Token, value: Token | None = None):
+        if value is None:
+            return ast.Target(self._name(name), None, None)
+        text = str(value)
+        number = float(text)  # inf when it has hundreds of digits
+        outside = SyntaxProblem(f"value {shown(text)} is outside 0..180", tok_span(value),
+                                "0 is straight, 180 is curled")
+        if not math.isfinite(number) or abs(number) > 1e9:
+            raise outside
+        if number != int(number) or "." in text:
+            lo, hi = int(number // 1), int(number // 1) + 1
+            raise SyntaxProblem(f"values are whole degrees, got {shown(text)}",
+                                tok_span(value), f"use {lo} or {hi}")
+        if not 0 <= number <= 180:
+            raise outside
+        return ast.Target(self._name(name), int(number), self._pos(value))
+
+    def duration(self, number: Token, unit: Token | None = None):
+        text = str(number)
+        if unit is None:
+            raise SyntaxProblem(f"the duration {shown(text)} needs a unit", tok_span(number),
+                                f"write {shown(text)}s or {shown(text)}ms")
+        if str(unit) not in UNITS:
+            raise SyntaxProblem(f"unknown unit '{shown(str(unit))}'", tok_span(unit),
+                                f"use s or ms, as in {shown(text)}s or {shown(text)}ms")
+        seconds = float(text) * UNITS[str(unit)]  # inf when it has hundreds of digits
+        span = (number.line, number.column, len(text) + len(str(unit)))
+        if not seconds > 0:
+            raise SyntaxProblem(f"a duration must be greater than 0, got {shown(text)}{unit}",
+                                span)
+        if seconds > MAX_DURATION:
+            raise SyntaxProblem(f"duration {shown(text)}{unit} is too long (at most "
+                                f"{MAX_DURATION:g} s per step)", span,
+                                "split a long hold into several waits")
+        pos = self._pos(number)
+        return ast.Duration(seconds, Pos(pos.file, pos.line, pos.column, span[2]), text,
+                            str(unit))
+
+
+_TO_AST = _ToAst()
+_LOCK = threading.Lock()  # the parser and its transformer are shared
+
+
+def parse(text: str, file: str = "<string>") -> ast.Module:
+    """Parse one .gest source text; raise GestError on any syntax problem. A text longer
+    than MAX_SOURCE characters, or with a line longer than MAX_LINE, is refused before
+    parsing."""
+    size = len(text)
+    if not text.endswith("\n"):
+        text += "\n"
+    lines = text[:-1].split("\n")  # Lark counts lines by \n only
+    try:
+        _check_size(text, size, lines)
+        with _LOCK:
+            _TO_AST.file, _TO_AST.depths = file, {}
+            return parser().parse(text)
+    except SyntaxProblem as problem:  # tree-less mode: callbacks' exceptions come as they are
+        raise problem.error(file, lines) from None
+    except UnexpectedInput as exc:
+        raise lark_problem(exc, text, lines).error(file, lines) from None
+
+
+def _check_size(text: str, size: int, lines: list[str]) -> None:
+    """Refuse a text of more than MAX_SOURCE characters (``size``), or with a line of
+    more than MAX_LINE, before Lark sees it."""
+    if size > MAX_SOURCE:
+        line = text.count("\n", 0, MAX_SOURCE) + 1
+        column = MAX_SOURCE - (text.rfind("\n", 0, MAX_SOURCE) + 1) + 1
+        raise SyntaxProblem(f"the file is longer than {MAX_SOURCE:,} characters ({size:,}): "
+                            f"it is not parsed", (line, column, 1),
+                            "split it into several files joined with 'use'")
+    for number, line_text in enumerate(lines, 1):
+        if len(line_text) > MAX_LINE:
+            raise SyntaxProblem(f"this line is longer than {MAX_LINE:,} characters "
+                                f"({len(line_text):,})", (number, MAX_LINE + 1, 1),
+                                "put one step on each line; build a long pose from smaller "
+                                "poses")

@@ -1,0 +1,122 @@
+"""The syntax tree of a .gest file: plain frozen dataclasses, each with its position."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..errors import Pos
+
+#: the language's keywords: never a gesture, pose, group or servo name
+KEYWORDS = frozenset({"use", "group", "pose", "wait", "hold", "repeat", "over", "stagger",
+                      "through", "left", "right"})
+
+
+@dataclass(frozen=True)
+class Name:
+    """A name as written, and where."""
+
+    text: str
+    pos: Pos
+
+
+@dataclass(frozen=True)
+class Target:
+    """``index 180`` (servo or group with a value) or ``fist`` (a pose or gesture name)."""
+
+    name: Name
+    value: int | None
+    value_pos: Pos | None
+
+
+@dataclass(frozen=True)
+class Duration:
+    """A duration (``over``, ``stagger``, ``wait``) in seconds, as written."""
+
+    seconds: float
+    pos: Pos
+    number: str = ""  #: as written, e.g. ``.5``
+    unit: str = "s"  #: ``s`` or ``ms``
+
+
+@dataclass(frozen=True)
+class Move:
+    """A step that sets targets (or calls a gesture: a gesture's name alone)."""
+
+    targets: tuple[Target, ...]
+    over: Duration | None
+    stagger: Duration | None
+    pos: Pos
+    through: Pos | None = None  #: ``through``: the servos cross the keyframe moving
+    side: Name | None = None  #: ``left peace``: the call played on that side
+
+
+@dataclass(frozen=True)
+class Wait:
+    """A step that holds the pose: ``wait`` or ``hold``."""
+
+    duration: Duration
+    pos: Pos
+    keyword: str = "wait"  #: ``wait`` or ``hold`` (the same thing)
+
+
+@dataclass(frozen=True)
+class Repeat:
+    """``repeat N:`` and the steps it repeats."""
+
+    count: int
+    body: tuple[Step, ...]
+    pos: Pos
+
+
+@dataclass(frozen=True)
+class Together:
+    """``a & b``: moves, calls or poses that run at the same time, on their own servos."""
+
+    parts: tuple[Move, ...]
+    pos: Pos
+
+
+Step = Move | Wait | Repeat | Together
+
+
+@dataclass(frozen=True)
+class Use:
+    """``use "other.gest"``: the file's definitions are imported."""
+
+    path: str
+    pos: Pos
+
+
+@dataclass(frozen=True)
+class GroupDef:
+    """``group NAME: servo, servo, ...``"""
+
+    name: Name
+    members: tuple[Name, ...]
+
+
+@dataclass(frozen=True)
+class PoseDef:
+    """``pose NAME: targets``"""
+
+    name: Name
+    targets: tuple[Target, ...]
+
+
+@dataclass(frozen=True)
+class GestureDef:
+    """``NAME: step`` or ``NAME:`` and an indented block of steps."""
+
+    name: Name
+    steps: tuple[Step, ...]
+
+
+Item = Use | GroupDef | PoseDef | GestureDef
+
+
+@dataclass(frozen=True)
+class Module:
+    """One parsed file."""
+
+    file: str
+    items: tuple[Item, ...]

@@ -1,0 +1,223 @@
+"""The drive loop (an edge): requests arrive while the hand moves, and each takes over.
+
+One loop for every front end that drives a hand live (``gestplay repl``, the ROS
+node): it waits for a request only until the next byte is nearly due, so a request
+starts within a millisecond; a request is a typed line of .gest text or steps already
+resolved (a trajectory's points), and each takes over the running move without a
+jump (``live.Session``). Bytes go out on time to the links, and a ``Mirror`` keeps
+what each board holds. What happens is told to the front end as ``Note``s.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Literal
+
+from .. import clock
+from ..compiling.actions import Steps
+from ..errors import Diagnostic, GestError
+from ..language.library import library_dirs, library_files, scan
+from ..language.load import load
+from ..language.program import Program
+from ..profiles.data import Profile
+from ..wire.board import BoardCore
+from ..wire.player import POLL, SPIN, Link, drain
+from .session import LINE, Segment, Session, line_steps
+
+#: a typed line of .gest text, or resolved steps
+Request = str | Steps
+#: what ``next_request`` gives: a request, None at the end, False if none came in time
+Next = Request | None | Literal[False]
+
+
+@dataclass(frozen=True)
+class Note:
+    """What the loop tells its front end.
+
+    ``kind`` is "error" (a request could not be done), "warning" (a move was
+    stretched), "start" (a request is being done; ``text`` is its name), "done" (the
+    hand is still and nothing is queued) or "answered" (a request has been dealt
+    with). ``aside`` is set on warnings of queued steps, which come while the front
+    end waits for its next request."""
+
+    kind: str
+    diagnostics: tuple[Diagnostic, ...] = ()
+    text: str = ""
+    aside: bool = False
+
+
+Tell = Callable[[Note], None]
+
+
+def library_program(dirs: list[Path] | None = None) -> Program:
+    """Every library gesture, pose and group, for names typed at the prompt: the first
+    definition of a name along the search path, as for gestures named on the command
+    line (files that do not parse are left out; ``gestplay repl`` warned of them)."""
+    dirs = library_dirs() if dirs is None else dirs
+    broken = scan(dirs).broken
+    uses = "".join(f'use "{f.resolve()}"\n' for f in library_files(dirs) if f not in broken)
+    return load("<library>", uses, search=[str(d) for d in dirs], first_wins=True)
+
+
+class Mirror:
+    """What each board holds, from the bytes sent to it (the board's own rules)."""
+
+    def __init__(self, profile: Profile, boards: Sequence[int]):
+        by_id = {b.id: b for b in profile.boards}
+        self.cores = [BoardCore.from_profile(profile, by_id[board]) for board in boards]
+        where = {}
+        for k, core in enumerate(self.cores):
+            for j, servo in enumerate(core.servos):
+                where[servo.id] = (k, j)
+        self._where = [where[s.id] for s in profile.servos]
+        self._by_id = {s.id: where[s.id] for s in profile.servos}
+
+    def set(self, pose: list[int]) -> None:
+        """The boards hold ``pose`` (the profile's servo order)."""
+        for (k, j), v in zip(self._where, pose, strict=True):
+            self.cores[k].values[j] = v
+
+    def feed(self, k: int, byte: int) -> None:
+        """Board ``k`` reads ``byte``."""
+        self.cores[k].feed(byte)
+
+    def put(self, servo_id: int, value: int) -> bool:
+        """Servo ``servo_id`` holds ``value`` (a pair heard on a stream); False if the
+        profile has no such servo."""
+        if servo_id not in self._by_id:
+            return False
+        k, j = self._by_id[servo_id]
+        self.cores[k].values[j] = value
+        return True
+
+    def held(self) -> list[int]:
+        """What the boards hold, in the profile's servo order."""
+        return [self.cores[k].values[j] for k, j in self._where]
+
+
+class Drive:
+    """One hand driven live: its links, the motion it follows, what its boards hold."""
+
+    def __init__(self, links: list[Link], profile: Profile, pose: dict[str, int],
+                 program: Program, tell: Tell, take_over: bool = True,
+                 now: clock.Clock = clock.now, sleep: clock.Sleep = clock.sleep,
+                 file: str = LINE):
+        self.links, self.profile, self.program = links, profile, program
+        self.file, self.lines = file, 0  #: typed lines are lines of ``file``; how many came
+        self.tell, self.take_over = tell, take_over
+        self.now, self.sleep = now, sleep
+        start = [pose.get(s.name, s.rest) for s in profile.servos]
+        self.mirror = Mirror(profile, [link.board for link in links])
+        self.mirror.set(start)
+        self.session = Session(profile, start, now(), program.sources)
+        self.events: list[tuple[float, int, int]] = []  # (clock time, link, byte), pending
+        self.moving = False  #: a request has moved the hand since the last "done"
+
+    def run(self, next_request: Callable[[float], Next]) -> None:
+        """Run until the input ends (``next_request`` gives None) and the hand is still.
+        ``next_request(timeout)`` waits at most ``timeout`` s for a request."""
+        ended = False
+        while True:
+            if self._still(self.now()) and ended:
+                return
+            wait = self._wait(self.now(), ended)
+            if ended:
+                self.sleep(max(wait, 0))
+                request: Next = False
+            else:
+                request = next_request(wait)
+            if not self.events and request is False:
+                for link in self.links:
+                    drain(link.port)  # a pulled cable shows here
+            t = self.now()
+            segment = None
+            if request is None:
+                ended = True
+            elif request is not False:
+                segment = self._requested(request, t)
+            if segment is None:
+                segment = self._queued(t)
+            if request is not False:
+                self.tell(Note("answered"))
+            if segment is not None:
+                self.events = _events(segment, self.links)
+                self.moving = True
+            self._send()
+
+    def settled(self) -> bool:
+        """The steps requested so far are done: nothing to send, nothing queued, no
+        move or wait running."""
+        return not self.events and not self.session.busy(self.now())
+
+    def _still(self, t: float) -> bool:
+        """Nothing to send and nothing to do; says "done" once after a move."""
+        if self.events or self.session.busy(t):
+            return False
+        if self.moving:
+            self.moving = False
+            self.tell(Note("done"))
+        return True
+
+    def _wait(self, t: float, ended: bool) -> float:
+        """How long to wait for a request: until the next byte is nearly due (then
+        spin), until the running step ends if another is queued, never more than POLL."""
+        if self.events:
+            return self.events[0][0] - t - SPIN
+        if self.session.queue or ended:
+            return min(POLL, self.session.end - t)
+        return POLL
+
+    def _requested(self, request: Request, t: float) -> Segment | None:
+        """Resolve and submit a request: the segment to send now, if any."""
+        if isinstance(request, Steps):
+            steps, sources, name = list(request.actions), request.sources, request.name
+        else:
+            self.lines += 1
+            name = request.strip()
+            if not name or name.startswith("#"):
+                return None
+            try:
+                steps, sources = line_steps(request, self.program, self.profile,
+                                            self.file, self.lines)
+            except GestError as exc:
+                self.tell(Note("error", tuple(exc.diagnostics), name))
+                return None
+        run = self.session.submit if self.take_over else self.session.append
+        try:
+            segment = run(steps, t, self.mirror.held(), sources)
+        except GestError as exc:  # the session has dropped what was queued with the step
+            self.tell(Note("error", tuple(exc.diagnostics), name))
+            return None
+        self.tell(Note("start", text=name))
+        if segment is not None and segment.warnings:
+            self.tell(Note("warning", segment.warnings))
+        return segment
+
+    def _queued(self, t: float) -> Segment | None:
+        """The next queued step, once the running one has ended."""
+        try:
+            segment = self.session.next(t, self.mirror.held())
+        except GestError as exc:
+            self.tell(Note("error", tuple(exc.diagnostics), aside=True))
+            return None
+        if segment is not None and segment.warnings:
+            self.tell(Note("warning", segment.warnings, aside=True))
+        return segment
+
+    def _send(self) -> None:
+        """Write every byte that is due, and mirror it."""
+        events = self.events
+        while events and events[0][0] <= self.now():
+            _, k, byte = events.pop(0)
+            self.links[k].port.write(bytes([byte]))
+            self.mirror.feed(k, byte)
+
+
+def _events(segment: Segment, links: list[Link]) -> list[tuple[float, int, int]]:
+    """The segment's bytes, as (clock time, link index, byte), in time order."""
+    by_board = {link.board: k for k, link in enumerate(links)}
+    events = [(segment.origin + t, by_board[s.board], b)
+              for s in segment.streams for t, b in zip(s.times.tolist(), s.data, strict=True)]
+    return sorted(events)

@@ -1,0 +1,151 @@
+"""Live motion (pure): steps arrive while the hand moves, and each takes over at once.
+
+A Session holds the plan the hand is following and the steps queued after it. A
+move submitted while the hand is still moving is planned by ruckig from the hand's
+planned position, velocity and acceleration at that moment, so the motion carries
+on without a jump and without stopping first; servos the new step does not name
+carry on to where they were going. Each new plan is encoded like a compiled
+gesture (CANCEL first, so a half-sent pair is dropped), against the values the
+board already holds. Times are the caller's clock, in seconds; this module has none.
+"""
+
+from __future__ import annotations
+
+import functools
+from collections import deque
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+
+from ..compiling.actions import Action
+from ..compiling.encode import Stream, encode
+from ..compiling.plan import MotionState, Plan, Planner
+from ..compiling.resolve import Resolver
+from ..errors import Diagnostic, GestError, Pos, SourceMap
+from ..language import snippet
+from ..language.program import Program
+from ..language.syntax import GestureDef
+from ..profiles.data import Profile
+
+LINE = "<repl>"  #: the file name diagnostics give for lines typed at a terminal
+STDIN = "<stdin>"  #: and for lines read from a pipe or a file
+_NAME = "_"  #: the typed line becomes this gesture
+_PREFIX = f"{_NAME}: "
+
+
+@dataclass(frozen=True)
+class Segment:
+    """A stretch of motion to send from ``origin`` on: its plan and its streams."""
+
+    origin: float
+    plan: Plan
+    streams: tuple[Stream, ...]
+    step: Action
+    warnings: tuple[Diagnostic, ...] = ()
+
+
+class Session:
+    """The motion of one hand, one step after another, new steps taking over."""
+
+    def __init__(self, profile: Profile, pose: Sequence[int], now: float,
+                 sources: SourceMap | None = None):
+        self.profile = profile
+        self.planner = Planner(profile, sources)
+        hold = Action((), hold=0.0)
+        self.current = Segment(now, self.planner.plan([hold], pose), (), hold)
+        self.queue: deque[tuple[Action, SourceMap | None]] = deque()
+
+    def state(self, now: float) -> MotionState:
+        """Where the current plan has the hand at ``now``."""
+        return MotionState.at(self.current.plan, now - self.current.origin)
+
+    def busy(self, now: float) -> bool:
+        """Still moving or holding, or steps queued."""
+        return now < self.end or bool(self.queue)
+
+    @property
+    def end(self) -> float:
+        """When the current segment ends (the caller's clock, s)."""
+        return self.current.origin + self.current.plan.duration
+
+    def submit(self, steps: Sequence[Action], now: float, held: Sequence[int],
+               sources: SourceMap | None = None) -> Segment | None:
+        """New steps replace the queue; a move starts now (taking over), a wait or an
+        ``a & b`` step when the running move ends. Returns the segment to send now, if
+        any.
+        ``sources`` has the text the steps' diagnostics point into."""
+        self.queue = deque((step, sources) for step in steps)
+        if self.queue and self.queue[0][0].hold == 0 and not self.queue[0][0].branches:
+            return self._start(now, held)
+        return self.next(now, held)
+
+    def append(self, steps: Sequence[Action], now: float, held: Sequence[int],
+               sources: SourceMap | None = None) -> Segment | None:
+        """New steps after the queued ones (a script, not a takeover)."""
+        self.queue.extend((step, sources) for step in steps)
+        return self.next(now, held)
+
+    def next(self, now: float, held: Sequence[int]) -> Segment | None:
+        """The next queued step, once the current one has ended."""
+        if not self.queue or now < self.end:
+            return None
+        return self._start(max(now, self.end), held)
+
+    def _start(self, now: float, held: Sequence[int]) -> Segment:
+        """Plan the first queued step; if it cannot be, the steps queued with it (the
+        rest of its line) are dropped and the GestError goes on."""
+        step, sources = self.queue.popleft()
+        try:
+            return self._plan(step, sources, now, held)
+        except GestError:
+            self.queue = deque(q for q in self.queue if q[1] is not sources)
+            raise
+
+    def _plan(self, step: Action, sources: SourceMap | None, now: float,
+              held: Sequence[int]) -> Segment:
+        if sources is not None:
+            self.planner.sources = sources
+        final = list(self.current.plan.final)
+        if step.hold > 0 or step.branches:
+            plan = self.planner.plan([step], final)
+        elif now >= self.end:
+            plan = self.planner.plan([step], final)  # from rest: exactly as compiled
+        else:
+            for i, v in step.targets:
+                final[i] = v
+            plan = self.planner.take_over(self.state(now), final, step.over, step)
+        plan = replace(plan, start=tuple(held))  # what the board holds is what changed
+        self.current = Segment(now, plan, encode(plan), step, plan.warnings)
+        return self.current
+
+
+class _Typed(SourceMap):
+    """The texts of a program, and one typed line: line ``number`` of ``file``."""
+
+    def __init__(self, program: Program, file: str, number: int, text: str):
+        super().__init__()
+        for name, source in program.texts.items():
+            self.add(name, source)
+        self.typed = (file, number, text)
+
+    def line(self, pos: Pos | None) -> str | None:
+        """The source line at ``pos``."""
+        if pos is not None and (pos.file, pos.line) == self.typed[:2]:
+            return self.typed[2]
+        return super().line(pos)
+
+
+def line_steps(line: str, program: Program, profile: Profile, file: str = LINE,
+               number: int = 1) -> tuple[list[Action], SourceMap]:
+    """The steps of one typed line, e.g. ``index 90, middle 45 over 0.5s``, ``wait 1s``
+    or the name of a gesture or pose of ``program``. Errors point into the line, line
+    ``number`` of ``file`` (the input it came from)."""
+    sources = _Typed(program, file, number, line)
+    sources.add(file, line)  # what the steps are resolved from (wrapped: unwrap says it)
+    with snippet.parsed(line, file, _PREFIX, number) as module:
+        gesture = next(item for item in module.items if isinstance(item, GestureDef))
+        typed = Program(file, sources, program.texts, {**program.gestures, _NAME: gesture},
+                        program.poses, program.groups, [_NAME])
+        actions = Resolver(typed, profile).gesture(_NAME)
+    back = functools.partial(snippet.shift, text=line, file=file, prefix=_PREFIX,
+                             line=number)
+    return [replace(a, pos=back(a.pos), over_pos=back(a.over_pos)) for a in actions], sources

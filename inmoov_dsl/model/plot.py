@@ -1,0 +1,130 @@
+"""Pictures of a compiled gesture (``gestc plot``); needs matplotlib (the ``plot`` extra).
+
+One row per servo that moves: on the left its planned position over time, the values
+actually sent (as the board holds them, a step each time a pair arrives) and the
+keyframes, numbered like ``gestc show``'s steps; on the right its planned velocity
+between the profile's limits. Holds are shaded.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+from ..compiling.compiled import Compiled
+from ..compiling.metrics import sent_values
+from ..compiling.plan import Plan
+from ..errors import Diagnostic, GestError
+
+PLAN_COLOUR = "#1f77b4"
+SENT_COLOUR = "#d62728"
+LIMIT_COLOUR = "#7f7f7f"
+HOLD_COLOUR = "#eeeeee"
+
+
+def _matplotlib():
+    try:
+        from matplotlib.figure import Figure
+        from matplotlib.patches import Patch
+    except ImportError:
+        raise GestError(Diagnostic(
+            "error", "gestc plot needs matplotlib, which is not installed",
+            hint="pip install 'inmoov-dsl[plot]'")) from None
+    return Figure, Patch
+
+
+def moving_servos(plan: Plan, sent: dict) -> list[int]:
+    """The servos the gesture moves or sends a value to, in profile order."""
+    moved = {i for step in plan.steps for i in step.servos}
+    return [i for i in range(len(plan.tracks)) if i in moved or i in sent]
+
+
+def plot(plan: Plan, compiled: Compiled, path: str | os.PathLike) -> None:
+    """Draw the gesture to ``path`` (the suffix picks the format: .png, .svg, .pdf)."""
+    Figure, Patch = _matplotlib()  # noqa: N806 (classes)
+    sent = sent_values(plan, compiled)
+    rows = moving_servos(plan, sent) or [0]
+    end = max(plan.duration, max((float(t[-1]) for t, _ in sent.values() if len(t)),
+                                 default=0.0))
+    end += 0.03 * end + 0.05  # room for the last keyframe's number
+    t = np.linspace(0.0, end, max(200, int(end / 0.002)))
+    fig = Figure(figsize=(12, 1.2 + 1.7 * len(rows)), layout="constrained")
+    grid = fig.add_gridspec(len(rows), 2, width_ratios=(3, 1.3))
+    total = sum(len(s.data) for s in compiled.streams)
+    fig.suptitle(f"{compiled.gesture} on {plan.profile.name}: {compiled.duration:.2f} s, "
+                 f"{total:,} bytes", fontsize=13, x=0.01, ha="left")
+    first_pos = first_vel = None
+    for row, i in enumerate(rows):
+        pos = fig.add_subplot(grid[row, 0], sharex=first_pos)
+        vel = fig.add_subplot(grid[row, 1], sharex=first_vel)
+        first_pos, first_vel = first_pos or pos, first_vel or vel
+        _servo_row(pos, vel, plan, i, sent.get(i, (np.empty(0), np.empty(0))), t)
+        if row < len(rows) - 1:
+            pos.tick_params(labelbottom=False)
+            vel.tick_params(labelbottom=False)
+    first_pos.set_title("position (command degrees)", fontsize=10, loc="left")
+    first_vel.set_title("velocity (command degrees / s)", fontsize=10, loc="left")
+    pos.set_xlabel("time (s)")
+    vel.set_xlabel("time (s)")
+    _legend(fig, first_pos, first_vel, plan, Patch)
+    fig.savefig(path, dpi=110)
+
+
+def _servo_row(pos, vel, plan: Plan, i: int, sent: tuple[np.ndarray, np.ndarray],
+               t: np.ndarray) -> None:
+    """Servo ``i``'s row: its position (planned, as the board holds the values
+    ``sent``, keyframes) on ``pos``, its planned velocity between its limits on ``vel``;
+    ``t`` samples the time axis, to its end."""
+    servo, track, end = plan.profile.servos[i], plan.tracks[i], float(t[-1])
+    for ax in (pos, vel):
+        for step in plan.steps:
+            if step.kind == "hold":
+                ax.axvspan(step.start, step.end, color=HOLD_COLOUR, lw=0)
+        ax.grid(True, color="#dddddd", lw=0.6)
+        ax.set_xlim(0, end)
+    # the values the board holds: the start pose, then each pair as it arrives
+    times, values = sent
+    held_t = np.concatenate(([0.0], times, [end]))
+    held_v = np.concatenate(([plan.start[i]], values, [values[-1] if len(values)
+                                                       else plan.start[i]]))
+    pos.plot(t, track.position(t), color=PLAN_COLOUR, lw=2.4, alpha=0.55,
+             label="planned position")
+    pos.step(held_t, held_v, where="post", color=SENT_COLOUR, lw=0.9,
+             label="values sent (as the board holds them)")
+    _keyframes(pos, plan, i)
+    pos.set_ylim(-12, 192)
+    pos.set_yticks([0, 90, 180])
+    pos.set_ylabel(f"{servo.name}\n(id {servo.id})", rotation=0, ha="right",
+                   va="center", fontsize=10)
+    vel.plot(t, track.velocity(t), color=PLAN_COLOUR, lw=1.4, label="planned velocity")
+    for sign in (1, -1):
+        vel.axhline(sign * servo.max_velocity, color=LIMIT_COLOUR, ls="--", lw=1,
+                    label="velocity limit" if sign > 0 else None)
+    vel.set_ylim(-1.15 * servo.max_velocity, 1.15 * servo.max_velocity)
+
+
+def _legend(fig, pos, vel, plan: Plan, Patch) -> None:  # noqa: N803 (a class)
+    """One legend for the figure: the lines of the first row, keyframes, holds."""
+    handles, labels = (pos.get_legend_handles_labels()[k] + vel.get_legend_handles_labels()[k]
+                       for k in (0, 1))
+    handles.append(pos.scatter([], [], color="black", s=18))
+    labels.append("keyframe, numbered as the steps of gestc show")
+    if any(step.kind == "hold" for step in plan.steps):
+        handles.append(Patch(color=HOLD_COLOUR))
+        labels.append("hold")
+    fig.legend(handles, labels, loc="outside upper right", ncols=3, fontsize=9,
+               frameon=False)
+
+
+def _keyframes(ax, plan: Plan, servo: int) -> None:
+    """Mark where each move of this servo ends, numbered like ``gestc show``."""
+    for n, step in enumerate(plan.steps, 1):
+        if step.kind != "move" or servo not in step.servos:
+            continue
+        value = float(plan.tracks[servo].position(step.end))
+        ax.scatter([step.end], [value], color="black", s=18, zorder=5)
+        below = value > 150
+        ax.annotate(str(n), (step.end, value), xytext=(0, -11 if below else 5),
+                    textcoords="offset points", ha="center", fontsize=8,
+                    va="top" if below else "bottom")

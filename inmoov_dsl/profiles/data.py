@@ -1,0 +1,103 @@
+"""What a profile is made of once read: frozen dataclasses, and the limits its values
+must keep. ``profile`` reads a TOML file into them; the rest of the package imports
+them from there."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+from ..errors import Pos
+
+#: the sane range of each limit, command degrees per second (squared, cubed)
+
+
+@dataclass(frozen=True)
+class Servo:
+    """One servo, in command degrees (0..180 as sent on the wire)."""
+
+    name: str
+    id: int
+    board: int
+    lo: int  #: smallest value a gesture may command
+    hi: int  #: largest value a gesture may command
+    rest: int
+    max_velocity: float  #: command degrees / s
+    max_acceleration: float  #: command degrees / s^2
+    max_jerk: float  #: command degrees / s^3
+    calibration: tuple[int, int]  #: board side: 0..180 is mapped onto these servo angles
+    reversed: bool  #: board side: 180..0 is mapped onto the calibration instead
+    pin: int | None
+    joint: str = ""  #: the model's joint this servo turns (urdf.py); the servo's name if ""
+    #: where its ``joint`` key is (its table's header when it has none), and that line
+    joint_at: tuple[Pos, str] | None = field(default=None, compare=False)
+
+
+@dataclass(frozen=True)
+class Board:
+    """One servo board: its ID on the wire, its link's speed and its servos in order."""
+
+    id: int
+    name: str
+    baud: int
+    servos: tuple[str, ...]
+    pos: Pos | None = field(default=None, compare=False)  #: its ``id`` in the profile
+
+
+@dataclass(frozen=True)
+class Sensor:
+    """One flex sensor of a glove: the servo it commands and how it reads."""
+
+    servo: str
+    pin: int  #: analog pin (14 is A0 on an Uno or Nano)
+    calibration: tuple[int, int]  #: readings (0..1023) that map to 0 and 180
+    reversed: bool = False  #: the low reading maps to 180 instead
+
+
+@dataclass(frozen=True)
+class Glove:
+    """A flex-sensor glove: it reads its sensors and commands a servo board."""
+
+    id: int
+    name: str
+    board: int  #: the servo board it sends to, on its software serial command port
+    baud: int  #: USB, to the computer
+    command_pins: tuple[int, int]  #: rx, tx of the command port
+    deadband: int  #: command degrees a value must move before it is sent again
+    frame_ms: int  #: ms between readings
+    sensors: tuple[Sensor, ...]
+
+
+@dataclass(frozen=True)
+class Profile:
+    """A robot: its boards, its servos board by board, its groups and its gloves."""
+
+    name: str
+    description: str
+    boards: tuple[Board, ...]
+    servos: tuple[Servo, ...]  #: board by board, in each board's order
+    groups: dict[str, tuple[str, ...]]
+    path: str = ""
+    sha256: str = ""  #: of the TOML text it was read from
+    gloves: tuple[Glove, ...] = ()
+    #: ``[sides]``: "right" and "left", each a list of servos, the k-th of one side the
+    #: mirror image of the k-th of the other (empty: the profile has one side)
+    sides: dict[str, tuple[str, ...]] = field(default_factory=dict)
+
+    def index(self, name: str) -> int:
+        """The position of servo ``name`` in ``servos``; KeyError if there is none."""
+        return self._indices[name]
+
+    @cached_property
+    def _indices(self) -> dict[str, int]:
+        return {servo.name: i for i, servo in enumerate(self.servos)}
+
+    @cached_property
+    def names(self) -> tuple[str, ...]:
+        """The servos' names, in the order of ``servos``."""
+        return tuple(s.name for s in self.servos)
+
+    @property
+    def rest_pose(self) -> dict[str, int]:
+        """Each servo's rest value, by name."""
+        return {s.name: s.rest for s in self.servos}

@@ -1,0 +1,200 @@
+"""Robot profiles: boards, servos, limits and groups, read from TOML.
+
+The dataclasses are in ``profile_types``, the checks of each table in ``profile_tables``
+(one function per table); this module finds a profile, reads its TOML and builds it."""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import os
+import re
+import tomllib
+from dataclasses import replace
+from pathlib import Path
+from typing import Any
+
+from ..errors import Diagnostic, GestError, Pos, decode_utf8, did_you_mean
+from ..resources import profiles_dir, read_regular
+from . import tables
+from .data import Board, Glove, Profile, Sensor, Servo
+from .fields import LIMITS, NAME_RE, cut
+from .keys import Report
+
+__all__ = ["LIMITS", "MAX_PROFILE", "NAME_RE", "Board", "Glove", "Profile",
+           "Sensor", "Servo", "builtin_profiles", "find_profile", "load_profile",
+           "parse_profile", "profiles_with"]
+
+
+MAX_PROFILE = 1_000_000  #: bytes (characters) of a profile; a larger one is not read
+
+def builtin_profiles() -> list[str]:
+    """Names of the profiles shipped with the package."""
+    return sorted(p.stem for p in profiles_dir().glob("*.toml"))
+
+
+def profiles_with(name: str) -> list[str]:
+    """The built-in profiles that have a servo or a group called ``name``."""
+    found = []
+    for builtin in builtin_profiles():
+        try:
+            profile = load_profile(builtin)
+        except GestError:
+            continue
+        if name in profile.names or name in profile.groups:
+            found.append(builtin)
+    return found
+
+
+def find_profile(name_or_path: str) -> Path:
+    """A profile file from a built-in name (``rhand``) or a path."""
+    path = Path(name_or_path)
+    if path.suffix == ".toml" or len(path.parts) > 1:
+        if path.suffix != ".toml" or not os.path.realpath(path).endswith(".toml"):
+            raise GestError(Diagnostic("error", f"a profile is a .toml file, not "
+                                       f"'{name_or_path}'", hint="--profile rhand, or "
+                                       "--profile my_hand.toml"))
+        if not path.is_file():
+            raise GestError(Diagnostic("error", f"profile file '{name_or_path}' not found"))
+        return path
+    builtin = profiles_dir() / f"{name_or_path}.toml"
+    if builtin.is_file():
+        return builtin
+    names = builtin_profiles()
+    hint = did_you_mean(name_or_path, names) or f"built-in profiles: {', '.join(names)}"
+    raise GestError(Diagnostic("error", f"unknown profile '{name_or_path}'", hint=hint))
+
+
+def load_profile(name_or_path: str) -> Profile:
+    """Read and check a profile; any problem is a GestError naming the file. A file of
+    more than MAX_PROFILE bytes is not read. The same text is checked once per process
+    (a profile is read for every gesture ``gestc check`` compiles)."""
+    path = find_profile(name_or_path)
+    try:
+        data = read_regular(path, MAX_PROFILE)
+    except (OSError, ValueError) as exc:
+        raise GestError(Diagnostic("error", f"cannot read profile '{path}': "
+                                   f"{getattr(exc, 'strerror', None) or exc}")) from None
+    if len(data) > MAX_PROFILE:
+        raise GestError(Diagnostic("error", f"profile '{path}' is larger than "
+                                   f"{MAX_PROFILE:,} bytes: it is not read",
+                                   Pos(str(path), 1, 1)))
+    return _parse_once(decode_utf8(data, str(path)), str(path))
+
+
+@functools.lru_cache(maxsize=32)
+def _parse_once(text: str, file: str) -> Profile:
+    return parse_profile(text, file)
+
+
+def parse_profile(text: str, file: str = "<profile>") -> Profile:
+    """Build a Profile from TOML text. Pure: no file access. A byte-order mark at the
+    start (what Notepad writes; TOML has none) is not part of the text."""
+    text = text.removeprefix("\ufeff")
+    if len(text) > MAX_PROFILE:
+        raise GestError(Diagnostic("error", f"the profile is longer than {MAX_PROFILE:,} "
+                                   f"characters: it is not read", Pos(file, 1, 1)))
+    profile = _build(_toml(text, file), file, Report(text, file))
+    digest = hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()
+    return replace(profile, sha256=digest)
+
+
+def _toml(text: str, file: str) -> dict[str, Any]:
+    """The data of TOML text; invalid TOML is an error at its place."""
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        match = re.search(r"\(at line (\d+), column (\d+)\)", str(exc))
+        pos = Pos(file, int(match[1]), int(match[2])) if match else Pos(file, 1, 1)
+        message = re.sub(r"\s*\(at line.*\)", "", str(exc))
+        lines = text.split("\n")
+        line = lines[pos.line - 1] if pos.line <= len(lines) else None
+        raise GestError(Diagnostic("error", f"invalid TOML: {message}", pos, None, line)) from None
+    except RecursionError:
+        raise GestError(Diagnostic("error", "invalid TOML: arrays or tables nested too deep",
+                                   Pos(file, 1, 1))) from None
+    except ValueError:  # an integer of more than 4,300 digits
+        found = re.search(r"\d{100}", text)
+        offset = found.start() if found else 0
+        line = text.count("\n", 0, offset) + 1
+        column = offset - (text.rfind("\n", 0, offset) + 1) + 1
+        raise GestError(Diagnostic("error", "invalid TOML: a number of thousands of digits",
+                                   Pos(file, line, column),
+                                   source_line=text.split("\n")[line - 1])) from None
+
+
+def _build(data: dict[str, Any], file: str, report: Report) -> Profile:
+    """The profile of TOML ``data``, table by table; every problem is reported at its
+    key, and all of them are raised together."""
+    name, description = tables.top(report, data, Path(file).stem)
+    boards_data, servos_data = data.get("board", []), data.get("servo", {})
+    if not isinstance(boards_data, list) or not boards_data:
+        report.error(("board",), "a profile needs at least one [[board]]")
+        report.stop()
+    if not isinstance(servos_data, dict):
+        report.error(("servo",), "[servo.NAME] tables expected")
+        report.stop()
+    boards = _boards(report, boards_data, servos_data)
+    listed = {n for board in boards for n in board.servos}
+    for servo_name in servos_data:
+        if servo_name not in listed:
+            report.error(("servo", servo_name), f"servo '{cut(servo_name)}' is on no board",
+                         hint="add it to the 'servos' list of a [[board]]")
+    servos = _servos(report, boards, servos_data)
+    names = tuple(s.name for s in servos)
+    groups = tables.groups(report, data.get("groups", {}), names)
+    sides = tables.sides(report, data["sides"], names) if "sides" in data else {}
+    gloves = _gloves(report, data.get("glove", []), boards)
+    report.stop()
+    return Profile(name, description, tuple(boards), tuple(servos), groups, file,
+                   gloves=gloves, sides=sides)
+
+
+def _boards(report: Report, data: list, servos: dict[str, Any]) -> list[Board]:
+    """The ``[[board]]`` tables, each checked against the boards before it."""
+    boards: list[Board] = []
+    taken: set[int] = set()
+    listed: dict[str, int] = {}
+    for k, table in enumerate(data):
+        board = tables.board(report, k, table, taken, listed, servos)
+        if board is not None:
+            boards.append(board)
+            taken.add(board.id)
+            listed.update(dict.fromkeys(board.servos, board.id))
+    return boards
+
+
+def _servos(report: Report, boards: list[Board], data: dict[str, Any]) -> list[Servo]:
+    """The ``[servo.NAME]`` tables, board by board in each board's order; servo IDs and
+    joints are unique in the robot."""
+    servos: list[Servo] = []
+    ids: dict[int, str] = {}
+    joints: dict[str, str] = {}
+    for board in boards:
+        for name in board.servos:
+            if name in data and (servo := tables.servo(report, name, data[name], board.id,
+                                                       ids)) is not None:
+                if servo.joint in joints:
+                    report.error(("servo", name, "joint"), f"servo '{name}' turns joint "
+                                 f"'{servo.joint}', as servo '{joints[servo.joint]}' does")
+                servos.append(servo)
+                ids[servo.id] = name
+                joints[servo.joint] = name
+    return servos
+
+
+def _gloves(report: Report, data: Any, boards: list[Board]) -> tuple[Glove, ...]:
+    """The ``[[glove]]`` tables; a glove's ID is no board's and no other glove's."""
+    if not isinstance(data, list) or not all(isinstance(g, dict) for g in data):
+        report.error(("glove",), "[[glove]] tables expected")
+        return ()
+    by_id: dict[int, Board] = {}
+    for board in boards:
+        by_id.setdefault(board.id, board)
+    taken = set(by_id)
+    gloves = []
+    for k, table in enumerate(data):
+        if (glove := tables.glove(report, k, table, by_id, taken)) is not None:
+            gloves.append(glove)
+            taken.add(glove.id)
+    return tuple(gloves)
