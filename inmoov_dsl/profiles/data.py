@@ -1,6 +1,5 @@
-"""What a profile is made of once read: frozen dataclasses, and the limits its values
-must keep. ``profile`` reads a TOML file into them; the rest of the package imports
-them from there."""
+"""What a profile is made of once read: frozen dataclasses. ``profile`` reads a TOML
+file into them; the rest of the package imports them from here."""
 
 from __future__ import annotations
 
@@ -8,8 +7,6 @@ from dataclasses import dataclass, field
 from functools import cached_property
 
 from ..errors import Pos
-
-#: the sane range of each limit, command degrees per second (squared, cubed)
 
 
 @dataclass(frozen=True)

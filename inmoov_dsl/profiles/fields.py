@@ -1,7 +1,7 @@
 """The checks of a profile's values, one per kind of field (as packaging's metadata
 validators): each takes the key and its value, returns the value as the profile keeps
-it, or raises a ``Problem`` saying what the key takes. ``Fields`` reads one TOML table
-through them and reports each problem at its key."""
+it, or raises a ``Problem`` saying what the key takes. ``tables.Fields`` reads one TOML
+table through them and reports each problem at its key."""
 
 from __future__ import annotations
 
@@ -84,10 +84,11 @@ def _pair(value: Any) -> tuple[int, int] | None:
 
 
 def span(key: str, value: Any) -> tuple[int, int]:
-    """[low, high] command degrees with 0 <= low <= high <= 180."""
+    """[low, high] command degrees with 0 <= low <= high <= MAX_VALUE (180)."""
     pair = _pair(value)
     if pair is None or not 0 <= pair[0] <= pair[1] <= protocol.MAX_VALUE:
-        raise Problem(f"'{key}' must be [low, high] with 0 <= low <= high <= 180, "
+        raise Problem(f"'{key}' must be [low, high] with 0 <= low <= high <= "
+                      f"{protocol.MAX_VALUE}, "
                       f"got {shown(value)}")
     return pair
 
@@ -112,9 +113,10 @@ def pins(key: str, value: Any) -> tuple[int, int]:
 def baud(key: str, value: Any) -> int:
     """A board's link: bits per second, fast enough to carry a servo command a frame."""
     value = whole(1, protocol.MAX_BAUD, f"1..{protocol.MAX_BAUD:,}")(key, value)
-    if protocol.pairs_per_frame(value) < 1:
-        raise Problem(f"baud {value} is too slow: not one servo command fits in a 20 ms "
-                      f"servo frame", "use 9600 or more")
+    if not protocol.usable_baud(value):
+        raise Problem(f"baud {value} is too slow: not one servo command fits in a "
+                      f"{protocol.SERVO_FRAME * 1000:g} ms servo frame",
+                      f"use {protocol.DEFAULT_BAUD} or more")
     return value
 
 

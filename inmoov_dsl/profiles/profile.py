@@ -1,7 +1,9 @@
 """Robot profiles: boards, servos, limits and groups, read from TOML.
 
-The dataclasses are in ``profile_types``, the checks of each table in ``profile_tables``
-(one function per table); this module finds a profile, reads its TOML and builds it."""
+This module finds a profile (a built-in name or a path), reads its text and builds it:
+the loops over its tables and the checks across tables are here, each table is read
+by its validator in ``tables``, each value checked in ``fields``, and every error
+placed at its key by ``keys``. What a profile is made of is in ``data``."""
 
 from __future__ import annotations
 
@@ -94,7 +96,8 @@ def parse_profile(text: str, file: str = "<profile>") -> Profile:
     if len(text) > MAX_PROFILE:
         raise GestError(Diagnostic("error", f"the profile is longer than {MAX_PROFILE:,} "
                                    f"characters: it is not read", Pos(file, 1, 1)))
-    profile = _build(_toml(text, file), file, Report(text, file))
+    data = _toml(text, file)
+    profile = _build(data, Report(text, file), file)
     digest = hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()
     return replace(profile, sha256=digest)
 
@@ -123,78 +126,48 @@ def _toml(text: str, file: str) -> dict[str, Any]:
                                    source_line=text.split("\n")[line - 1])) from None
 
 
-def _build(data: dict[str, Any], file: str, report: Report) -> Profile:
-    """The profile of TOML ``data``, table by table; every problem is reported at its
-    key, and all of them are raised together."""
+def _build(data: dict[str, Any], report: Report, file: str) -> Profile:
+    """The profile of TOML ``data``: its tables in order, each read by its validator in
+    ``tables`` with what the tables before it hold (the IDs, servos and joints taken),
+    and the checks across tables. Every problem is reported at its key, and all of
+    them are raised together."""
     name, description = tables.top(report, data, Path(file).stem)
-    boards_data, servos_data = data.get("board", []), data.get("servo", {})
-    if not isinstance(boards_data, list) or not boards_data:
-        report.error(("board",), "a profile needs at least one [[board]]")
-        report.stop()
-    if not isinstance(servos_data, dict):
-        report.error(("servo",), "[servo.NAME] tables expected")
-        report.stop()
-    boards = _boards(report, boards_data, servos_data)
-    listed = {n for board in boards for n in board.servos}
+    boards_data = tables.board_tables(report, data)
+    servos_data = tables.servo_tables(report, data)
+    boards: list[Board] = []
+    listed: dict[str, int] = {}  # the servos the boards list, each by its board's ID
+    for k, table in enumerate(boards_data):
+        if (board := tables.board(report, k, table, {b.id for b in boards}, listed,
+                                  servos_data)) is not None:
+            boards.append(board)
+            listed.update(dict.fromkeys(board.servos, board.id))
     for servo_name in servos_data:
         if servo_name not in listed:
             report.error(("servo", servo_name), f"servo '{cut(servo_name)}' is on no board",
                          hint="add it to the 'servos' list of a [[board]]")
-    servos = _servos(report, boards, servos_data)
+    servos: list[Servo] = []  # board by board, in each board's order
+    ids: dict[int, str] = {}  # servo IDs are unique in the robot, and so are joints
+    joints: dict[str, str] = {}
+    for board in boards:
+        for servo_name in board.servos:
+            if servo_name in servos_data and (servo := tables.servo(
+                    report, servo_name, servos_data[servo_name], board.id, ids)) is not None:
+                if servo.joint in joints:
+                    report.error(("servo", servo_name, "joint"), f"servo '{servo_name}' turns "
+                                 f"joint '{servo.joint}', as servo '{joints[servo.joint]}' does")
+                servos.append(servo)
+                ids[servo.id] = servo_name
+                joints[servo.joint] = servo_name
     names = tuple(s.name for s in servos)
     groups = tables.groups(report, data.get("groups", {}), names)
     sides = tables.sides(report, data["sides"], names) if "sides" in data else {}
-    gloves = _gloves(report, data.get("glove", []), boards)
-    report.stop()
-    return Profile(name, description, tuple(boards), tuple(servos), groups, file,
-                   gloves=gloves, sides=sides)
-
-
-def _boards(report: Report, data: list, servos: dict[str, Any]) -> list[Board]:
-    """The ``[[board]]`` tables, each checked against the boards before it."""
-    boards: list[Board] = []
-    taken: set[int] = set()
-    listed: dict[str, int] = {}
-    for k, table in enumerate(data):
-        board = tables.board(report, k, table, taken, listed, servos)
-        if board is not None:
-            boards.append(board)
-            taken.add(board.id)
-            listed.update(dict.fromkeys(board.servos, board.id))
-    return boards
-
-
-def _servos(report: Report, boards: list[Board], data: dict[str, Any]) -> list[Servo]:
-    """The ``[servo.NAME]`` tables, board by board in each board's order; servo IDs and
-    joints are unique in the robot."""
-    servos: list[Servo] = []
-    ids: dict[int, str] = {}
-    joints: dict[str, str] = {}
-    for board in boards:
-        for name in board.servos:
-            if name in data and (servo := tables.servo(report, name, data[name], board.id,
-                                                       ids)) is not None:
-                if servo.joint in joints:
-                    report.error(("servo", name, "joint"), f"servo '{name}' turns joint "
-                                 f"'{servo.joint}', as servo '{joints[servo.joint]}' does")
-                servos.append(servo)
-                ids[servo.id] = name
-                joints[servo.joint] = name
-    return servos
-
-
-def _gloves(report: Report, data: Any, boards: list[Board]) -> tuple[Glove, ...]:
-    """The ``[[glove]]`` tables; a glove's ID is no board's and no other glove's."""
-    if not isinstance(data, list) or not all(isinstance(g, dict) for g in data):
-        report.error(("glove",), "[[glove]] tables expected")
-        return ()
-    by_id: dict[int, Board] = {}
-    for board in boards:
-        by_id.setdefault(board.id, board)
-    taken = set(by_id)
-    gloves = []
-    for k, table in enumerate(data):
+    by_id = {board.id: board for board in reversed(boards)}  # the first of an ID
+    taken = set(by_id)  # a glove's ID is no board's and no other glove's
+    gloves: list[Glove] = []
+    for k, table in enumerate(tables.glove_tables(report, data)):
         if (glove := tables.glove(report, k, table, by_id, taken)) is not None:
             gloves.append(glove)
             taken.add(glove.id)
-    return tuple(gloves)
+    report.stop()
+    return Profile(name, description, tuple(boards), tuple(servos), groups, file,
+                   gloves=tuple(gloves), sides=sides)

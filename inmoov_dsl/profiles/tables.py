@@ -1,7 +1,10 @@
-"""One function per table of a profile (its own keys, ``[[board]]``, ``[servo.NAME]``,
-``[groups]``, ``[sides]``, ``[[glove]]`` and a glove's sensors): each takes the table's
-data and what was built before it, and returns what it reads, reporting every problem
-at the line of the key it is about. ``profile.parse_profile`` calls them in order."""
+"""One validator per table of a profile (its own keys, ``[[board]]``, ``[servo.NAME]``,
+``[groups]``, ``[sides]``, ``[[glove]]`` and a glove's sensors), and one for each kind
+of table the top level holds (``board_tables``, ``servo_tables``, ``glove_tables``):
+each takes the table's data and what the tables before it hold, and returns what it
+reads, reporting every problem at the line of the key it is about. ``profile`` loops
+over the tables, calls them in order and checks across tables; the values are checked
+by ``fields``."""
 
 from __future__ import annotations
 
@@ -17,7 +20,7 @@ from .data import Board, Glove, Sensor, Servo
 from .fields import NAME_RE, Check, Problem, T, cut, is_whole, shown
 from .keys import Key, Report
 
-BOARD_IDS = (protocol.FIRST_BOARD_ID, min(protocol.Signal) - 1)  #: a board's or glove's ID
+BOARD_IDS = (protocol.FIRST_BOARD_ID, protocol.LAST_BOARD_ID)  #: a board's or glove's ID
 FULL = (0, protocol.MAX_VALUE)
 SENSOR = "{ servo = ..., pin = ..., calibration = [low, high] }"
 
@@ -55,6 +58,36 @@ def top(report: Report, data: dict[str, Any], stem: str) -> tuple[str, str]:
     return fields.get("name", check.text, stem), fields.get("description", check.text, "")
 
 
+def board_tables(report: Report, data: dict[str, Any]) -> list[Any]:
+    """The profile's ``[[board]]`` tables: at least one, else an error that stops the
+    build."""
+    found = data.get("board", [])
+    if not isinstance(found, list) or not found:
+        report.error(("board",), "a profile needs at least one [[board]]")
+        report.stop()
+    return found
+
+
+def servo_tables(report: Report, data: dict[str, Any]) -> dict[str, Any]:
+    """The profile's ``[servo.NAME]`` tables, by name; anything else is an error that
+    stops the build."""
+    found = data.get("servo", {})
+    if not isinstance(found, dict):
+        report.error(("servo",), "[servo.NAME] tables expected")
+        report.stop()
+    return found
+
+
+def glove_tables(report: Report, data: dict[str, Any]) -> list[dict[str, Any]]:
+    """The profile's ``[[glove]]`` tables (none when it has none); anything else is an
+    error, and no glove."""
+    found = data.get("glove", [])
+    if not isinstance(found, list) or not all(isinstance(g, dict) for g in found):
+        report.error(("glove",), "[[glove]] tables expected")
+        return []
+    return found
+
+
 def board(report: Report, k: int, data: Any, taken: Collection[int],
           listed: Mapping[str, int], servos: Collection[str]) -> Board | None:
     """The ``k``th ``[[board]]``, or None when it has no usable ID. ``taken``: the IDs
@@ -73,7 +106,7 @@ def board(report: Report, k: int, data: Any, taken: Collection[int],
     if bid in taken:
         report.error((*at, "id"), f"board {bid} is declared twice")
     fields = Fields(report, at, data, f"board {bid}")
-    speed = fields.get("baud", check.baud, 9600)
+    speed = fields.get("baud", check.baud, protocol.DEFAULT_BAUD)
     servo_names = fields.get("servos", check.names, [])
     mine: dict[str, int] = {}
     for i, name in enumerate(servo_names):
@@ -203,9 +236,9 @@ def glove(report: Report, k: int, data: dict[str, Any], boards: Mapping[int, Boa
         fields.fail("a glove needs at least one sensor", ("sensors",))
         return None
     label = fields.get("name", check.text, f"glove {gid}")
-    baud = fields.get("baud", check.whole(300, protocol.MAX_BAUD), 9600)
+    baud = fields.get("baud", check.whole(300, protocol.MAX_BAUD), protocol.DEFAULT_BAUD)
     return Glove(gid, label, target.id, baud,
-                 command_pins, fields.get("deadband", check.whole(0, 180), 2),
+                 command_pins, fields.get("deadband", check.whole(0, protocol.MAX_VALUE), 2),
                  fields.get("frame_ms", check.whole(1, 1000), 20), tuple(sensors))
 
 
