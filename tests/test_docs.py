@@ -1,5 +1,7 @@
-"""Every example in the docs compiles, and the Python examples run."""
+"""Every example in the docs compiles, and the Python examples run and assert their
+result."""
 
+import ast
 import re
 from pathlib import Path
 
@@ -31,10 +33,35 @@ def test_gest_examples_compile(doc, source):
         assert compiled.streams[0].data[0] == 255
 
 
+class _NoteAsserts(ast.NodeTransformer):
+    """After each ``assert``, a note of its line in ``__asserted__``."""
+
+    def visit_Assert(self, node):
+        note = ast.parse(f"__asserted__.add({node.lineno})").body[0]
+        return [node, ast.copy_location(note, node)]
+
+
+def run_example(code, file):
+    """Run Python ``code``: the lines of its asserts, and those of the asserts that ran."""
+    tree = ast.parse(code, file)
+    asserts = {node.lineno for node in ast.walk(tree) if isinstance(node, ast.Assert)}
+    asserted = set()
+    tree = ast.fix_missing_locations(_NoteAsserts().visit(tree))
+    exec(compile(tree, file, "exec"), {"__asserted__": asserted})
+    return asserts, asserted
+
+
 @pytest.mark.parametrize(("doc", "code"), list(blocks("python")))
 def test_python_examples_run(doc, code, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
-    exec(compile(code, str(doc), "exec"), {})
+    asserts, asserted = run_example(code, str(doc))
+    assert asserts, "a Python example asserts its result"
+    assert asserted == asserts, "every assert of the example ran (lines of the block)"
+
+
+def test_an_assert_the_example_skips_is_seen():
+    code = "try:\n    1 / 1\nexcept ZeroDivisionError:\n    assert False\nassert 1\n"
+    assert run_example(code, "<example>") == ({4, 5}, {5})
 
 
 def test_language_reference_covers_every_construct():
