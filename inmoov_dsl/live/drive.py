@@ -15,21 +15,21 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
 
-from .. import clock
-from ..compiling.actions import Steps
-from ..errors import Diagnostic, GestError
+from .. import clock, protocol
+from ..compiling.actions import Action, Steps
+from ..errors import Diagnostic, GestError, SourceMap
 from ..language.library import library_dirs, library_files, scan
 from ..language.load import load
 from ..language.program import Program
 from ..profiles.data import Profile
 from ..wire.board import BoardCore
 from ..wire.player import POLL, SPIN, Link, drain
+from .orders import Control, Order, Request, Tracker
 from .session import LINE, Segment, Session, line_steps
 
-#: a typed line of .gest text, or resolved steps
-Request = str | Steps
-#: what ``next_request`` gives: a request, None at the end, False if none came in time
-Next = Request | None | Literal[False]
+#: what ``next_request`` gives: a request (an Order when it has an id or options, a
+#: Control to stop or relax), None at the end, False if none came in time
+Next = Request | Order | Control | None | Literal[False]
 
 
 @dataclass(frozen=True)
@@ -39,13 +39,16 @@ class Note:
     ``kind`` is "error" (a request could not be done), "warning" (a move was
     stretched), "start" (a request is being done; ``text`` is its name), "done" (the
     hand is still and nothing is queued) or "answered" (a request has been dealt
-    with). ``aside`` is set on warnings of queued steps, which come while the front
-    end waits for its next request."""
+    with); for requests with an id (``Order``), also "started", "finished" and
+    "stopped" (``orders.Tracker``); "stop" and "relax" when a Control was done.
+    ``aside`` is set on warnings of queued steps, which come while the front end waits
+    for its next request. ``id`` is the request's, where it has one."""
 
     kind: str
     diagnostics: tuple[Diagnostic, ...] = ()
     text: str = ""
     aside: bool = False
+    id: str | None = None
 
 
 Tell = Callable[[Note], None]
@@ -114,6 +117,7 @@ class Drive:
         self.session = Session(profile, start, now(), program.sources)
         self.events: list[tuple[float, int, int]] = []  # (clock time, link, byte), pending
         self.moving = False  #: a request has moved the hand since the last "done"
+        self.tracker = Tracker(lambda kind, tag: tell(Note(kind, id=tag)))
 
     def run(self, next_request: Callable[[float], Next]) -> None:
         """Run until the input ends (``next_request`` gives None) and the hand is still.
@@ -135,8 +139,11 @@ class Drive:
             segment = None
             if request is None:
                 ended = True
+            elif isinstance(request, Control):
+                self._control(request, t)
             elif request is not False:
-                segment = self._requested(request, t)
+                segment = self._requested(request if isinstance(request, Order)
+                                          else Order(request), t)
             if segment is None:
                 segment = self._queued(t)
             if request is not False:
@@ -144,6 +151,7 @@ class Drive:
             if segment is not None:
                 self.events = _events(segment, self.links)
                 self.moving = True
+                self.tracker.began(segment.tag, self.session.tags(), self._again)
             self._send()
 
     def settled(self) -> bool:
@@ -157,6 +165,7 @@ class Drive:
             return False
         if self.moving:
             self.moving = False
+            self.tracker.still()
             self.tell(Note("done"))
         return True
 
@@ -169,8 +178,9 @@ class Drive:
             return min(POLL, self.session.end - t)
         return POLL
 
-    def _requested(self, request: Request, t: float) -> Segment | None:
+    def _requested(self, order: Order, t: float) -> Segment | None:
         """Resolve and submit a request: the segment to send now, if any."""
+        request = order.what
         if isinstance(request, Steps):
             steps, sources, name = list(request.actions), request.sources, request.name
         else:
@@ -182,18 +192,37 @@ class Drive:
                 steps, sources = line_steps(request, self.program, self.profile,
                                             self.file, self.lines)
             except GestError as exc:
-                self.tell(Note("error", tuple(exc.diagnostics), name))
+                self.tell(Note("error", tuple(exc.diagnostics), name, id=order.id))
                 return None
-        run = self.session.submit if self.take_over else self.session.append
+        after = not self.take_over if order.after is None else order.after
+        dropped = set() if after else {self.tracker.playing, *self.session.tags()}
+        run = self.session.append if after else self.session.submit
         try:
-            segment = run(steps, t, self.mirror.held(), sources)
+            segment = run(steps, t, self.mirror.held(), sources, order.id)
         except GestError as exc:  # the session has dropped what was queued with the step
-            self.tell(Note("error", tuple(exc.diagnostics), name))
+            self.tell(Note("error", tuple(exc.diagnostics), name, id=order.id))
             return None
-        self.tell(Note("start", text=name))
+        self.tracker.ordered(order, steps, sources, dropped)
+        self.tell(Note("start", text=name, id=order.id))
         if segment is not None and segment.warnings:
-            self.tell(Note("warning", segment.warnings))
+            self.tell(Note("warning", segment.warnings, id=order.id))
         return segment
+
+    def _again(self, steps: list[Action], sources: SourceMap | None, tag: str) -> None:
+        """Queue another pass of a request that loops."""
+        self.session.append(steps, self.now(), self.mirror.held(), sources, tag)
+
+    def _control(self, control: Control, t: float) -> None:
+        """Stop the hand where it holds (CANCEL to every board) or relax it; nothing
+        runs or is queued after."""
+        data = protocol.RELAX_BOARD if control.kind == "relax" else protocol.frame(())
+        for link in self.links:
+            link.port.write(data)
+        self.events = []
+        self.tracker.halt(self.session.tags())
+        self.session.stop(t, self.mirror.held())
+        self.moving = False
+        self.tell(Note(control.kind, id=control.id))
 
     def _queued(self, t: float) -> Segment | None:
         """The next queued step, once the running one has ended."""

@@ -41,6 +41,7 @@ class Segment:
     streams: tuple[Stream, ...]
     step: Action
     warnings: tuple[Diagnostic, ...] = ()
+    tag: str | None = None  #: the request the step came from (its id), if it has one
 
 
 class Session:
@@ -52,7 +53,8 @@ class Session:
         self.planner = Planner(profile, sources)
         hold = Action((), hold=0.0)
         self.current = Segment(now, self.planner.plan([hold], pose), (), hold)
-        self.queue: deque[tuple[Action, SourceMap | None]] = deque()
+        #: (step, the text its diagnostics point into, the request's tag)
+        self.queue: deque[tuple[Action, SourceMap | None, str | None]] = deque()
 
     def state(self, now: float) -> MotionState:
         """Where the current plan has the hand at ``now``."""
@@ -68,21 +70,33 @@ class Session:
         return self.current.origin + self.current.plan.duration
 
     def submit(self, steps: Sequence[Action], now: float, held: Sequence[int],
-               sources: SourceMap | None = None) -> Segment | None:
+               sources: SourceMap | None = None, tag: str | None = None) -> Segment | None:
         """New steps replace the queue; a move starts now (taking over), a wait or an
         ``a & b`` step when the running move ends. Returns the segment to send now, if
         any.
-        ``sources`` has the text the steps' diagnostics point into."""
-        self.queue = deque((step, sources) for step in steps)
+        ``sources`` has the text the steps' diagnostics point into; ``tag`` names the
+        request they come from."""
+        self.queue = deque((step, sources, tag) for step in steps)
         if self.queue and self.queue[0][0].hold == 0 and not self.queue[0][0].branches:
             return self._start(now, held)
         return self.next(now, held)
 
     def append(self, steps: Sequence[Action], now: float, held: Sequence[int],
-               sources: SourceMap | None = None) -> Segment | None:
+               sources: SourceMap | None = None, tag: str | None = None) -> Segment | None:
         """New steps after the queued ones (a script, not a takeover)."""
-        self.queue.extend((step, sources) for step in steps)
+        self.queue.extend((step, sources, tag) for step in steps)
         return self.next(now, held)
+
+    def stop(self, now: float, held: Sequence[int]) -> None:
+        """The hand holds ``held`` from ``now`` (a CANCEL has stopped it): nothing runs
+        and nothing is queued."""
+        self.queue.clear()
+        hold = Action((), hold=0.0)
+        self.current = Segment(now, self.planner.plan([hold], held), (), hold)
+
+    def tags(self) -> set[str | None]:
+        """The tags of the queued steps."""
+        return {tag for _, _, tag in self.queue}
 
     def next(self, now: float, held: Sequence[int]) -> Segment | None:
         """The next queued step, once the current one has ended."""
@@ -93,9 +107,10 @@ class Session:
     def _start(self, now: float, held: Sequence[int]) -> Segment:
         """Plan the first queued step; if it cannot be, the steps queued with it (the
         rest of its line) are dropped and the GestError goes on."""
-        step, sources = self.queue.popleft()
+        step, sources, tag = self.queue.popleft()
         try:
-            return self._plan(step, sources, now, held)
+            self.current = replace(self._plan(step, sources, now, held), tag=tag)
+            return self.current
         except GestError:
             self.queue = deque(q for q in self.queue if q[1] is not sources)
             raise
