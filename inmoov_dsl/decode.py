@@ -25,7 +25,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 
-from .protocol import MAX_VALUE, Signal
+from .protocol import MAX_VALUE, Signal, reply
 
 
 @dataclass(frozen=True)
@@ -45,8 +45,8 @@ class Reply:
 
     @property
     def size(self) -> int:
-        """Its length in bytes, START to END."""
-        return 4 + 2 * len(self.pairs)
+        """Its length in bytes, START to END (``protocol.reply``)."""
+        return len(reply(self.board, self.pairs))
 
 
 @dataclass(frozen=True)

@@ -7,6 +7,7 @@ The firmware core declares the same numbers; a test checks the two against each 
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Iterable
 from enum import IntEnum
@@ -55,17 +56,47 @@ def usable_baud(baud: int) -> bool:
     return 0 < baud <= MAX_BAUD and pairs_per_frame(baud) >= 1
 
 
+def clamp(value: int) -> int:
+    """``value`` within 0..MAX_VALUE: the nearest value a servo command can carry."""
+    return max(0, min(MAX_VALUE, value))
+
+
 def frame(pairs: Iterable[tuple[int, int]]) -> bytes:
     """A stream's bytes: CANCEL (a board may be mid-command), then each (servo ID,
-    value) pair."""
-    return bytes([Signal.CANCEL, *(b for pair in pairs for b in pair)])
+    value) pair, the ID first. ``frame(())`` is CANCEL alone."""
+    return bytes([Signal.CANCEL, *itertools.chain.from_iterable(pairs)])
 
 
 def pairs(data: bytes) -> list[tuple[int, int]]:
-    """The (servo ID, value) pairs of a stream ``frame`` made: IDs at [1::2], values at
-    [2::2]."""
+    """The (servo ID, value) pairs of bytes ``frame`` made: the byte after CANCEL and
+    every second one after it are IDs, each followed by its value (a last ID without
+    its value is left out)."""
     return list(zip(data[1::2], data[2::2], strict=False))
 
 
-ASK_POSE = bytes([Signal.CANCEL, Signal.DUMP])  #: a board answers with the pose it holds
-RELAX_BOARD = bytes([Signal.CANCEL, Signal.RELAX, Signal.CANCEL])  #: its servos go limp
+def frame_fault(data: bytes) -> tuple[int, str] | None:
+    """Where ``data`` breaks a stream's layout, or None if it keeps it (CANCEL, then
+    whole pairs of a servo ID and a value, each 0..MAX_VALUE): the index of the byte
+    at fault and what it is, "CANCEL" (the first byte is not), "pair" (the last pair
+    is cut short), or "servo ID" or "value" (the first byte above MAX_VALUE)."""
+    if not data or data[0] != Signal.CANCEL:
+        return 0, "CANCEL"
+    if (len(data) - 1) % PAIR_BYTES:
+        return len(data) - 1, "pair"
+    if len(data) > 1 and max(data[1:]) > MAX_VALUE:
+        n = next(n for n, byte in enumerate(data) if n and byte > MAX_VALUE)
+        return n, ("servo ID", "value")[(n - 1) % PAIR_BYTES]
+    return None
+
+
+def reply(board_id: int, pairs: Iterable[tuple[int, int]]) -> bytes:
+    """A board's answer to DUMP: START BOARD_ID N (servo ID, value)*N END."""
+    body = list(itertools.chain.from_iterable(pairs))
+    return bytes([Signal.START, board_id, len(body) // PAIR_BYTES, *body, Signal.END])
+
+
+CANCEL_PENDING = frame(())  #: a board drops a half-read command (and answers WAIT)
+ASK_POSE = bytes([Signal.CANCEL, Signal.DUMP])  #: a board answers ``reply`` with its pose
+#: a board's servos go limp until its next command (the original firmware reads RELAX
+#: as the ID of a servo it does not have, and the CANCEL after it drops that ID)
+RELAX_BOARD = bytes([Signal.CANCEL, Signal.RELAX, Signal.CANCEL])

@@ -50,7 +50,7 @@ def test_the_original_firmware_ignores_the_relax_bytes_and_stays_in_step():
     it does not have, and the CANCEL drops it before any value."""
     from boardmodel import read_stream
 
-    from inmoov_dsl.wire.player import RELAX
+    from inmoov_dsl.protocol import RELAX_BOARD as RELAX
 
     data = [255, 2, 90, *RELAX, 3, 60, *RELAX, *RELAX, 4, 30]
     events = read_stream(range(len(data)), data, 9600, owned={0, 1, 2, 3, 4, 5})

@@ -156,10 +156,10 @@ def status_line(text: str) -> None:
 def send_value(port, servo_id: int, value: int) -> None:
     """Move one servo now: CANCEL (the board may be mid-command), then the pair; the
     board's WAIT bytes are read off, so a pulled cable raises here."""
-    from ..protocol import Signal
+    from ..protocol import frame
     from ..wire.player import drain
 
-    port.write(bytes([Signal.CANCEL, servo_id, value]))
+    port.write(frame([(servo_id, value)]))
     drain(port)
 
 

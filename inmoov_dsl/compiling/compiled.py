@@ -39,9 +39,14 @@ class Stream:
 
     @property
     def idle(self) -> bool:
-        """Does it move none of its board's servos: signals only (such as the CANCEL
-        every stream starts with), no servo ID or value?"""
-        return all(b > protocol.MAX_VALUE for b in self.data)
+        """Does it move none of its board's servos: the CANCEL every stream starts
+        with, and no (servo ID, value) pair?"""
+        return not protocol.pairs(self.data)
+
+    @property
+    def servo_ids(self) -> set[int]:
+        """The servo IDs its pairs command."""
+        return {sid for sid, _ in protocol.pairs(self.data)}
 
 
 
@@ -137,7 +142,7 @@ def check_profile(c: Compiled, profile: Profile) -> None:
                 f"{', '.join(str(b) for b in boards)})", _board_pos(profile, None), hint))
             continue
         ids = {profile.servos[profile.index(n)].id for n in board.servos}
-        foreign = sorted(set(s.data[1::2]) - ids)
+        foreign = sorted(s.servo_ids - ids)
         if foreign:
             errors.append(Diagnostic(
                 "error", f"'{c.gesture}' commands servo ID{'s' if len(foreign) > 1 else ''} "

@@ -49,8 +49,8 @@ class CompiledReader(Fields):
         servos = self.field(doc, "servos", list, ())
         if not servos or len(servos) > protocol.MAX_SERVO_ID + 1 \
                 or not all(isinstance(n, str) for n in servos) or len(set(servos)) < len(servos):
-            raise self.bad("'servos' must be the names of 1 to 181 servos, each once",
-                           ("servos",))
+            raise self.bad(f"'servos' must be the names of 1 to {protocol.MAX_SERVO_ID + 1} "
+                           "servos, each once", ("servos",))
         self.together(read, duration, len(servos))
         start, final = (self.pose(doc, key, len(servos)) for key in ("start", "final"))
         profile = self.field(doc, "profile", dict, ())
@@ -74,8 +74,8 @@ class CompiledReader(Fields):
         values = self.field(doc, key, list, ())
         if len(values) != count or not all(whole(v) and 0 <= v <= protocol.MAX_VALUE
                                            for v in values):
-            raise self.bad(f"'{key}' must be {count} whole numbers in 0..180, one per servo",
-                           (key,))
+            raise self.bad(f"'{key}' must be {count} whole numbers in 0..{protocol.MAX_VALUE}, "
+                           "one per servo", (key,))
         return tuple(values)
 
     def source(self, x: object, k: int) -> tuple[str, str]:
@@ -117,15 +117,15 @@ class CompiledReader(Fields):
         if not isinstance(s, dict):
             raise self.bad("a stream must be an object", path)
         board = s.get("board")
-        low, high = protocol.FIRST_BOARD_ID, min(protocol.Signal) - 1
+        low, high = protocol.FIRST_BOARD_ID, protocol.LAST_BOARD_ID
         if not whole(board) or not low <= board <= high:
             raise self.bad(f"a board ID is a whole number in {low}..{high}, got "
                            f"{shown(board)}", (*path, "board"))
         baud = s.get("baud")
-        most = protocol.MAX_BAUD
-        if not whole(baud) or not 0 < baud <= most or protocol.pairs_per_frame(baud) < 1:
+        if not whole(baud) or not protocol.usable_baud(baud):
             raise self.bad(f"board {board}: a baud that carries a servo command per 20 ms "
-                           f"frame is a whole number up to {most:,}, got {shown(baud)}",
+                           f"frame is a whole number up to {protocol.MAX_BAUD:,}, got "
+                           f"{shown(baud)}",
                            (*path, "baud"))
         times_list = self.field(s, "times", list, path)
         data_list = self.field(s, "bytes", list, path)
@@ -173,19 +173,15 @@ class CompiledReader(Fields):
             raise self.bad(f"board {board}: byte {bad + 1} is not a whole number in 0..255",
                            (*path, bad))
         data = bytes(values)
-        if len(data) % 2 == 0 or data[0] != protocol.Signal.CANCEL:
-            raise self.bad(f"board {board}: a stream is CANCEL (255) then whole (servo ID, "
-                           f"value) pairs", (*path, 0 if not data or
-                                             data[0] != protocol.Signal.CANCEL else
-                                             len(data) - 1))
-        pairs = np.frombuffer(data, dtype=np.uint8)[1:]
-        above = pairs > protocol.MAX_VALUE
-        if np.any(above):
-            n = int(np.argmax(above))
-            what = "servo ID" if n % 2 == 0 else "value"
-            raise self.bad(f"board {board}: byte {n + 1} is {pairs[n]}, a {what} above "
-                           f"{protocol.MAX_VALUE}", (*path, n + 1))
-        return data
+        fault = protocol.frame_fault(data)
+        if fault is None:
+            return data
+        n, what = fault
+        if what in ("CANCEL", "pair"):
+            raise self.bad(f"board {board}: a stream is CANCEL ({protocol.Signal.CANCEL:d}) "
+                           f"then whole (servo ID, value) pairs", (*path, n))
+        raise self.bad(f"board {board}: byte {n} is {data[n]}, a {what} above "
+                       f"{protocol.MAX_VALUE}", (*path, n))
 
     def together(self, streams: tuple[Stream, ...], duration: float, servos: int) -> None:
         """Each board once, its bytes within the gesture's duration (and the two frames
@@ -201,7 +197,7 @@ class CompiledReader(Fields):
                 raise self.bad(f"board {s.board}: a byte goes at {s.times[-1]:g} s, after "
                                f"the gesture's {duration:g} s",
                                ("streams", k, "times", len(s.times) - 1))
-            for sid in set(s.data[1::2]):
+            for sid in s.servo_ids:
                 if owner.setdefault(sid, s.board) != s.board:
                     raise self.bad(f"servo ID {sid} is on board {owner[sid]} and on board "
                                    f"{s.board}", ("streams", k, "bytes"))

@@ -29,7 +29,8 @@ def frame_ends(count: int) -> np.ndarray:
 
 
 def round_values(x: np.ndarray) -> np.ndarray:
-    """Round half up to whole degrees within 0..180 (numpy's round is half to even)."""
+    """Positions (planned or recorded) as servo values: rounded half up to whole degrees
+    (numpy's round is half to even), within 0..MAX_VALUE."""
     return np.clip(np.floor(np.asarray(x) + 0.5), 0, protocol.MAX_VALUE).astype(np.int64)
 
 
@@ -113,16 +114,13 @@ def _furthest_behind(plan: Plan, servos: list[int], ends: np.ndarray, pair_time:
 
 
 def _serialise(board: int, baud: int, events) -> Stream:
+    """The stream of ``events`` (arrival times, servo IDs, values): ``protocol.frame``'s
+    bytes, each pair's ID sent two byte-times and its value one before it arrives."""
     arrivals, ids, values = events
     order = np.argsort(arrivals, kind="stable")
     arrivals, ids, values = arrivals[order], ids[order], values[order]
     tau = protocol.byte_time(baud)
-    times = np.empty(1 + 2 * len(arrivals))
-    times[0] = 0.0
-    times[1::2] = arrivals - 2 * tau
-    times[2::2] = arrivals - tau
-    data = np.empty(len(times), dtype=np.uint8)
-    data[0] = protocol.Signal.CANCEL
-    data[1::2] = ids
-    data[2::2] = values
-    return Stream(board, baud, times, data.tobytes())
+    sent = np.stack([arrivals - 2 * tau, arrivals - tau], axis=1).ravel()
+    times = np.concatenate(([0.0], sent))  # CANCEL at 0
+    data = protocol.frame(zip(ids.tolist(), values.tolist(), strict=True))
+    return Stream(board, baud, times, data)

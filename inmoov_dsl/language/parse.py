@@ -19,6 +19,7 @@ from lark import __version__ as lark_version
 from lark.indenter import Indenter
 
 from ..errors import Pos
+from ..protocol import MAX_VALUE
 from ..resources import grammar_path, private_cache_dir, private_file
 from . import syntax as ast
 from .parse_errors import (
@@ -224,15 +225,15 @@ class _ToAst(Transformer):
             return ast.Target(self._name(name), None, None)
         text = str(value)
         number = float(text)  # inf when it has hundreds of digits
-        outside = SyntaxProblem(f"value {shown(text)} is outside 0..180", tok_span(value),
-                                "0 is straight, 180 is curled")
+        outside = SyntaxProblem(f"value {shown(text)} is outside 0..{MAX_VALUE}",
+                                tok_span(value), f"0 is straight, {MAX_VALUE} is curled")
         if not math.isfinite(number) or abs(number) > 1e9:
             raise outside
         if number != int(number) or "." in text:
             lo, hi = int(number // 1), int(number // 1) + 1
             raise SyntaxProblem(f"values are whole degrees, got {shown(text)}",
                                 tok_span(value), f"use {lo} or {hi}")
-        if not 0 <= number <= 180:
+        if not 0 <= number <= MAX_VALUE:
             raise outside
         return ast.Target(self._name(name), int(number), self._pos(value))
 

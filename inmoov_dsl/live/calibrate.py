@@ -23,7 +23,7 @@ import tomlkit.exceptions
 from ..errors import Diagnostic, GestError
 from ..profiles.data import Servo
 from ..profiles.keys import KeyIndex
-from ..protocol import MAX_VALUE
+from ..protocol import clamp
 from . import keymap
 
 ENDS = ("straight", "curled")
@@ -53,7 +53,7 @@ class Ends:
         act, amount = keymap.action(key) or ("", 0)
         asked, self.asking, self.note = self.asking, False, ""
         if act == "move":
-            value = max(0, min(MAX_VALUE, self.value + int(amount)))
+            value = clamp(self.value + int(amount))
             if value == self.value:
                 return None
             self.value = value

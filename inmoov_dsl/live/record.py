@@ -22,10 +22,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..compiling.actions import Action
+from ..compiling.encode import round_values
 from ..compiling.plan import Planner
 from ..language.fmt import format_source
 from ..profiles.data import Profile
-from ..protocol import MAX_VALUE, SERVO_FRAME
+from ..protocol import SERVO_FRAME
 
 DEFAULT_TOLERANCE = 3.0  #: command degrees
 OUTLIER = 12.0  #: command degrees from both neighbours makes a lone sample an outlier
@@ -165,7 +166,7 @@ class Recording:
         self.servos = sorted(traces.values)  #: servo indices
         self.values = np.stack([traces.values[i] for i in self.servos], axis=1) \
             if self.servos else np.zeros((len(traces.times), 0))  #: [frame][servo]
-        self.poses = np.clip(np.floor(self.values + 0.5), 0, MAX_VALUE).astype(int)
+        self.poses = round_values(self.values)
         self.planner = Planner(profile)
 
     def fit(self) -> Fit:
@@ -267,8 +268,7 @@ def to_gest(name: str, keys: Sequence[Keyframe], profile: Profile,
         raise ValueError("nothing was recorded")
     names = [s.name for s in profile.servos]
     first = keys[0]
-    lines = [f"# {line}" for line in about]
-    lines.append(f"{name}:")
+    lines = [*(f"# {line}" for line in about), f"{name}:"]
     lines.append("    " + ", ".join(f"{names[i]} {v}" for i, v in first.pose.items()))
     hold = 0.0
     previous = first

@@ -10,7 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from ..profiles.data import Profile
-from ..protocol import MAX_VALUE
+from ..protocol import clamp
 from . import keymap
 from .record import Keyframe, to_gest
 
@@ -69,7 +69,7 @@ class Teach:
         """The chosen servo ``step`` further, within its range: 'send', or None when it
         is at its end already."""
         servo = self.profile.servos[self.selected]
-        value = max(0, min(MAX_VALUE, self.pose[self.selected] + step))
+        value = clamp(self.pose[self.selected] + step)
         value = max(servo.lo, min(servo.hi, value))
         if value == self.pose[self.selected]:
             return None

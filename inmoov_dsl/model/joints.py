@@ -16,12 +16,13 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from ..profiles.data import Profile, Servo
+from ..protocol import MAX_VALUE
 
 
 def scale(servo: Servo) -> float:
     """Radians of the joint per command degree."""
     low, high = servo.calibration
-    return math.radians((high - low) / 180)
+    return math.radians((high - low) / MAX_VALUE)
 
 
 def position(servo: Servo, value: Any) -> Any:

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 from ..decode import BOARD, Pair, Reader
 from ..profiles.data import Board, Profile
-from ..protocol import MAX_VALUE, Signal
+from ..protocol import MAX_VALUE, Signal, reply
 
 PULSE_MIN, PULSE_MAX = 544, 2400  #: us: the pulse for servo angle 0 and 180
 
@@ -125,5 +125,5 @@ class BoardCore:
 
     def dump(self) -> bytes:
         """The reply to DUMP: START BOARD_ID N (id value)*N END."""
-        body = [b for s, v in zip(self.servos, self.values, strict=True) for b in (s.id, v)]
-        return bytes([Signal.START, self.board_id, len(self.servos), *body, Signal.END])
+        return reply(self.board_id, [(s.id, v) for s, v in zip(self.servos, self.values,
+                                                                 strict=True)])

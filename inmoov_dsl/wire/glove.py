@@ -20,7 +20,7 @@ import numpy as np
 from ..compiling.plan import Plan
 from ..decode import GLOVE, Reader
 from ..profiles.data import Glove, Profile
-from ..protocol import MAX_VALUE, Signal
+from ..protocol import MAX_VALUE, Signal, clamp, frame
 
 
 class GloveCore:
@@ -50,24 +50,22 @@ class GloveCore:
         if high <= low:
             v = MAX_VALUE if reading > low else 0
         else:
-            v = min(MAX_VALUE, max(0, (reading - low) * MAX_VALUE // (high - low)))
+            v = clamp((reading - low) * MAX_VALUE // (high - low))
         return MAX_VALUE - v if self.reversed[index] else v
 
     def update(self, readings: Sequence[int]) -> bytes:
         """One frame: the bytes the glove sends for ``readings`` (CANCEL, then the
         fingers that moved beyond the dead-band or reached 0 or 180), or none."""
-        out = bytearray()
+        moved = []
         for i, reading in enumerate(readings):
             v = self.value(i, reading)
             last = self.sent[i]
             if last is not None and abs(v - last) <= self.deadband and \
                     (v not in (0, MAX_VALUE) or v == last):
                 continue
-            if not out:
-                out.append(Signal.CANCEL)
-            out += bytes([self.ids[i], v])
+            moved.append((self.ids[i], v))
             self.sent[i] = v
-        return bytes(out)
+        return frame(moved) if moved else b""
 
     def feed(self, byte: int, readings: Sequence[int]) -> None:
         """Read a byte from the computer (``decode.GLOVE``): MIN or MAX captures

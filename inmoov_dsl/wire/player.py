@@ -18,7 +18,7 @@ from .. import clock
 from ..clock import Clock, Sleep
 from ..compiling.compiled import Compiled
 from ..decode import Replies
-from ..protocol import SERVO_FRAME, Signal
+from ..protocol import ASK_POSE, CANCEL_PENDING, RELAX_BOARD, SERVO_FRAME, Signal
 
 READY_TIMEOUT = 2.0  #: s; the longest we wait for a board to boot (its first WAIT)
 PROBE = 0.1  #: s; while waiting for a board, send it a CANCEL this often
@@ -64,7 +64,7 @@ def wait_ready(port: Port, now: Clock = clock.now, sleep: Sleep = clock.sleep,
     probe = now()
     while now() < deadline:
         if now() >= probe:
-            port.write(bytes([Signal.CANCEL]))
+            port.write(CANCEL_PENDING)
             probe = now() + PROBE
         if Signal.WAIT in drain(port):
             return True
@@ -76,7 +76,7 @@ def ask_dump(port: Port, board: int, now: Clock = clock.now, sleep: Sleep = cloc
              timeout: float = DUMP_TIMEOUT) -> dict[int, int] | None:
     """CANCEL, then DUMP: the board's servo values (ID -> value), or None if no reply."""
     drain(port)
-    port.write(bytes([Signal.CANCEL, Signal.DUMP]))
+    port.write(ASK_POSE)
     replies = Replies(board)
     deadline = now() + timeout
     while now() < deadline:
@@ -168,17 +168,14 @@ def play(compiled: Compiled, links: Sequence[Link], speed: float = 1.0,
 
 def cancel_all(links: Sequence[Link]) -> None:
     """Send CANCEL everywhere we still can: no half command is left pending."""
-    _send_all(links, bytes([Signal.CANCEL]))
+    _send_all(links, CANCEL_PENDING)
 
 
 def relax_all(links: Sequence[Link]) -> None:
     """Every board we can reach stops driving its servos (they go limp) until its next
-    command: CANCEL RELAX CANCEL, which the original firmware reads as a pair for a
-    servo it does not have, and ignores."""
-    _send_all(links, RELAX)
-
-
-RELAX = bytes([Signal.CANCEL, Signal.RELAX, Signal.CANCEL])  #: the bytes that relax a board
+    command: ``protocol.RELAX_BOARD`` (CANCEL RELAX CANCEL, which the original firmware
+    reads as a servo it does not have, and ignores)."""
+    _send_all(links, RELAX_BOARD)
 
 
 def _send_all(links: Sequence[Link], data: bytes) -> None:

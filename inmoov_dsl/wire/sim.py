@@ -16,7 +16,7 @@ import math
 from collections import deque
 from dataclasses import dataclass, field
 
-from ..protocol import POSE_SETTLE, Signal, byte_time
+from ..protocol import DEFAULT_BAUD, POSE_SETTLE, Signal, byte_time
 from .board import BoardCore, Write
 
 
@@ -48,7 +48,7 @@ class VirtualBoard:
     """A board on a simulated link: ``write`` and ``read`` take the time they happen."""
 
     core: BoardCore
-    baud: int = 9600
+    baud: int = DEFAULT_BAUD
     ready_at: float = 0.0  #: s; when the bootloader hands over to the sketch
     log: list[tuple[float, Write]] = field(default_factory=list)  #: (time, write)
     swallowed: int = 0  #: bytes lost while the board was booting

@@ -7,9 +7,10 @@ import sys
 from pathlib import Path
 
 from ...profiles.profile import load_profile
+from ...protocol import DEFAULT_BAUD
 from ..common import EXIT_ERROR, EXIT_OK
 
-BAUDS = (9600, 19200, 38400, 57600, 115200)  #: the link speeds a sketch may use
+BAUDS = (DEFAULT_BAUD, 19200, 38400, 57600, 115200)  #: the link speeds a sketch may use
 
 
 def run(args: argparse.Namespace) -> int:

@@ -51,7 +51,7 @@ class Target:
         """The boards the gesture drives: those of the servos it names (a compiled
         file's: those its streams send more than a CANCEL to)."""
         if self.program is None:
-            return {s.board for s in self.compiled.streams if len(s.data) > 1}
+            return {s.board for s in self.compiled.streams if not s.idle}
         name = pick_gesture(self.program, self.gesture)
         actions = resolver(self.program, self.profile).gesture(name, self.hand)
         return {self.profile.servos[i].board for a in actions for i in a.servos()}
