@@ -60,13 +60,17 @@ def test_the_conformance_vectors_through_the_reader(case):
 @given(data=BYTES)
 def test_any_bytes_are_read_without_raising(name, data):
     policy = POLICIES[name]
-    for event in Reader(policy).read(data):
+    events = list(Reader(policy).read(data))
+    for event in events:
         assert isinstance(event, Pair | Signal | Reply | Noise)
         if isinstance(event, Pair):
             assert 0 <= event.value <= MAX_VALUE
             assert policy.clamp or event.id <= MAX_VALUE
         if isinstance(event, Signal):
             assert event in policy.breaking | policy.passing
+    # every byte was read: each of the policy's signals among them is an event, in order
+    signals = policy.breaking | policy.passing
+    assert [e for e in events if isinstance(e, Signal)] == [b for b in data if b in signals]
 
 
 @pytest.mark.parametrize("name", ["board", "recorder"])

@@ -93,7 +93,10 @@ def test_the_constants_are_the_same_in_python_and_cpp():
 # -- the settings come from the profiles ---------------------------------------------
 @pytest.mark.parametrize("name", SHIPPED)
 def test_the_committed_sketches_are_generated_from_the_profiles(name):
-    for folder, files in sketches(load_profile(name)).items():
+    profile = load_profile(name)
+    made = sketches(profile)
+    assert len(made) == len(profile.boards) + len(profile.gloves)  # one for each
+    for folder, files in made.items():
         for file, text in files.items():
             path = FIRMWARE / folder / file
             assert path.is_file(), f"{path} is missing: gestc firmware {name}"
@@ -423,8 +426,10 @@ def test_library_streams_play_on_the_firmware_image(simboard, build):
                           "--pulses")
         return name, compiled, result
 
+    played = []
     with ThreadPoolExecutor(max_workers=2) as pool:
         for name, compiled, result in pool.map(one, HAND):
+            played.append(name)
             final = dict(zip(ids, compiled.final, strict=True))
             assert result["dump"] == (181, final), name
             assert result["read"] == result["sent"] == len(compiled.stream().data) + 1, name
@@ -439,6 +444,7 @@ def test_library_streams_play_on_the_firmware_image(simboard, build):
                     widths[pin_of[write.id]].add(RHAND_PINS[pin_of[write.id]].pulse(write.value))
             for pin, _, us in result["pulses"]:
                 assert min(abs(us - w) for w in widths[pin]) <= JITTER, (name, pin, us)
+    assert played == HAND and "peace" in played  # every hand gesture of the library
 
 
 def test_the_firmware_answers_like_the_virtual_board(simboard, build):
@@ -492,8 +498,10 @@ def test_the_image_reads_bytes_as_the_original_firmware_does(simboard, build):
         return case, simulate(simboard, build / "servo_rhand.elf", timed_bytes(case["in"]),
                               "--pulses")
 
+    checked = []
     with ThreadPoolExecutor(max_workers=2) as pool:
         for case, result in pool.map(one, VECTORS["cases"]):
+            checked.append(case["name"])
             pose = dict(REST)
             pose.update({sid: value for sid, value, _ in case["writes"]})
             assert result["dump"] == (181, pose), case["name"]
@@ -509,6 +517,7 @@ def test_the_image_reads_bytes_as_the_original_firmware_does(simboard, build):
                 assert_pins(result["pins"], pulses_of(pose), periods=Signal.RELAX not in
                             case["in"])
                 assert last > len(case["in"]) * 0.01 + 0.05, case["name"]  # still pulsing
+    assert len(checked) == len(VECTORS["cases"]) > 0  # every vector
 
 
 def test_relaxed_servos_get_no_pulse_until_the_next_command(simboard, build):

@@ -54,6 +54,7 @@ def test_over_is_when_the_keyframe_is_crossed():
 
 def test_a_servo_that_turns_back_crosses_at_rest():
     _, plan = planned("g:\n    index 90 through\n    index 30 through\n    index 180\n")
+    assert len(plan.steps) == 3  # the two steps that go through, then the last
     for step in plan.steps[:2]:
         assert at(plan, "index", step.end)[1] == pytest.approx(0, abs=1e-6)
 

@@ -70,6 +70,7 @@ def test_mutants_are_accepted_or_refused_with_a_place(library_seeds, kind):
 
 
 def test_the_seeds_themselves_are_accepted(library_seeds):
+    assert all(library_seeds[kind] for kind in KINDS)  # seeds of every kind
     for kind in KINDS:
         for seed in library_seeds[kind]:
             assert attempt(seed, seed.data, 30.0).status == "accepted", seed.name

@@ -80,6 +80,7 @@ def test_hostile_command_lines_get_a_message_and_an_exit_status(chunk, tmp_path,
     monkeypatch.chdir(tmp_path)
     (tmp_path / "peace.gest").write_text("peace: index 90\n")
     lines = list(command_lines(SEED + chunk, RUNS // 5))
+    assert len(lines) == RUNS // 5
     for tool, argv in lines:
         status, err = run_watched(tool, argv)
         assert status in (0, 1, 2), f"{tool.PROG} {argv!r}: {status!r}\n{err}"

@@ -77,7 +77,9 @@ def test_every_hand_gesture_plays_within_the_link_and_the_limits(name, hand_prof
         compiled, plan = compiled_for(name, hand_profile, start)
         if start is None:
             assert not compiled.warnings, [w.format() for w in compiled.warnings]
-        for report in measure(plan, compiled.streams):
+        reports = measure(plan, compiled.streams)
+        assert len(reports) == len(hand_profile.boards)  # a report for every board
+        for report in reports:
             assert report.coverage == 1.0
             assert report.max_error <= 0.5 + 1e-9
         t = np.linspace(0, plan.duration, 4000)

@@ -45,6 +45,7 @@ def test_random_moves_start_and_end_exactly_within_limits(rhand):
             steps.append(Action(tuple((int(i), int(rng.integers(0, 181))) for i in servos),
                               over=over, stagger=stagger))
         plan = planner.plan(steps, start)
+        assert len(plan.tracks) == len(start)  # a track for every servo
         for i, track in enumerate(plan.tracks):
             assert track.position(0.0) == start[i]
             assert track.position(plan.duration) == plan.final[i]

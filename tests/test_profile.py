@@ -23,6 +23,7 @@ def test_the_right_hand_is_the_original_one(rhand):
 
 
 def test_limits_are_240_real_degrees_per_second_in_command_degrees(rhand):
+    assert len(rhand.servos) == 6
     for servo in rhand.servos:
         span = servo.calibration[1] - servo.calibration[0]
         assert servo.max_velocity == pytest.approx(240 * 180 / span, rel=0.01)
@@ -143,15 +144,14 @@ def test_a_compile_records_the_profile_it_used(rhand):
     assert compiled.profile_sha256 == hashlib.sha256(text.encode()).hexdigest()
 
 
-def test_every_profile_error_points_at_its_key():
-    for text, message in PROFILE_ERRORS:
-        with pytest.raises(GestError) as info:
-            parse_profile(text, "bad.toml")
-        first = info.value.first
-        line = text.split("\n")[first.pos.line - 1]
-        assert first.source_line == line, message
-        if message.startswith("invalid TOML") or "at least one [[board]]" in message:
-            continue
+@pytest.mark.parametrize(("text", "message"), PROFILE_ERRORS)
+def test_every_profile_error_points_at_its_key(text, message):
+    with pytest.raises(GestError) as info:
+        parse_profile(text, "bad.toml")
+    first = info.value.first
+    line = text.split("\n")[first.pos.line - 1]
+    assert first.source_line == line, message
+    if not (message.startswith("invalid TOML") or "at least one [[board]]" in message):
         assert first.pos.line > 1 or line.startswith("[[board]]"), message
 
 
@@ -589,10 +589,14 @@ def test_every_key_and_item_of_the_built_in_profiles_is_found_where_it_is():
     from inmoov_dsl.profiles.keys import KeyIndex
     from inmoov_dsl.profiles.profile import find_profile
 
-    for name in builtin_profiles():
+    names = builtin_profiles()
+    assert {"rhand", "lhand", "inmoov"} <= set(names)
+    for name in names:
         text = find_profile(name).read_text(encoding="utf-8")
         index = KeyIndex(text, name)
-        for path, value in walk(tomllib.loads(text)):
+        found = list(walk(tomllib.loads(text)))
+        assert ("board", 0, "id") in dict(found)  # into the arrays of tables too
+        for path, value in found:
             pos, line = index.find(path)
             there = line[pos.column - 1:]
             if isinstance(path[-1], str):  # the key, or the (first) header of its table

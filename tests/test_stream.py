@@ -122,7 +122,9 @@ def test_right_hand_streams(rhand, data):
     source = data.draw(gestures(list(rhand.names)))
     compiled, plan = check_stream_invariants(rhand, source)
     # six servos fit in a frame at 9600 baud: every frame that needs a value gets one
-    for report in measure(plan, compiled.streams):
+    reports = measure(plan, compiled.streams)
+    assert len(reports) == 1  # the hand's one board
+    for report in reports:
         assert report.coverage == 1.0
         assert report.max_error <= 0.5 + 1e-9
 
@@ -281,7 +283,9 @@ def test_the_error_points_at_the_field(tmp_path):
 def test_every_library_gesture_reads_back():
     from inmoov_dsl import load_library
     from inmoov_dsl.compiling.compiler import compile_file
-    for name, path in load_library().items():
+    library = load_library()
+    assert {"peace", "count", "hello"} <= set(library)  # the hand's and the body's
+    for name, path in library.items():
         profile = "inmoov" if path.name == "body.gest" else "rhand"
         compiled = compile_file(path, name, profile)
         again = from_json(to_json(compiled))

@@ -30,6 +30,7 @@ def test_every_servo_turns_its_joint_within_its_range(name):
     profile = load_profile(name)
     robot = parsed(name)
     by_name = {j.get("name"): j for j in robot.iter("joint")}
+    assert profile.servos  # each is looked up in by_name: the robot has joints too
     for servo in profile.servos:
         joint = by_name[servo.joint]
         assert joint.get("type") == "revolute"
