@@ -11,7 +11,7 @@ from ...errors import Diagnostic, GestError, did_you_mean
 from ...live.calibrate import HELP, Ends, edit_profile, found
 from ...profiles.data import Servo
 from ...profiles.profile import find_profile, load_profile, parse_profile
-from ...protocol import Signal
+from ...protocol import CANCEL_PENDING, MAX_VALUE
 from ...resources import profiles_dir
 from ...wire.board import BoardServo
 from ...wire.player import ask_dump, wait_ready
@@ -64,7 +64,7 @@ def run(args: argparse.Namespace) -> int:
                 print(f"\n{PROG}: input ended: nothing written")
                 return EXIT_OK
     except KeyboardInterrupt as exc:
-        port.write(bytes([Signal.CANCEL]))
+        port.write(CANCEL_PENDING)
         print(f"\n{PROG}: {why(exc)}: nothing written", file=sys.stderr)
         return status_of(exc)
     finally:
@@ -107,6 +107,6 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    "is edited in place, a built-in profile is copied to ./NAME.toml")
     p.add_argument("-o", "--output", help="write the edited profile here instead")
     p.add_argument("--full-range", action="store_true",
-                   help="the board maps 0..180 straight onto servo angles (a calibration "
-                   "sketch), not through the profile's calibration")
+                   help=f"the board maps 0..{MAX_VALUE} straight onto servo angles (a "
+                   "calibration sketch), not through the profile's calibration")
     p.set_defaults(func=run)

@@ -7,7 +7,7 @@ import argparse
 from ... import clock
 from ...errors import Diagnostic, GestError
 from ...profiles.profile import load_profile
-from ...protocol import Signal
+from ...protocol import MAX_VALUE, Signal
 from ...wire.player import drain, wait_ready
 from ..common import EXIT_OK, number
 from ..hand import open_first
@@ -32,7 +32,7 @@ def to_bytes(words: list[str]) -> bytes:
 
 def shown(reply: bytes) -> str:
     """A reply as numbers, its signals by name."""
-    return " ".join(SIGNAL_NAMES.get(b, str(b)) if b > 180 else str(b) for b in reply)
+    return " ".join(SIGNAL_NAMES.get(b, str(b)) if b > MAX_VALUE else str(b) for b in reply)
 
 
 def run(args: argparse.Namespace) -> int:
