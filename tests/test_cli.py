@@ -238,10 +238,11 @@ def test_compiled_files_that_cannot_be_used(text, why):
 
 def test_the_player_checks_a_compiled_file_before_the_first_byte(tmp_path, capsys,
                                                                  monkeypatch):
-    from inmoov_dsl.cli import gestplay, hand
+    from inmoov_dsl.cli import gestplay
+    from inmoov_dsl.wire import link
 
     sent = []
-    monkeypatch.setattr(hand, "open_port", lambda *a: sent.append(a))  # never reached
+    monkeypatch.setattr(link, "open_port", lambda *a: sent.append(a))  # never reached
     good = tmp_path / "count.gestc"
     assert run(capsys, "compile", COUNT, "-o", str(good))[0] == 0
     doc = json.loads(good.read_text())

@@ -18,6 +18,7 @@ from inmoov_dsl.cli import gestplay, hand
 from inmoov_dsl.compiling.compiler import compile_program
 from inmoov_dsl.language.load import load
 from inmoov_dsl.profiles.profile import load_profile
+from inmoov_dsl.wire import link as wire_link
 from inmoov_dsl.wire.player import Link, play, schedule, wait_ready
 from inmoov_dsl.wire.ports import open_port
 
@@ -240,7 +241,7 @@ class SilentPort:
 @pytest.mark.parametrize("tool", [[], ["repl"], ["teach"], ["relax"]])
 def test_no_board_is_an_error_before_any_gesture_byte(capsys, monkeypatch, tool):
     port = SilentPort()
-    monkeypatch.setattr(hand, "open_port", lambda name, baud: port)
+    monkeypatch.setattr(wire_link, "open_port", lambda name, baud: port)
     code, _, err = run(capsys, *(tool or ["peace"]), "--port", "COM7")
     assert code == 1
     assert err.startswith("gestplay: error: no board answered on COM7 (board 181, 9600 baud)")
@@ -255,7 +256,7 @@ def test_one_port_is_enough_for_a_gesture_on_one_board_of_many(capsys, monkeypat
         opened.append(name)
         return SilentPort()
 
-    monkeypatch.setattr(hand, "open_port", open_port)
+    monkeypatch.setattr(wire_link, "open_port", open_port)
     code, _, err = run(capsys, "peace", "--profile", "inmoov", "--port", "COM7", "--blind")
     assert code == 0, err
     assert opened == ["COM7"]  # the right hand's board (181) only, of the robot's six
@@ -265,7 +266,7 @@ def test_one_port_is_enough_for_a_gesture_on_one_board_of_many(capsys, monkeypat
 
 def test_blind_plays_on_a_link_that_cannot_answer(capsys, monkeypatch):
     port = SilentPort()
-    monkeypatch.setattr(hand, "open_port", lambda name, baud: port)
+    monkeypatch.setattr(wire_link, "open_port", lambda name, baud: port)
     code, _, err = run(capsys, "peace", "--port", "COM7", "--blind")
     assert code == 0
     assert ("gestplay: warning: board 181 on COM7 did not answer (--blind): starting from "

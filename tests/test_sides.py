@@ -6,13 +6,14 @@ from __future__ import annotations
 import pytest
 from boardmodel import final_values, read_stream
 
-from inmoov_dsl.cli import gestplay, hand
+from inmoov_dsl.cli import gestplay
 from inmoov_dsl.compiling.compiler import compile_program
 from inmoov_dsl.errors import GestError
 from inmoov_dsl.language.fmt import format_source
 from inmoov_dsl.language.load import load
 from inmoov_dsl.profiles.profile import load_profile, parse_profile
 from inmoov_dsl.resources import profiles_dir
+from inmoov_dsl.wire import link
 
 INMOOV = load_profile("inmoov")
 PEACE = "peace: thumb 180, ring 180, pinky 180, index 0, middle 0 over 0.7s\n"
@@ -56,7 +57,7 @@ def test_one_port_plays_a_hand_gesture_on_the_left_hand(capsys, monkeypatch):
 
         in_waiting = 0
 
-    monkeypatch.setattr(hand, "open_port", lambda name, baud: opened.append(name) or Silent())
+    monkeypatch.setattr(link, "open_port", lambda name, baud: opened.append(name) or Silent())
     assert gestplay.main(["peace", "--profile", "inmoov", "--hand", "left", "--port", "COM4",
                           "--blind"]) == 0
     assert opened == ["COM4"]

@@ -228,9 +228,12 @@ def test_a_url_is_no_port_to_flash(capsys):
      "gestc: error: no board called 'servo_rhnd'\n  hint: did you mean 'servo_rhand'?\n"),
     (["--port", "COM3"], "gestc: error: which board?\n  hint: name one (gestc upload "
      "servo_rhand --port COM3), or give --profile for all of a profile's\n"),
-    (["--profile", "rhand", "--port", "COM3"],
-     "gestc: error: --port COM3: which board?\n"
+    (["--profile", "rhand", "--port", "COM3"],  # the words of every --port (link.py)
+     "gestc: error: profile 'rhand' has 2 boards: give a port for each\n"
      "  hint: --port servo_rhand=PORT --port glove_rhand=PORT\n"),
+    (["--profile", "rhand", "--port", "183=COM3"],
+     "gestc: error: --port 183=COM3: profile 'rhand' has no board 183 (boards: "
+     "servo_rhand, glove_rhand)\n"),
     (["--profile", "rhand", "--port", "181=COM3"],
      "gestc: error: no port for glove_rhand\n  hint: add --port glove_rhand=PORT\n"),
     (["servo_lhand", "--profile", "rhand", "--port", "COM3"],

@@ -2,9 +2,10 @@
 always leaves it safe.
 
 Every gestplay command that moves the hand goes through ``opened``: it opens a link
-per board, waits for each board and asks its pose, and whatever happens in the body
-(Ctrl-C, SIGTERM, a pulled cable) no board is left with half a command: it sends
-CANCEL, says so, and leaves with the right exit status.
+per board (``wire.link``, where ``--port`` is read), waits for each board and asks
+its pose, and whatever happens in the body (Ctrl-C, SIGTERM, a pulled cable) no board
+is left with half a command: it sends CANCEL, says so, and leaves with the right exit
+status.
 """
 
 from __future__ import annotations
@@ -18,10 +19,9 @@ import serial
 
 from .. import clock
 from ..errors import Diagnostic, GestError
-from ..profiles.data import Board, Profile
-from ..wire.player import Link, Port, ask_dump, cancel_all, relax_all, wait_ready
-from ..wire.ports import open_port
-from ..wire.urlhandler import protocol_sim
+from ..profiles.data import Profile
+from ..wire.link import close, connect, parse_ports
+from ..wire.player import Link, ask_dump, cancel_all, relax_all, wait_ready
 from . import typeahead
 from .common import EXIT_INTERRUPTED, Exit, Stopped, status_of, warn, why
 
@@ -36,65 +36,6 @@ class Hand:
     profile: Profile
     links: list[Link]
     pose: dict[str, int]  #: servo name -> value, for the servos whose board answered
-
-
-def parse_ports(specs: list[str], profile: Profile,
-                needed: Collection[int] | None = None) -> dict[int, str]:
-    """``--port COM3`` (one board needed) or ``--port 181=COM3 --port 183=COM4``; a bare
-    ``--port sim://`` is a virtual board for every board. ``needed``: the boards that
-    must have a port (default: every board of the profile); a board given a port
-    without being needed is opened too."""
-    boards = [b.id for b in profile.boards]
-    needed = [b for b in boards if needed is None or b in needed] or boards
-    ports: dict[int, str] = {}
-    for spec in specs:
-        board, sep, name = spec.partition("=")
-        if sep and board.isdigit():
-            if int(board) not in boards:
-                raise GestError(Diagnostic("error", f"--port {spec}: profile '{profile.name}' "
-                                           f"has no board {board} (boards: {_ids(boards)})"))
-            ports[int(board)] = protocol_sim.complete(name, profile, int(board))
-        elif len(needed) == 1 or (len(specs) == 1 and protocol_sim.bare(spec)):
-            ports.update({b: protocol_sim.complete(spec, profile, b) for b in needed})
-        else:
-            what = f"profile '{profile.name}' has" if len(needed) == len(boards) else \
-                "this needs"
-            raise GestError(Diagnostic(
-                "error", f"{what} {len(needed)} boards: give a port for each",
-                hint=" ".join(f"--port {b}=PORT" for b in needed)))
-    missing = [b for b in needed if b not in ports]
-    if missing:
-        raise GestError(Diagnostic("error", f"no port for board {_ids(missing)}",
-                                   hint=f"add --port {missing[0]}=PORT"))
-    return ports
-
-
-def _ids(ids: list[int]) -> str:
-    return ", ".join(map(str, ids))
-
-
-def connect(ports: dict[int, str], profile: Profile) -> list[Link]:
-    """Open a link to each board of the profile that has a port (all or none)."""
-    links: list[Link] = []
-    try:
-        for board in (b for b in profile.boards if b.id in ports):
-            links.append(Link(board.id, open_port(ports[board.id], board.baud), ports[board.id]))
-    except GestError:
-        close(links)
-        raise
-    return links
-
-
-def close(links: list[Link]) -> None:
-    """Close every link."""
-    for link in links:
-        link.port.close()
-
-
-def open_first(spec: str, profile: Profile, board: Board | None = None) -> Port:
-    """A bench tool's port, at the baud of ``board`` (default the profile's first)."""
-    first = board or profile.boards[0]
-    return open_port(protocol_sim.complete(spec, profile, first.id), first.baud)
 
 
 def board_pose(links: list[Link], profile: Profile, blind: bool = False,
@@ -147,7 +88,7 @@ def opened(prog: str, profile: Profile, ports: list[str], blind: bool = False,
            going_on: str = REST_POSE, boards: Collection[int] | None = None
            ) -> Iterator[Hand]:
     """The hand, its links open and its pose asked (``board_pose``); closed after.
-    ``boards``: those that need a port (default all; ``parse_ports``).
+    ``boards``: those that need a port (default all; ``link.board_ports``).
 
     Ctrl-C sends CANCEL, so that no half command is pending, and leaves (``Exit``) with
     status 130 and the hand holding its pose; at a terminal, a second Ctrl-C soon after

@@ -10,9 +10,9 @@ its rate and says what ``Node`` says. Everything else is here and shared by any 
   loop (drive.py) runs in the main thread; requests come through a queue, and each
   takes over the running move. The joint states are what the boards hold.
 - Listening (``--listen``): the port sends the protocol stream (a flex glove's mirror,
-  as the seed's serial_publisher read it); its pairs are read as ``gestc record``
-  reads them (the ``RECORDER`` policy) into what the boards hold, and nothing is
-  ever written to the port.
+  as the seed's serial_publisher read it); it opens, and its pairs are read, as
+  ``gestc record`` does (``link.open_listener``; the ``RECORDER`` policy) into what
+  the boards hold, and nothing is ever written to the port.
 """
 
 from __future__ import annotations
@@ -35,12 +35,10 @@ from ..live.drive import Drive, Mirror, Next, Note, library_program
 from ..model.joints import names, positions
 from ..profiles.data import Profile
 from ..profiles.profile import load_profile
-from ..wire.ports import open_port
-from ..wire.urlhandler import protocol_sim
+from ..wire.link import open_listener
 from . import trajectory
 
 PROG = "inmoov_dsl.ros"
-LISTEN_POLL = 0.05  #: s; the longest a read of a listened port blocks
 
 #: what the node says: (kind: "error", "warning" or "info"; the status line)
 Say = Callable[[str, str], None]
@@ -162,19 +160,16 @@ def _drive(args: argparse.Namespace, profile: Profile, edge: Edge) -> int:
 
 def _listen(args: argparse.Namespace, profile: Profile, edge: Edge) -> int:
     """Read the protocol stream of a port into the joint states; never write to it."""
-    glove = profile.gloves[0] if profile.gloves else None
-    baud = glove.baud if glove else profile.boards[0].baud
-    spec = protocol_sim.complete(args.port[0], profile, profile.boards[0].id)
-    port = open_port(spec, baud, timeout=LISTEN_POLL)
+    port = open_listener(args.port[0], profile)
     mirror = Mirror(profile, [b.id for b in profile.boards])
     mirror.set([s.rest for s in profile.servos])
     node = Node(profile, mirror, edge.say, listening=True)
     reader = Reader(RECORDER)
     try:
         edge.start(node)
-        edge.say("info", f"listening: {profile.name} on {args.port[0]}, {baud} baud")
+        edge.say("info", f"listening: {profile.name} on {args.port[0]}, {port.baud} baud")
         while not node.closed.is_set():
-            for event in reader.read(port.read(max(1, port.in_waiting))):
+            for event in reader.read(port.read()):
                 if isinstance(event, Pair):
                     mirror.put(event.id, event.value)
     except serial.SerialException as exc:

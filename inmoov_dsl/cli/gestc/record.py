@@ -18,11 +18,10 @@ from ...errors import Diagnostic, GestError
 from ..common import EXIT_OK, gesture_name, number, warn
 
 if TYPE_CHECKING:
-    import serial
-
     from ...decode import StreamReader
     from ...live.record import Fit
     from ...profiles.data import Glove, Profile
+    from ...wire.link import Listener
 
 PROG = "gestc record"
 
@@ -33,20 +32,18 @@ def run(args: argparse.Namespace) -> int:
     from ...live.record import DEFAULT_TOLERANCE, keyframes, to_gest, traces
     from ...profiles.profile import load_profile
     from ...wire.glove import on_the_clock
-    from ...wire.ports import open_port
-    from ...wire.urlhandler import protocol_sim
+    from ...wire.link import open_listener
 
     tolerance = DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance
     profile = load_profile(args.profile)
-    glove = profile.gloves[0] if profile.gloves else None
-    baud = args.baud or (glove.baud if glove else profile.boards[0].baud)
-    deadband = glove.deadband if glove and args.deadband is None else (args.deadband or 0)
     name = gesture_name(args.name or Path(args.output).stem)
-    first = profile.boards[0].id
-    port = open_port(protocol_sim.complete(args.port, profile, first), baud, timeout=0.05)
+    listener = open_listener(args.port, profile, args.baud)
+    glove = listener.glove
+    deadband = glove.deadband if glove and args.deadband is None else (args.deadband or 0)
     reader = StreamReader(recorded_ids(profile, glove))
-    print(f"{PROG}: listening on {args.port} at {baud} baud; Ctrl-C stops", file=sys.stderr)
-    listen(port, reader, args.seconds)
+    print(f"{PROG}: listening on {args.port} at {listener.baud} baud; Ctrl-C stops",
+          file=sys.stderr)
+    listen(listener, reader, args.seconds)
     if not reader.samples:
         raise GestError(Diagnostic(
             "error", f"no servo command for profile '{profile.name}' came from {args.port}",
@@ -78,7 +75,7 @@ def recorded_ids(profile: Profile, glove: Glove | None) -> frozenset[int]:
     return frozenset(s.id for s in profile.servos if s.name in fingers)
 
 
-def listen(port: serial.SerialBase, reader: StreamReader, seconds: float | None,
+def listen(port: Listener, reader: StreamReader, seconds: float | None,
            now: Clock = clock.now) -> None:
     """Feed ``reader`` what comes from ``port``, each read with the time it came, for
     ``seconds`` (None: until Ctrl-C), counting on the terminal; then close the port."""
@@ -86,7 +83,7 @@ def listen(port: serial.SerialBase, reader: StreamReader, seconds: float | None,
     start = now()
     try:
         while seconds is None or now() - start < seconds:
-            data = port.read(max(1, port.in_waiting))  # at once: each byte's own time
+            data = port.read()  # what has come, at once: each byte's own time
             if data:
                 reader.feed(now(), data)
             if live:

@@ -23,7 +23,7 @@ def run(args: argparse.Namespace) -> int:
 
     profile, names = _boards(args.profile, args.board)
     targets = [args.board] if args.board else list(names)
-    ports = upload_ports(args.port, targets, names)
+    ports = upload_ports(args.port, profile, targets, names)
     if args.hex and len(targets) > 1:
         raise GestError(Diagnostic("error", "--hex is one board's firmware",
                                    hint="name the board: gestc upload BOARD --hex FILE"))
@@ -109,25 +109,15 @@ def _boards(profile_name: str | None, board: str | None) -> tuple[Profile, dict[
                                "of a profile's"))
 
 
-def upload_ports(specs: list[str], targets: list[str], names: dict[str, int]
-                 ) -> dict[str, str]:
-    """``--port COM3`` for one board; ``--port NAME=PORT`` or ``--port ID=PORT`` each."""
-    by_key = {**{n: n for n in names}, **{str(i): n for n, i in names.items()}}
-    ports: dict[str, str] = {}
-    for spec in specs:
-        key, sep, port = spec.partition("=")
-        if sep and key in by_key:
-            ports[by_key[key]] = port
-        elif len(targets) == 1 and len(specs) == 1:
-            ports[targets[0]] = spec
-        else:
-            raise GestError(Diagnostic("error", f"--port {spec}: which board?",
-                                       hint=" ".join(f"--port {n}=PORT" for n in targets)))
-    missing = [n for n in targets if n not in ports]
-    if missing:
-        raise GestError(Diagnostic("error", f"no port for {', '.join(missing)}",
-                                   hint=f"add --port {missing[0]}=PORT"))
-    return ports
+def upload_ports(specs: list[str], profile: Profile, targets: list[str],
+                 names: dict[str, int]) -> dict[str, str]:
+    """Sketch name -> its port: ``--port COM3`` for one board, ``--port NAME=PORT`` or
+    ``--port ID=PORT`` for each (``link.board_ports``)."""
+    from ...wire.link import board_ports
+
+    by_id = {i: n for n, i in names.items()}
+    ports = board_ports(specs, profile, [names[n] for n in targets], by_id)
+    return {by_id[i]: port for i, port in ports.items()}
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:

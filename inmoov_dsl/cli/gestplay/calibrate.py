@@ -14,9 +14,8 @@ from ...profiles.profile import find_profile, load_profile, parse_profile
 from ...protocol import CANCEL_PENDING, MAX_VALUE
 from ...resources import profiles_dir
 from ...wire.board import BoardServo
+from ...wire.link import open_board
 from ...wire.player import ask_dump, wait_ready
-from ...wire.ports import open_port
-from ...wire.urlhandler import protocol_sim
 from ..common import EXIT_OK, send_value, status_line, status_of, warn, why
 from ..keys import key_reader
 
@@ -37,7 +36,7 @@ def run(args: argparse.Namespace) -> int:
     # how the board maps values to angles while we calibrate
     mapping = BoardServo(servo.id) if args.full_range else \
         BoardServo(servo.id, servo.calibration, servo.reversed)
-    port = open_port(protocol_sim.complete(args.port, profile, board.id), board.baud)
+    port = open_board(args.port, profile, board)
     try:
         wait_ready(port)
         values = ask_dump(port, board.id)

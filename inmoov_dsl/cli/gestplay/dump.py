@@ -7,23 +7,22 @@ import argparse
 from ...errors import Diagnostic, GestError
 from ...profiles.data import Board, Profile
 from ...profiles.profile import load_profile
+from ...wire.link import every_board, named_boards, open_board, parse_ports
 from ...wire.player import ask_dump, wait_ready
-from ...wire.urlhandler import protocol_sim
 from ..common import EXIT_OK
-from ..hand import open_first, parse_ports
 
 
 def run(args: argparse.Namespace) -> int:
     """One port: print the first of the profile's boards that answers DUMP on it. A
     port per board (``BOARD=PORT``, or a bare ``sim://`` for every board): each board's."""
     profile = load_profile(args.profile or "rhand")
-    named = {int(s.partition("=")[0]) for s in args.port if s.partition("=")[0].isdigit()}
-    if len(args.port) == 1 and not named and not protocol_sim.bare(args.port[0]):
-        _dump(args.port[0], open_first(args.port[0], profile), profile, profile.boards)
+    named = named_boards(args.port)
+    if len(args.port) == 1 and not named and not every_board(args.port[0]):
+        _dump(args.port[0], open_board(args.port[0], profile), profile, profile.boards)
         return EXIT_OK
     ports = parse_ports(args.port, profile, named or None)
     for board in (b for b in profile.boards if b.id in ports):
-        _dump(ports[board.id], open_first(ports[board.id], profile, board), profile, (board,))
+        _dump(ports[board.id], open_board(ports[board.id], profile, board), profile, (board,))
     return EXIT_OK
 
 

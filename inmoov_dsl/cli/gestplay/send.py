@@ -8,9 +8,9 @@ from ... import clock
 from ...errors import Diagnostic, GestError
 from ...profiles.profile import load_profile
 from ...protocol import MAX_VALUE, Signal
+from ...wire.link import open_board
 from ...wire.player import drain, wait_ready
 from ..common import EXIT_OK, number
-from ..hand import open_first
 
 SIGNAL_NAMES = {int(s): s.name for s in Signal}
 SIGNAL_BYTES = {s.name.lower(): int(s) for s in Signal}
@@ -39,7 +39,7 @@ def run(args: argparse.Namespace) -> int:
     """Send the bytes once the board is ready; print what comes back in --listen s."""
     data = to_bytes(args.bytes)
     profile = load_profile(args.profile or "rhand")
-    port = open_first(args.port, profile)
+    port = open_board(args.port, profile)
     try:
         wait_ready(port)  # an Uno or Nano resets when its port opens
         port.write(data)

@@ -2,7 +2,8 @@
 
 PROFILE defaults to ``rhand``, the board to the profile's first, ``boot`` (the time
 the bootloader swallows bytes after a reset, as an Uno or Nano does) to 0.2 s.
-The player completes a bare ``sim://`` with the profile and board it plays for.
+A bare ``sim://`` is completed with the profile and board it is opened for (``complete``,
+called by the link edge, ``wire/link.py``).
 The board runs in real time on ``clock.now`` (the clock every tool reads): what the
 host writes arrives at the board's baud, and replies come back the same way.
 
