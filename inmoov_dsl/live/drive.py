@@ -144,14 +144,13 @@ class Drive:
             elif request is not False:
                 segment = self._requested(request if isinstance(request, Order)
                                           else Order(request), t)
-            if segment is None:
+            queued = segment is None
+            if queued:
                 segment = self._queued(t)
             if request is not False:
                 self.tell(Note("answered"))
             if segment is not None:
-                self.events = _events(segment, self.links)
-                self.moving = True
-                self.tracker.began(segment.tag, self.session.tags(), self._again)
+                self._begin(segment, aside=queued)
             self._send()
 
     def settled(self) -> bool:
@@ -204,9 +203,16 @@ class Drive:
             return None
         self.tracker.ordered(order, steps, sources, dropped)
         self.tell(Note("start", text=name, id=order.id))
-        if segment is not None and segment.warnings:
-            self.tell(Note("warning", segment.warnings, id=order.id))
         return segment
+
+    def _begin(self, segment: Segment, aside: bool) -> None:
+        """Send ``segment`` from now on; tell what began, and its warnings (``aside``:
+        of a queued step, told while the front end waits)."""
+        self.events = _events(segment, self.links)
+        self.moving = True
+        self.tracker.began(segment.tag, self.session.tags(), self._again)
+        if segment.warnings:
+            self.tell(Note("warning", segment.warnings, aside=aside, id=segment.tag))
 
     def _again(self, steps: list[Action], sources: SourceMap | None, tag: str) -> None:
         """Queue another pass of a request that loops."""
@@ -227,13 +233,10 @@ class Drive:
     def _queued(self, t: float) -> Segment | None:
         """The next queued step, once the running one has ended."""
         try:
-            segment = self.session.next(t, self.mirror.held())
+            return self.session.next(t, self.mirror.held())
         except GestError as exc:
             self.tell(Note("error", tuple(exc.diagnostics), aside=True))
             return None
-        if segment is not None and segment.warnings:
-            self.tell(Note("warning", segment.warnings, aside=True))
-        return segment
 
     def _send(self) -> None:
         """Write every byte that is due, and mirror it."""

@@ -150,17 +150,18 @@ class _Typed(SourceMap):
 
 
 def line_steps(line: str, program: Program, profile: Profile, file: str = LINE,
-               number: int = 1) -> tuple[list[Action], SourceMap]:
+               number: int = 1, side: str | None = None) -> tuple[list[Action], SourceMap]:
     """The steps of one typed line, e.g. ``index 90, middle 45 over 0.5s``, ``wait 1s``
-    or the name of a gesture or pose of ``program``. Errors point into the line, line
-    ``number`` of ``file`` (the input it came from)."""
+    or the name of a gesture or pose of ``program`` (on ``side`` of the robot, when
+    given). Errors point into the line, line ``number`` of ``file`` (the input it came
+    from)."""
     sources = _Typed(program, file, number, line)
     sources.add(file, line)  # what the steps are resolved from (wrapped: unwrap says it)
     with snippet.parsed(line, file, _PREFIX, number) as module:
         gesture = next(item for item in module.items if isinstance(item, GestureDef))
         typed = Program(file, sources, program.texts, {**program.gestures, _NAME: gesture},
                         program.poses, program.groups, [_NAME])
-        actions = Resolver(typed, profile).gesture(_NAME)
+        actions = Resolver(typed, profile).gesture(_NAME, side)
     back = functools.partial(snippet.shift, text=line, file=file, prefix=_PREFIX,
                              line=number)
     return [replace(a, pos=back(a.pos), over_pos=back(a.over_pos)) for a in actions], sources

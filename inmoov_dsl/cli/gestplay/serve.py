@@ -1,0 +1,122 @@
+"""gestplay serve: the hand as a local service that other programs drive (HTTP and a
+WebSocket), with a page for people (docs/service.md)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from ...compiling.compiler import compile_program
+from ...errors import Diagnostic, GestError
+from ...language.library import library_dirs, scan_library
+from ...live.drive import Drive, library_program
+from ...profiles.profile import load_profile
+from .. import hand
+from ..common import EXIT_OK, add_blind, add_lib
+
+PROG = "gestplay serve"
+DEFAULT_HTTP = "127.0.0.1:8180"
+
+
+def run(args: argparse.Namespace) -> int:
+    """Open the boards, listen, and drive the hand until Ctrl-C or SIGTERM."""
+    try:
+        from ...service import guard, http
+    except ImportError:
+        raise GestError(Diagnostic("error", "the service needs aiohttp, which is not "
+                                   "installed", hint="pip install 'inmoov-dsl[serve]'")
+                        ) from None
+    host, port = _address(args.http)
+    token = _token(args, host, guard)
+    profile = load_profile(args.profile or "rhand")
+    dirs = library_dirs(args.lib)
+    program = library_program(dirs)
+    gestures = _listing(program, profile, dirs)
+    service = http.Service(program, profile, lambda: gestures)
+    with hand.opened(PROG, profile, args.port, args.blind) as on:
+        service.drive = Drive(on.links, profile, on.pose, program, service.told)
+        server = http.Server(service, guard.Guard(host, port, token), host, port)
+        try:
+            port = server.start()
+        except OSError as exc:
+            raise GestError(Diagnostic("error", f"cannot listen on {host}:{port}: "
+                                       f"{exc.strerror or exc}", hint=f"--http {host}:"
+                                       f"{port + 1 if port else 8181}, or stop what listens "
+                                       "there")) from None
+        shown = f"[{host}]" if ":" in host else host
+        print(f"{PROG}: http://{shown}:{port}/ drives {profile.name} on "
+              f"{', '.join(link.name for link in on.links)}; Ctrl-C stops",
+              file=sys.stderr, flush=True)
+        try:
+            service.drive.run(service.next_request)
+        finally:
+            server.stop()
+    return EXIT_OK
+
+
+def _address(text: str) -> tuple[str, int]:
+    """``HOST:PORT`` (``[::1]:8180`` for IPv6)."""
+    host, sep, port = text.rpartition(":")
+    host = host.strip("[]")
+    if not sep or not host or not port.isdigit() or not 0 <= int(port) <= 65535:
+        raise GestError(Diagnostic("error", f"--http {text}: give HOST:PORT",
+                                   hint=f"--http {DEFAULT_HTTP}"))
+    return host, int(port)
+
+
+def _token(args: argparse.Namespace, host: str, guard) -> str | None:
+    """The token every request must show: --token, or the first line of --token-file.
+    Listening beyond this computer without one is refused."""
+    token = args.token
+    if args.token_file:
+        try:
+            token = Path(args.token_file).read_text(encoding="utf-8").splitlines()[0].strip()
+        except (OSError, UnicodeDecodeError, IndexError) as exc:
+            raise GestError(Diagnostic("error", f"cannot read the token from "
+                                       f"{args.token_file}: {exc}")) from None
+    if token is not None and len(token) < 16:
+        raise GestError(Diagnostic("error", "a token has at least 16 characters",
+                                   hint="python -c 'import secrets; print(secrets."
+                                   "token_urlsafe())'"))
+    if token is None and not guard.is_loopback(host):
+        raise GestError(Diagnostic(
+            "error", f"{host} is reachable from other computers: the service moves a "
+            "machine, so it needs a token there", hint="--token-file FILE (a secret of 16 "
+            "characters or more), or --http 127.0.0.1:8180 for this computer only"))
+    return token
+
+
+def _listing(program, profile, dirs) -> list[dict]:
+    """The library gestures that play on ``profile``, with their durations."""
+    from ...service.core import listing
+
+    entries = scan_library(dirs)
+    files = {name: (e.path.name, e.description) for name, e in entries.items()}
+
+    def duration(name: str) -> float | None:
+        try:
+            return compile_program(program, name, profile)[0].duration
+        except GestError:
+            return None
+
+    return listing(program, profile, files, duration)
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    """``gestplay serve --port PORT``."""
+    p = sub.add_parser("serve", help="the hand as a local service (HTTP, WebSocket, a page)",
+                       description="Open the boards and serve a JSON API, an events "
+                       "WebSocket and a page on 127.0.0.1 (docs/service.md).")
+    p.add_argument("--port", action="append", default=[], required=True,
+                   help="as for playing; BOARD=PORT for each board of a profile with several")
+    p.add_argument("-p", "--profile", help="robot profile (default rhand)")
+    p.add_argument("--http", default=DEFAULT_HTTP, metavar="HOST:PORT",
+                   help=f"where to listen (default {DEFAULT_HTTP}: this computer only; "
+                   "another address needs a token)")
+    p.add_argument("--token", help="a secret every request must show (Authorization: "
+                   "Bearer TOKEN); prefer --token-file, which other users cannot see")
+    p.add_argument("--token-file", metavar="FILE", help="read the token from FILE")
+    add_blind(p)
+    add_lib(p)
+    p.set_defaults(func=run)

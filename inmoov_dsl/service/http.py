@@ -1,0 +1,298 @@
+"""The service's HTTP edge (aiohttp, the optional extra ``serve``): the routes, the
+guard on every request, the events WebSocket and the page.
+
+The server runs in a thread of its own with its own event loop; the drive loop keeps
+the main thread (where Ctrl-C and SIGTERM arrive, and CANCEL goes out as the command
+line's always does). Requests reach the loop through ``Service``'s queue; what the loop
+tells comes back as events to every WebSocket.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import queue
+import sys
+import threading
+import uuid
+from collections.abc import Callable
+from importlib import metadata, resources
+from typing import Any
+
+from aiohttp import WSMsgType, web
+
+from ..errors import GestError
+from ..live.drive import Drive, Next, Note
+from ..live.orders import Control
+from . import core, openapi
+from .guard import Guard
+
+POSE_EVERY = 0.020  #: s between pose events while the hand moves, at most one per frame
+QUEUE = 1000  #: events kept for a WebSocket that reads slowly; older ones are dropped
+
+
+class Service:
+    """What the HTTP thread and the drive loop share: requests one way, notes the other."""
+
+    def __init__(self, program, profile, listing: Callable[[], list[dict[str, Any]]]):
+        self.program, self.profile, self.listing = program, profile, listing
+        self.requests: queue.Queue = queue.Queue()
+        self.drive: Drive | None = None
+        self.loop: asyncio.AbstractEventLoop | None = None
+        self.listeners: set[asyncio.Queue] = set()
+        self.lost: set[int] = set()  #: boards whose link is down
+
+    def next_request(self, timeout: float) -> Next:
+        """The drive loop's ``next_request``."""
+        try:
+            return self.requests.get(timeout=timeout) if timeout > 0 else \
+                self.requests.get_nowait()
+        except queue.Empty:
+            return False
+
+    def told(self, note: Note) -> None:
+        """The drive loop's ``tell`` (its thread): the note as an event, if it is one."""
+        event = core.note_event(note.kind, note.id, note.diagnostics)
+        if event is not None:
+            self.publish(event)
+
+    def publish(self, event: dict[str, Any]) -> None:
+        """Send ``event`` to every WebSocket (from any thread)."""
+        if self.loop is not None:
+            self.loop.call_soon_threadsafe(self._fan_out, event)
+
+    def _fan_out(self, event: dict[str, Any]) -> None:
+        for listener in self.listeners:
+            if listener.full():
+                listener.get_nowait()
+            listener.put_nowait(event)
+
+    def pose(self) -> dict[str, Any]:
+        """The pose as ``GET /api/pose`` gives it."""
+        drive = self.drive
+        now = drive.now()
+        velocity = drive.session.state(now).velocity if drive.session.busy(now) else \
+            (0.0,) * len(self.profile.servos)
+        return core.pose(self.profile, drive.mirror.held(), velocity, drive.tracker.playing)
+
+    def moving(self) -> bool:
+        """Does the hand move (or wait in a gesture)?"""
+        drive = self.drive
+        return drive is not None and (bool(drive.events) or drive.session.busy(drive.now()))
+
+
+def app(service: Service, guard: Guard) -> web.Application:
+    """The routes."""
+    application = web.Application(middlewares=[_guarded(guard)], client_max_size=core.MAX_BODY)
+    application.add_routes([
+        web.get("/", _page), web.get("/api/openapi.json", _openapi),
+        web.get("/api/gestures", lambda r: _gestures(r, service)),
+        web.post("/api/play", lambda r: _play(r, service)),
+        web.post("/api/stop", lambda r: _control(r, service, "stop")),
+        web.post("/api/relax", lambda r: _control(r, service, "relax")),
+        web.get("/api/pose", lambda r: _pose(r, service)),
+        web.get("/api/events", lambda r: _events(r, service)),
+    ])
+    application.on_startup.append(lambda a: _start_ticker(a, service))
+    return application
+
+
+def _json(body: Any, status: int = 200) -> web.Response:
+    return web.json_response(body, status=status, headers={"Cache-Control": "no-store"})
+
+
+def _guarded(guard: Guard):
+    @web.middleware
+    async def middleware(request: web.Request, handler):
+        refused = guard.refuse(request.method, request.headers, request.query)
+        if refused is not None:
+            return _json({"error": refused[1], "hint": None}, refused[0])
+        try:
+            return await handler(request)
+        except web.HTTPException as exc:
+            if exc.status == 413:
+                return _json(core.BadRequest(f"the body is larger than "
+                                             f"{core.MAX_BODY:,} bytes").json(), 400)
+            return _json({"error": exc.reason, "hint": None}, exc.status)
+        except (ConnectionResetError, asyncio.CancelledError):
+            raise
+        except Exception as exc:  # noqa: BLE001 (a person gets a line, never a traceback)
+            print(f"gestplay serve: error: {type(exc).__name__}: {exc}", file=sys.stderr)
+            return _json({"error": "the service could not answer this request", "hint": None},
+                         500)
+    return middleware
+
+
+async def _body(request: web.Request) -> dict[str, Any]:
+    """A request's JSON object (an empty body is ``{}``)."""
+    size = request.content_length
+    if size is not None and size > core.MAX_BODY:
+        raise core.BadRequest(f"the body is larger than {core.MAX_BODY:,} bytes")
+    body = await request.content.read(core.MAX_BODY + 1)
+    if not body.strip():
+        return {}
+    if request.content_type != "application/json":
+        raise core.BadRequest("the body must be JSON, sent as Content-Type: application/json",
+                              "curl --json '{\"gesture\": \"peace\"}' ...")
+    return core.read_json(body)
+
+
+async def _play(request: web.Request, service: Service) -> web.Response:
+    try:
+        doc = await _body(request)
+        order = core.play_order(doc, service.program, service.profile, _new_id())
+    except core.BadRequest as exc:
+        return _json(exc.json(), 400)
+    except GestError as exc:
+        return _json(core.problem(exc), 422)
+    if service.lost:
+        return _lost(service)
+    service.requests.put(order)
+    return _json({"id": order.id}, 202)
+
+
+async def _control(request: web.Request, service: Service, kind: str) -> web.Response:
+    try:
+        doc = await _body(request)
+    except core.BadRequest as exc:
+        return _json(exc.json(), 400)
+    if doc:
+        return _json(core.BadRequest(f"/api/{kind} takes no fields").json(), 400)
+    control = Control(kind, _new_id())  # type: ignore[arg-type]
+    service.requests.put(control)
+    return _json({"id": control.id})
+
+
+def _lost(service: Service) -> web.Response:
+    boards = ", ".join(map(str, sorted(service.lost)))
+    return _json({"error": f"board {boards} is not there: its link was lost",
+                  "hint": "plug it back in: the service picks it up again"}, 503)
+
+
+async def _pose(request: web.Request, service: Service) -> web.Response:
+    return _json(service.pose())
+
+
+async def _gestures(request: web.Request, service: Service) -> web.Response:
+    return _json(service.listing())
+
+
+async def _openapi(request: web.Request) -> web.Response:
+    return _json(openapi.document(_version(), core.MAX_BODY, core.MAX_LOOP))
+
+
+def _version() -> str:
+    try:
+        return metadata.version("inmoov-dsl")
+    except metadata.PackageNotFoundError:  # a source tree that was never installed
+        return "0"
+
+
+async def _page(request: web.Request) -> web.Response:
+    page = resources.files(__package__).joinpath("page.html").read_text(encoding="utf-8")
+    return web.Response(text=page, content_type="text/html", headers={
+        "Cache-Control": "no-store", "Content-Security-Policy":
+        "default-src 'self'; script-src 'unsafe-inline' 'self'; style-src 'unsafe-inline'; "
+        "connect-src 'self' ws: ; img-src 'self' data:"})
+
+
+async def _events(request: web.Request, service: Service) -> web.WebSocketResponse:
+    ws = web.WebSocketResponse(heartbeat=20, max_msg_size=1024)
+    await ws.prepare(request)
+    listener: asyncio.Queue = asyncio.Queue(QUEUE)
+    service.listeners.add(listener)
+    reader = asyncio.ensure_future(_drain(ws))
+    try:
+        while not ws.closed:
+            getting = asyncio.ensure_future(listener.get())
+            done, _ = await asyncio.wait({getting, reader}, return_when=asyncio.FIRST_COMPLETED)
+            if reader in done:
+                getting.cancel()
+                break
+            await ws.send_str(json.dumps(getting.result()))
+    finally:
+        service.listeners.discard(listener)
+        reader.cancel()
+    return ws
+
+
+async def _drain(ws: web.WebSocketResponse) -> None:
+    """Read (and ignore) what a client sends, until it closes."""
+    async for message in ws:
+        if message.type in (WSMsgType.ERROR, WSMsgType.CLOSE):
+            break
+
+
+async def _start_ticker(application: web.Application, service: Service) -> None:
+    application["ticker"] = asyncio.ensure_future(_tick(service))
+
+
+async def _tick(service: Service) -> None:
+    """A pose event at most every POSE_EVERY while the hand moves (and once as it
+    stops), when the pose has changed."""
+    last, was_moving = None, False
+    while True:
+        await asyncio.sleep(POSE_EVERY)
+        moving = service.moving()
+        if service.listeners and (moving or was_moving):
+            held = service.drive.mirror.held()
+            if held != last:
+                last = held
+                service.publish({"event": "pose", "id": service.drive.tracker.playing,
+                                 "servos": dict(zip(service.profile.names, held,
+                                                    strict=True))})
+        was_moving = moving
+
+
+def _new_id() -> str:
+    return uuid.uuid4().hex[:12]
+
+
+class Server:
+    """The HTTP server in its own thread."""
+
+    def __init__(self, service: Service, guard: Guard, host: str, port: int):
+        self.service, self.guard, self.host, self.port = service, guard, host, port
+        self.ready = threading.Event()
+        self.error: BaseException | None = None
+        self.thread = threading.Thread(target=self._run, name="gestplay-serve", daemon=True)
+
+    def start(self) -> int:
+        """Listen; the port it listens on (``port`` 0: a free one). OSError if it cannot."""
+        self.thread.start()
+        self.ready.wait()
+        if self.error is not None:
+            raise self.error
+        return self.port
+
+    def _run(self) -> None:
+        loop = asyncio.new_event_loop()
+        self.service.loop = loop
+        try:
+            loop.run_until_complete(self._serve())
+        except BaseException as exc:  # noqa: BLE001 (handed to the thread that started it)
+            self.error = exc
+            self.ready.set()
+        finally:
+            loop.close()
+
+    async def _serve(self) -> None:
+        runner = web.AppRunner(app(self.service, self.guard), access_log=None,
+                               handle_signals=False)
+        await runner.setup()
+        site = web.TCPSite(runner, self.host, self.port, reuse_address=True)
+        await site.start()
+        self.port = runner.addresses[0][1]
+        self.stopping = asyncio.Event()
+        self.ready.set()
+        try:
+            await self.stopping.wait()
+        finally:
+            await runner.cleanup()
+
+    def stop(self) -> None:
+        """Stop listening."""
+        loop = self.service.loop
+        if loop is not None and self.thread.is_alive() and hasattr(self, "stopping"):
+            loop.call_soon_threadsafe(self.stopping.set)
+            self.thread.join(timeout=5)
