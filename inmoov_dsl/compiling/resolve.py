@@ -123,16 +123,18 @@ class _Targets:
 class Resolver(_Targets):
     """Turns a gesture of a Program into Actions for one profile."""
 
-    def gesture(self, name: str, side: str | None = None) -> tuple[Action, ...]:
+    def gesture(self, name: str, side: str | None = None, label: str | None = None
+                ) -> tuple[Action, ...]:
         """The steps of gesture ``name``, with calls and repeats expanded: at most
         MAX_STEPS of them, and MAX_TOTAL_STEPS for all the gestures of the program;
-        played on ``side`` ("left" or "right", ``sides.py``) when given."""
+        played on ``side`` ("left" or "right", ``sides.py``) when given (``label``: what
+        errors call the gesture, when not its name)."""
         node = self.program.gestures[name]
         out: list[Action] = []
         self._spans = {}
         self._heights[name] = self._expand(node.steps, Frame((name,), name), out)
         if side is not None:
-            self._to_side(out, 0, side, name, None)
+            self._to_side(out, 0, side, label or name, None)
         if name not in self._counted:
             if self._total + len(out) > MAX_TOTAL_STEPS:
                 self.fail(f"with '{name}', the gestures of this program expand to more "

@@ -161,7 +161,7 @@ def line_steps(line: str, program: Program, profile: Profile, file: str = LINE,
         gesture = next(item for item in module.items if isinstance(item, GestureDef))
         typed = Program(file, sources, program.texts, {**program.gestures, _NAME: gesture},
                         program.poses, program.groups, [_NAME])
-        actions = Resolver(typed, profile).gesture(_NAME, side)
+        actions = Resolver(typed, profile).gesture(_NAME, side, line.strip()[:40])
     back = functools.partial(snippet.shift, text=line, file=file, prefix=_PREFIX,
                              line=number)
     return [replace(a, pos=back(a.pos), over_pos=back(a.over_pos)) for a in actions], sources

@@ -38,7 +38,12 @@ class Guard:
     """The checks of one service: its address, its port and its token (None: none)."""
 
     def __init__(self, host: str, port: int, token: str | None):
-        self.token, self.hosts = token, own_hosts(host, port)
+        self.host, self.token = host, token
+        self.bind(port)
+
+    def bind(self, port: int) -> None:
+        """The service listens on ``port`` (known once it listens, when 0 was asked)."""
+        self.hosts = own_hosts(self.host, port)
 
     def refuse(self, method: str, headers: Mapping[str, str], query: Mapping[str, str]
                ) -> tuple[int, str] | None:

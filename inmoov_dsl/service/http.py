@@ -283,6 +283,7 @@ class Server:
         site = web.TCPSite(runner, self.host, self.port, reuse_address=True)
         await site.start()
         self.port = runner.addresses[0][1]
+        self.guard.bind(self.port)
         self.stopping = asyncio.Event()
         self.ready.set()
         try:

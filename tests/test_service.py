@@ -1,0 +1,297 @@
+"""gestplay serve, driven by clients that no part of the project wrote: curl, Python's
+http.client and the websockets library, against a running service on sim:// and on a
+gestsim board; the board itself (gestplay dump) says whether the service told the truth."""
+
+import contextlib
+import http.client
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+from test_web import Lines, need
+
+from inmoov_dsl.service import core, guard
+
+PEACE = {"wrist": 0, "thumb": 180, "index": 0, "middle": 0, "ring": 180, "pinky": 180}
+
+
+def need_service_libraries() -> None:
+    try:
+        import aiohttp  # noqa: F401
+        import websockets  # noqa: F401
+    except ImportError:
+        need("aiohttp and websockets", False, "pip install 'inmoov-dsl[serve]' websockets")
+
+
+class Service:
+    """A running ``gestplay serve``: its address, and a way to talk to it."""
+
+    def __init__(self, proc: subprocess.Popen, host: str, port: int):
+        self.proc, self.host, self.port = proc, host, port
+        self.url = f"http://{host}:{port}"
+
+    def call(self, method: str, path: str, body=None, headers=None):
+        """(status, JSON answer, headers) through http.client."""
+        conn = http.client.HTTPConnection(self.host, self.port, timeout=30)
+        data = body if isinstance(body, bytes) or body is None else json.dumps(body).encode()
+        sent = {"Content-Type": "application/json"} if data is not None else {}
+        conn.request(method, path, body=data, headers={**sent, **(headers or {})})
+        answer = conn.getresponse()
+        text = answer.read()
+        conn.close()
+        return answer.status, json.loads(text) if text[:1] in b"[{" else text, answer.headers
+
+    def curl(self, *args: str) -> tuple[int, dict]:
+        """(HTTP status, JSON answer) through curl."""
+        done = subprocess.run(["curl", "-sS", "-w", "\n%{http_code}", *args], text=True,
+                              capture_output=True, timeout=30)
+        assert done.returncode == 0, done.stderr
+        body, _, status = done.stdout.rpartition("\n")
+        return int(status), json.loads(body)
+
+    def events(self, headers=None, path="/api/events"):
+        """A websockets client on the events."""
+        from websockets.sync.client import connect
+
+        return connect(f"ws://{self.host}:{self.port}{path}", additional_headers=headers,
+                       open_timeout=10)
+
+    def stop(self, sig=signal.SIGTERM) -> tuple[int, str]:
+        self.proc.send_signal(sig)
+        _, err = self.proc.communicate(timeout=20)
+        return self.proc.returncode, err.decode()
+
+
+@contextlib.contextmanager
+def serving(*args: str, port: str = "sim://?boot=0"):
+    """``gestplay serve --port PORT ARGS`` on a free port of 127.0.0.1."""
+    need_service_libraries()
+    if not any(a.startswith("--http") for a in args):
+        args = (*args, "--http", "127.0.0.1:0")
+    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "serve",
+                             "--port", port, *args],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        url = Lines(proc.stderr).until(r"(http://\S+)/ drives", 60)
+        host, _, number = url[len("http://"):].rpartition(":")
+        yield Service(proc, host.strip("[]"), int(number))
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.communicate(timeout=10)
+
+
+def until(ws, event: str, request_id: str | None = None, timeout: float = 30) -> list[dict]:
+    """Events read until ``event`` (of ``request_id``) comes: all of them, in order."""
+    seen = []
+    deadline = time.monotonic() + timeout
+    while True:
+        seen.append(json.loads(ws.recv(timeout=max(0.01, deadline - time.monotonic()))))
+        if seen[-1]["event"] == event and request_id in (None, seen[-1].get("id")):
+            return seen
+
+
+def values(pose: dict) -> dict:
+    return {name: s["value"] for name, s in pose["servos"].items()}
+
+
+def dump(port: str) -> dict:
+    done = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "dump", "--port",
+                           port], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    return {w[0]: int(w[-1]) for w in map(str.split, done.stdout.splitlines()[1:])}
+
+
+# -- with curl and the board itself -------------------------------------------------------
+def test_curl_plays_a_gesture_and_the_board_holds_what_the_service_says():
+    if shutil.which("curl") is None:
+        need("curl", False, "apt-get install curl")
+    with serving() as service, service.events() as ws:
+        status, answer = service.curl("--json", '{"gesture": "peace"}', f"{service.url}"
+                                      "/api/play")
+        assert status == 202
+        told = until(ws, "done", answer["id"])
+        assert [e["event"] for e in told if e["event"] != "pose"] == ["started", "done"]
+        assert told[-2]["event"] == "pose" and told[-2]["servos"] == PEACE
+        status, pose = service.curl(f"{service.url}/api/pose")
+        assert status == 200 and values(pose) == PEACE and pose["playing"] is None
+        code, err = service.stop()
+    assert code == 143 and "CANCEL sent" in err and "Traceback" not in err
+    assert dump("sim://") == PEACE  # the board (its memory) holds what the service said
+
+
+def test_the_library_and_the_openapi_document_are_served():
+    with serving() as service:
+        status, gestures, _ = service.call("GET", "/api/gestures")
+        assert status == 200
+        peace = next(g for g in gestures if g["name"] == "peace")
+        assert peace == {"name": "peace", "file": "peace.gest", "profile": "rhand",
+                         "duration": 0.7, "description": peace["description"]}
+        assert "hello" not in {g["name"] for g in gestures}  # the whole robot's: not here
+        status, doc, _ = service.call("GET", "/api/openapi.json")
+        assert status == 200 and doc["openapi"].startswith("3.")
+        assert set(doc["paths"]) == {"/api/gestures", "/api/play", "/api/stop",
+                                     "/api/relax", "/api/pose", "/api/events"}
+        play = doc["components"]["schemas"]["Play"]
+        assert set(play["properties"]) == set(core.PLAY_FIELDS)
+
+
+# -- requests that are not right ----------------------------------------------------------
+BAD = [
+    (b"not json", 400, "the body is not JSON"),
+    (b"[1, 2]", 400, "the body is not a JSON object"),
+    (b'{"gesture": "peace", "speed": 2}', 400, "unknown field 'speed'"),
+    (b'{"gesture": "peace", "steps": "index 9"}', 400, "give one of 'gesture' and 'steps'"),
+    (b"{}", 400, "give one of 'gesture' and 'steps'"),
+    (b'{"gesture": 7}', 400, "'gesture' must be a string"),
+    (b'{"gesture": "peace", "when": "later"}', 400, "'when' must be one of \"now\", "
+                                                   "\"after\""),
+    (b'{"gesture": "peace", "loop": 0}', 400, "'loop' must be true, false or a whole number "
+                                             "from 1 to 1,000"),
+    (b'{"gesture": "peace", "side": "up"}', 400, "'side' must be one of \"right\", \"left\""),
+    (b'{"gesture": "' + b"x" * 70_000 + b'"}', 400, "the body is larger than 65,536 bytes"),
+    (b'{"gesture": "pease"}', 422, "no library gesture 'pease'"),
+    (b'{"steps": "indx 90"}', 422, "unknown servo or group 'indx'"),
+    (b'{"steps": "index 90\\nmiddle 90"}', 422, "steps are one line"),
+    (b'{"steps": "use \\"/etc/passwd\\""}', 422, "'use' is a keyword, not a servo, group, "
+                                                  "pose or gesture"),
+    (b'{"gesture": "peace", "side": "left"}', 422, "profile 'rhand' has no [sides]: it "
+                                                  "cannot play 'peace' on the left"),
+]
+
+
+def test_bad_requests_are_400_or_422_with_the_cli_s_words():
+    with serving() as service:
+        for body, status, error in BAD:
+            got, answer, _ = service.call("POST", "/api/play", body)
+            assert (got, answer["error"]) == (status, error), body[:60]
+        _, problem, _ = service.call("POST", "/api/play", b'{"steps": "indx 90"}')
+        assert problem["text"] == ("<request>:1:1: error: unknown servo or group 'indx'\n"
+                                   "    indx 90\n    ^~~~\n  hint: did you mean 'index'?")
+        assert problem["diagnostics"][0] | {"text": ""} == {
+            "severity": "error", "message": "unknown servo or group 'indx'", "line": 1,
+            "column": 1, "width": 4, "source": "indx 90", "hint": "did you mean 'index'?",
+            "text": ""}
+        got, answer, _ = service.call("POST", "/api/play", b'{"gesture": "peace"}',
+                                      {"Content-Type": "text/plain"})
+        assert got == 400 and "Content-Type: application/json" in answer["error"]
+        assert service.call("POST", "/api/stop", b'{"now": 1}')[0] == 400
+        assert service.call("GET", "/api/nothing")[0] == 404
+        assert service.call("DELETE", "/api/play")[0] == 405
+        assert service.proc.poll() is None  # it serves on
+
+
+# -- events -------------------------------------------------------------------------------
+def test_a_request_takes_over_after_queues_and_stop_empties_the_queue():
+    with serving() as service, service.events() as ws:
+        _, a, _ = service.call("POST", "/api/play", {"steps": "index 180 over 2s"})
+        until(ws, "started", a["id"])
+        _, b, _ = service.call("POST", "/api/play", {"steps": "index 0 over 1s"})
+        told = until(ws, "started", b["id"])
+        assert {"event": "stopped", "id": a["id"]} in told
+        _, c, _ = service.call("POST", "/api/play", {"gesture": "fist", "when": "after"})
+        until(ws, "done", b["id"])
+        until(ws, "started", c["id"])
+        time.sleep(0.3)
+        _, s, _ = service.call("POST", "/api/stop")
+        told = until(ws, "stopped", c["id"])
+        assert not [e for e in told if e["event"] == "done" and e["id"] == c["id"]]
+        time.sleep(0.3)
+        status, pose, _ = service.call("GET", "/api/pose")
+        assert status == 200 and pose["playing"] is None
+        assert not any(s["moving"] for s in pose["servos"].values())
+        held = values(pose)
+        fingers = [held[f] for f in ("thumb", "index", "middle", "ring", "pinky")]
+        assert any(0 < v < 180 for v in fingers)  # fist was stopped on its way
+
+
+def test_pose_events_come_at_most_every_servo_frame_while_the_hand_moves():
+    with serving() as service, service.events() as ws:
+        _, a, _ = service.call("POST", "/api/play", {"steps": "fingers 180 over 1s"})
+        start = time.monotonic()
+        told = until(ws, "done", a["id"])
+        poses = [e for e in told if e["event"] == "pose"]
+        assert 10 <= len(poses) <= (time.monotonic() - start) / 0.020 + 1
+        assert all(e["id"] == a["id"] for e in poses)
+        assert poses[-1]["servos"]["index"] == 180
+
+
+# -- safety and security ------------------------------------------------------------------
+def test_another_site_cannot_move_the_hand():
+    with serving() as service:
+        here = f"{service.host}:{service.port}"
+        for headers in ({"Origin": "http://evil.example"},
+                        {"Origin": f"http://{here}.evil.example"},
+                        {"Host": f"evil.example:{service.port}"},  # DNS rebinding
+                        {"Host": f"evil.example:{service.port}", "Origin":
+                         f"http://evil.example:{service.port}"}):
+            status, answer, _ = service.call("POST", "/api/play", {"gesture": "fist"}, headers)
+            assert status == 403, headers
+        status, _, answered = service.call("OPTIONS", "/api/play", None, {
+            "Origin": "http://evil.example", "Access-Control-Request-Method": "POST"})
+        assert status == 403 and "Access-Control-Allow-Origin" not in answered
+        from websockets.exceptions import InvalidStatus
+
+        with pytest.raises(InvalidStatus), service.events({"Origin": "http://evil.example"}):
+            pass
+        status, pose, _ = service.call("GET", "/api/pose", None, {"Origin": f"http://{here}"})
+        assert status == 200 and values(pose) == dict.fromkeys(PEACE, 0)  # nothing moved
+
+
+def test_beyond_this_computer_a_token_is_needed(tmp_path):
+    need_service_libraries()
+    done = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "serve", "--port",
+                           "sim://", "--http", "0.0.0.0:0"], capture_output=True, text=True,
+                          timeout=60)
+    assert done.returncode == 1
+    assert done.stderr.startswith("gestplay: error: 0.0.0.0 is reachable from other "
+                                  "computers: the service moves a machine, so it needs a "
+                                  "token there\n")
+    secret = tmp_path / "token"
+    secret.write_text("s3cret-s3cret-s3cret\n")
+    with serving("--http", "0.0.0.0:0", "--token-file", str(secret)) as service:
+        service.host = "127.0.0.1"
+        assert service.call("GET", "/api/pose")[0] == 401
+        assert service.call("GET", "/api/pose", None, {"Authorization": "Bearer nope"})[0] == 401
+        bearer = {"Authorization": "Bearer s3cret-s3cret-s3cret"}
+        assert service.call("GET", "/api/pose", None, bearer)[0] == 200
+        assert service.call("POST", "/api/play", {"gesture": "peace"}, bearer)[0] == 202
+        with service.events(path="/api/events?token=s3cret-s3cret-s3cret") as ws:
+            ws.send("hello")  # what a client sends is read and ignored
+        from websockets.exceptions import InvalidStatus
+
+        with pytest.raises(InvalidStatus), service.events():
+            pass
+
+
+def test_the_guard_s_rules():
+    g = guard.Guard("127.0.0.1", 8180, None)
+    assert g.refuse("GET", {"Host": "127.0.0.1:8180"}, {}) is None
+    assert g.refuse("GET", {"Host": "localhost:8180"}, {}) is None
+    assert g.refuse("GET", {"Host": "127.0.0.1:8180", "Origin": "http://127.0.0.1:8180"},
+                    {}) is None
+    assert g.refuse("GET", {"Host": "localhost:8181"}, {})[0] == 403
+    assert g.refuse("GET", {"Host": "127.0.0.1:8180", "Origin": "null"}, {})[0] == 403
+    assert guard.is_loopback("::1") and guard.is_loopback("127.3.0.1")
+    assert not guard.is_loopback("0.0.0.0") and not guard.is_loopback("192.168.1.2")
+    t = guard.Guard("0.0.0.0", 8180, "a" * 20)
+    assert t.refuse("GET", {"Host": "robot.local:8180"}, {"token": "a" * 20}) is None
+    assert t.refuse("GET", {"Host": "robot.local:8180"}, {"token": "a" * 19})[0] == 401
+
+
+@pytest.mark.skipif(not hasattr(os, "openpty"), reason="gestsim's pseudo-terminals are POSIX")
+def test_sigterm_mid_move_sends_cancel_to_the_board(gestsim):
+    _, path, log = gestsim
+    with serving(port=path) as service, service.events() as ws:
+        _, a, _ = service.call("POST", "/api/play", {"steps": "fingers 180 over 3s"})
+        until(ws, "started", a["id"])
+        time.sleep(0.5)
+        code, err = service.stop()
+    assert code == 143 and "stopped by SIGTERM: CANCEL sent" in err
+    sent = [int(line.split()[1]) for line in log.read_text().splitlines()]
+    assert sent[-1] == 255 and sent.count(255) >= 2  # the gesture's CANCEL, then the stop's
