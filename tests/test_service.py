@@ -295,3 +295,79 @@ def test_sigterm_mid_move_sends_cancel_to_the_board(gestsim):
     assert code == 143 and "stopped by SIGTERM: CANCEL sent" in err
     sent = [int(line.split()[1]) for line in log.read_text().splitlines()]
     assert sent[-1] == 255 and sent.count(255) >= 2  # the gesture's CANCEL, then the stop's
+
+
+# -- the page, in a browser ---------------------------------------------------------------
+def test_the_page_plays_a_button_shows_the_pose_and_an_error_at_its_column(tmp_path):
+    import tempfile
+
+    from test_web import Browser, chromium
+
+    exe = chromium()
+    with serving() as service, tempfile.TemporaryDirectory(prefix="chromium-") as profile:
+        browser = Browser(exe, profile)
+        try:
+            page(browser, service)
+        finally:
+            browser.close()
+
+
+def page(browser, service: Service) -> None:
+    def value(expression: str):
+        return browser.call("Runtime.evaluate", expression=expression,
+                            returnByValue=True)["result"].get("value")
+
+    def wait_for(expression: str, timeout: float = 20):
+        deadline = time.monotonic() + timeout
+        while not (found := value(expression)):
+            assert time.monotonic() < deadline, f"the page never showed {expression}"
+            time.sleep(0.1)
+        return found
+
+    def click(selector: str) -> None:
+        box = value(f"JSON.stringify(document.querySelector('{selector}')"
+                    f".getBoundingClientRect())")
+        rect = json.loads(box)
+        x, y = rect["x"] + rect["width"] / 2, rect["y"] + rect["height"] / 2
+        for kind in ("mousePressed", "mouseReleased"):
+            browser.call("Input.dispatchMouseEvent", type=kind, x=x, y=y, button="left",
+                         clickCount=1)
+
+    browser.navigate(f"{service.url}/")
+    wait_for("document.querySelectorAll('#gestures button').length > 20")
+    wait_for("document.getElementById('status').textContent === 'connected'")
+    ring = "document.querySelectorAll('#pose .bar b')[4].textContent"
+    assert value(ring) == "0"
+    click("[data-gesture=fist]")
+    wait_for(f"{ring} === '180'")
+    click("#line")
+    browser.call("Input.insertText", text="indx 90")
+    for kind in ("keyDown", "keyUp"):
+        browser.call("Input.dispatchKeyEvent", type=kind, key="Enter", code="Enter",
+                     windowsVirtualKeyCode=13, text="\r" if kind == "keyDown" else "")
+    error = wait_for("document.getElementById('error').textContent")
+    assert error.splitlines() == ["error: unknown servo or group 'indx'", "indx 90", "^~~~",
+                                  "hint: did you mean 'index'?"]
+    here = (f"http://{service.host}:{service.port}/", f"ws://{service.host}:{service.port}/")
+    assert browser.requests and all(url.startswith(here) for url in browser.requests), \
+        browser.requests
+
+
+# -- on the firmware, in simavr -----------------------------------------------------------
+from test_firmware import boards, build, firmware_pty, simboard  # noqa: E402, F401
+
+
+def test_on_the_firmware_the_board_holds_what_the_service_says(firmware_pty):
+    with serving(port=firmware_pty) as service, service.events() as ws:
+        _, a, _ = service.call("POST", "/api/play", {"gesture": "rockon"})
+        until(ws, "done", a["id"], timeout=60)
+        _, b, _ = service.call("POST", "/api/play", {"steps": "index 120 over 1s"})
+        until(ws, "started", b["id"])
+        time.sleep(0.4)
+        service.call("POST", "/api/stop")
+        time.sleep(0.3)
+        _, pose, _ = service.call("GET", "/api/pose")
+        code, _ = service.stop()
+    assert code == 143
+    assert 0 < pose["servos"]["index"]["value"] < 120  # stopped on its way
+    assert dump(firmware_pty) == values(pose)  # the firmware's own answer to DUMP
