@@ -348,3 +348,33 @@ def test_a_gesture_named_like_a_bench_tool_plays_with_play(tmp_path, capsys):
     # and 'gestplay GESTURE' is still short for 'gestplay play GESTURE'
     assert gestplay.main(["peace", "--dry-run"]) == 0
     assert capsys.readouterr().out.startswith("0.000000 255\n")
+
+
+def test_gestc_and_gestplay_load_a_gesture_alike(tmp_path, capsys, monkeypatch):
+    """One target loader (cli/target.py): the same file or library gesture, the same
+    gesture picked, the same words when there is none to pick."""
+    from inmoov_dsl.cli import gestplay
+    from inmoov_dsl.compiling.compiled import to_timed
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "both.gest").write_text("open: index 0\nshut: index 90\n")
+
+    def gestplay_run(*argv):
+        return (gestplay.main(list(argv)), *capsys.readouterr())
+
+    for argv, said in [
+        (["both.gest"], "error: both.gest defines 2 gestures: open, shut\n"
+         "  hint: choose one with --gesture NAME\n"),
+        (["both.gest", "-g", "shutt"], "error: no gesture 'shutt' in both.gest\n"
+         "  hint: did you mean 'shut'?\n"),
+        (["nosuch"], "error: no file or library gesture 'nosuch'"),
+    ]:
+        compiled = run(capsys, "compile", *argv, "-o", "-")
+        played = gestplay_run(*argv, "--dry-run")
+        assert compiled[0] == played[0] == 1
+        assert compiled[2].startswith(f"gestc: {said}")
+        assert played[2].startswith(f"gestplay: {said}")
+    compiled = from_json(run(capsys, "compile", "both.gest", "-g", "shut", "-o", "-")[1])
+    assert compiled.gesture == "shut"
+    assert gestplay_run("both.gest", "-g", "shut", "--dry-run")[1] == \
+        to_timed(compiled.streams[0])

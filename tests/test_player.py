@@ -197,6 +197,21 @@ def test_a_loop_reports_the_whole_run(capsys):
                           f"{len(one.stream().data) + len(again.stream().data):,} bytes, ")
 
 
+def test_a_gesture_is_expanded_once_for_its_boards_and_every_pass(capsys, monkeypatch):
+    """gestplay finds the boards a gesture drives from its actions, and plans every
+    pass from the same actions: the gesture is expanded once."""
+    from inmoov_dsl.compiling.resolve import Resolver
+
+    expanded = []
+    gesture = Resolver.gesture
+    monkeypatch.setattr(Resolver, "gesture",
+                        lambda self, *a: expanded.append(a) or gesture(self, *a))
+    code, _, err = run(capsys, "peace", "--port", "sim://?boot=0&fresh", "--loop", "2")
+    assert code == 0, err
+    assert err.startswith("played peace twice: ")  # two plans: from rest, from peace
+    assert expanded == [("peace", None)]
+
+
 def test_a_loop_stopped_in_its_second_pass_was_played_once(capsys, monkeypatch):
     from inmoov_dsl.cli.gestplay import play as playing
 

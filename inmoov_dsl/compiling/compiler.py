@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import hashlib
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from ..errors import Diagnostic, GestError, did_you_mean
@@ -13,6 +13,7 @@ from ..language.load import load
 from ..language.program import Program
 from ..profiles.data import Profile
 from ..profiles.profile import load_profile
+from .actions import Action
 from .compiled import Compiled, StepSummary
 from .encode import encode
 from .plan import Plan, Planner
@@ -88,24 +89,27 @@ def resolve_start(program: Program, profile: Profile,
 
 
 def plan_gesture(program: Program, gesture: str, profile: Profile, start: Start = None,
-                 strict: bool = False, side: str | None = None) -> Plan:
+                 strict: bool = False, side: str | None = None,
+                 actions: Sequence[Action] | None = None) -> Plan:
     """Resolve and plan gesture ``gesture`` of ``program`` for ``profile``, from the
     ``start`` pose (see resolve_start); ``strict``: a stretched move is an error;
-    ``side``: played on that side of the robot (sides.py)."""
-    steps = resolver(program, profile).gesture(gesture, side)
+    ``side``: played on that side of the robot (sides.py); ``actions``: the gesture's,
+    when the caller has resolved them already (the gesture is expanded once)."""
+    if actions is None:
+        actions = resolver(program, profile).gesture(gesture, side)
     pose = resolve_start(program, profile, start)
-    return Planner(profile, program.sources).plan(steps, pose, strict)
+    return Planner(profile, program.sources).plan(actions, pose, strict)
 
 
 def compile_program(program: Program, gesture: str | None = None,
                     profile: str | Profile = "rhand", start: Start = None,
-                    strict: bool = False, side: str | None = None
-                    ) -> tuple[Compiled, Plan]:
-    """Compile one gesture of a loaded program (on ``side`` of the robot, when given);
-    also return its plan (for reports)."""
+                    strict: bool = False, side: str | None = None,
+                    actions: Sequence[Action] | None = None) -> tuple[Compiled, Plan]:
+    """Compile one gesture of a loaded program (on ``side`` of the robot, when given;
+    ``actions``: its actions, already resolved); also return its plan (for reports)."""
     prof = as_profile(profile)
     name = pick_gesture(program, gesture)
-    plan = plan_gesture(program, name, prof, start, strict, side)
+    plan = plan_gesture(program, name, prof, start, strict, side, actions)
     streams = encode(plan)
     steps = tuple(
         StepSummary(s.where, s.pos.file if s.pos else None, s.pos.line if s.pos else None,

@@ -10,10 +10,10 @@ from ...compiling.compiled import Compiled
 from ...compiling.compiler import compile_program
 from ...compiling.plan import Plan
 from ...errors import Diagnostic, GestError
-from ...language.library import find_gesture, library_dirs
-from ...language.load import load
 from ...language.program import Program
+from ...profiles.data import Profile
 from ..common import add_lib, report
+from ..target import load_target
 
 PROG = "gestc"
 
@@ -36,17 +36,15 @@ def add_arguments(p: argparse.ArgumentParser, target: bool = True) -> None:
 
 
 def compile_target(args: argparse.Namespace) -> tuple[Compiled, Plan]:
-    """Find the gesture the arguments name (a file, or a name on the search path) and
-    compile it."""
-    dirs = library_dirs(args.lib)
-    path, gesture = find_gesture(args.target, args.gesture, dirs,
-                                 lambda d: report([d], PROG))
-    return compile_one(load(path, search=dirs), gesture, args.profile, args.start,
+    """Find the gesture the arguments name (a file, or a name on the search path:
+    ``load_target``) and compile it."""
+    target = load_target(args.target, args.gesture, args.profile, args.lib, PROG)
+    return compile_one(target.program, target.gesture, target.profile, args.start,
                        args.strict)
 
 
-def compile_one(program: Program, gesture: str | None, profile: str, start: str | None,
-                strict: bool) -> tuple[Compiled, Plan]:
+def compile_one(program: Program, gesture: str | None, profile: str | Profile,
+                start: str | None, strict: bool) -> tuple[Compiled, Plan]:
     """Compile one gesture and report its warnings; if ``strict``, a link that cannot
     keep up is an error too."""
     compiled, plan = compile_program(program, gesture, profile, start, strict)

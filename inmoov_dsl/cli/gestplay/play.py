@@ -8,68 +8,60 @@ import os
 import sys
 from collections.abc import Callable
 
-from ...compiling.compiled import Compiled, check_profile, to_timed
-from ...compiling.compiled_reader import read_compiled
-from ...compiling.compiler import compile_program, pick_gesture
+from ...compiling.actions import Action
+from ...compiling.compiled import Compiled, to_timed
+from ...compiling.compiler import compile_program
 from ...compiling.resolve import resolver
 from ...errors import Diagnostic, GestError
-from ...language.library import find_gesture, library_dirs
-from ...language.load import load
 from ...model.posebars import bar_lines
-from ...profiles.profile import load_profile
 from ...profiles.tables import SIDES
 from ...wire.player import play
 from .. import hand
 from ..common import EXIT_OK, add_blind, add_lib, number, report, warn
+from ..target import Target, load_target
 
 PROG = "gestplay"
 
 
-class Target:
-    """What to play: a compiled file, or a gesture to compile from the pose the hand is in."""
+class Playing:
+    """What to play (``load_target``): a compiled file, or a gesture to compile from the
+    pose the hand is in, its actions resolved once (the boards they drive, then every
+    pass's streams)."""
 
-    def __init__(self, name: str, gesture: str | None = None, profile: str | None = None,
-                 lib: list[str] | None = None, strict: bool = False, hand: str | None = None):
-        self.compiled: Compiled | None = None
-        self.program = None
-        self.strict, self.hand = strict, hand
-        if name.endswith(".gestc"):
-            if hand is not None:
-                raise GestError(Diagnostic("error", "--hand plays a gesture on the other "
-                                           "side; a compiled file is for the side it was "
-                                           "compiled for", hint="play the .gest file"))
-            self.compiled = read_compiled(name)
-            self.profile = load_profile(profile or self.compiled.profile)
-            check_profile(self.compiled, self.profile)
-            return
-        dirs = library_dirs(lib or [])
-        path, self.gesture = find_gesture(name, gesture, dirs, lambda d: report([d], PROG))
-        self.program = load(path, search=dirs)
-        self.profile = load_profile(profile or "rhand")
+    def __init__(self, target: Target, strict: bool = False, side: str | None = None):
+        self.profile, self.gesture = target.profile, target.gesture
+        self.program, self.compiled = target.program, target.compiled
+        self.strict, self.side = strict, side
+        self._actions: tuple[Action, ...] | None = None
+
+    def actions(self) -> tuple[Action, ...]:
+        """The gesture's actions on its side, resolved the first time they are asked."""
+        if self._actions is None:
+            self._actions = resolver(self.program, self.profile).gesture(self.gesture,
+                                                                         self.side)
+        return self._actions
 
     def boards(self) -> set[int]:
         """The boards the gesture drives: those of the servos it names (a compiled
         file's: those its streams send more than a CANCEL to)."""
         if self.program is None:
             return {s.board for s in self.compiled.streams if not s.idle}
-        name = pick_gesture(self.program, self.gesture)
-        actions = resolver(self.program, self.profile).gesture(name, self.hand)
-        return {self.profile.servos[i].board for a in actions for i in a.servos()}
+        return {self.profile.servos[i].board for a in self.actions() for i in a.servos()}
 
     def build(self, start: dict[str, int] | None) -> Compiled:
         """The streams, planned from ``start`` (servo name -> value) when given."""
         if self.program is None:
             return self.compiled
         compiled, _ = compile_program(self.program, self.gesture, self.profile, start,
-                                      self.strict, self.hand)
+                                      self.strict, self.side, self.actions())
         report(compiled.warnings, PROG)
         return compiled
 
 
 def run(args: argparse.Namespace) -> int:
     """Play (or with --dry-run print) the gesture."""
-    target = Target(args.target, args.gesture, args.profile, args.lib, args.strict,
-                    args.hand)
+    target = Playing(load_target(args.target, args.gesture, args.profile, args.lib, PROG,
+                                 compiled=True, side=args.hand), args.strict, args.hand)
     if args.dry_run:
         return dry_run(target.build(None), args.speed)
     if not args.port:
@@ -110,7 +102,7 @@ def dry_run(compiled: Compiled, speed: float) -> int:
     return EXIT_OK
 
 
-def play_on(on: hand.Hand, target: Target, loop: int, speed: float) -> dict[str, int]:
+def play_on(on: hand.Hand, target: Playing, loop: int, speed: float) -> dict[str, int]:
     """Play ``loop`` times (0: until Ctrl-C) from the pose the hand holds, each pass from
     where the last one ended; one line of figures after, interrupted or not. The pose
     the hand ends in (servo name -> value)."""

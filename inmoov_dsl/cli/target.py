@@ -1,0 +1,59 @@
+"""The gesture a command names, found and loaded once for every tool: a .gest file or
+a library gesture (gestc's commands, gestplay), or a compiled .gestc file (gestplay)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from ..compiling.compiled import Compiled, check_profile
+from ..compiling.compiler import pick_gesture
+from ..errors import Diagnostic, GestError
+from ..language.library import find_gesture, library_dirs
+from ..language.load import load
+from ..language.program import Program
+from ..profiles.data import Profile
+from ..profiles.profile import load_profile
+from .common import report
+
+
+@dataclass
+class Target:
+    """A gesture named on the command line, loaded for its profile: a gesture of a
+    program (``program``), or a compiled file (``compiled``)."""
+
+    profile: Profile
+    gesture: str  #: the gesture's name (picked: the one asked for, or the file's)
+    program: Program | None = None
+    compiled: Compiled | None = None
+
+
+def load_target(name: str, gesture: str | None, profile: str | None,
+                lib: Sequence[str] | None, prog: str, compiled: bool = False,
+                side: str | None = None) -> Target:
+    """Find ``name`` (a .gest file, or a gesture on the search path: ``lib``, then the
+    library), load it for ``profile`` (default rhand) and pick ``gesture`` of it
+    (``pick_gesture``); what is noticed on the way is ``prog``'s warning. With
+    ``compiled``, a .gestc file is read instead, for its profile (default the one it
+    was compiled for, and checked against it); played on a ``side``, refused."""
+    if compiled and name.endswith(".gestc"):
+        return _compiled(name, profile, side)
+    dirs = library_dirs(lib or [])
+    path, picked = find_gesture(name, gesture, dirs, lambda d: report([d], prog))
+    program = load(path, search=dirs)
+    loaded = load_profile(profile or "rhand")
+    return Target(loaded, pick_gesture(program, picked), program=program)
+
+
+def _compiled(name: str, profile: str | None, side: str | None) -> Target:
+    """A compiled file, for its profile (checked against it)."""
+    from ..compiling.compiled_reader import read_compiled
+
+    if side is not None:
+        raise GestError(Diagnostic("error", "--hand plays a gesture on the other side; a "
+                                   "compiled file is for the side it was compiled for",
+                                   hint="play the .gest file"))
+    done = read_compiled(name)
+    loaded = load_profile(profile or done.profile)
+    check_profile(done, loaded)
+    return Target(loaded, done.gesture, compiled=done)
