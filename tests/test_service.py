@@ -371,3 +371,47 @@ def test_on_the_firmware_the_board_holds_what_the_service_says(firmware_pty):
     assert code == 143
     assert 0 < pose["servos"]["index"]["value"] < 120  # stopped on its way
     assert dump(firmware_pty) == values(pose)  # the firmware's own answer to DUMP
+
+
+# -- a board unplugged while serving ------------------------------------------------------
+def board_on(link) -> subprocess.Popen:
+    """A gestsim board, and ``link`` (a symlink, as udev names a board) pointing at it."""
+    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim", "--quiet",
+                             "--boot", "0.1"], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    path = Lines(proc.stdout).until(r"^(/dev/\S+)$", 30)
+    spare = link.with_suffix(".new")
+    os.symlink(path, spare)
+    os.replace(spare, link)
+    return proc
+
+
+@pytest.mark.skipif(not hasattr(os, "openpty"), reason="gestsim's pseudo-terminals are POSIX")
+def test_a_board_unplugged_is_an_event_and_a_503_until_it_comes_back(tmp_path):
+    link = tmp_path / "hand"
+    first = board_on(link)
+    try:
+        with serving(port=str(link)) as service, service.events() as ws:
+            _, a, _ = service.call("POST", "/api/play", {"steps": "index 90 over 0.3s"})
+            until(ws, "done", a["id"])
+            first.kill()  # the cable is pulled
+            first.wait()
+            assert until(ws, "board-lost")[-1]["board"] == 181
+            status, answer, _ = service.call("POST", "/api/play", {"gesture": "fist"})
+            assert status == 503 and answer["error"] == ("board 181 is not there: its link "
+                                                         "was lost")
+            second = board_on(link)  # plugged in again (a new board, at rest)
+            try:
+                assert until(ws, "board-back")[-1]["board"] == 181
+                _, pose, _ = service.call("GET", "/api/pose")
+                assert values(pose) == dict.fromkeys(PEACE, 0)  # what the board holds
+                status, b, _ = service.call("POST", "/api/play", {"steps": "index 45"})
+                assert status == 202
+                until(ws, "done", b["id"])
+                code, err = service.stop()
+                assert code == 143 and "Traceback" not in err
+            finally:
+                second.kill()
+                second.wait()
+    finally:
+        if first.poll() is None:
+            first.kill()

@@ -24,12 +24,12 @@ from ..language.program import Program
 from ..profiles.data import Profile
 from ..wire.board import BoardCore
 from ..wire.player import POLL, SPIN, Link, drain
-from .orders import Control, Order, Request, Tracker
+from .orders import Control, Order, Rejoin, Request, Tracker
 from .session import LINE, Segment, Session, line_steps
 
 #: what ``next_request`` gives: a request (an Order when it has an id or options, a
 #: Control to stop or relax), None at the end, False if none came in time
-Next = Request | Order | Control | None | Literal[False]
+Next = Request | Order | Control | Rejoin | None | Literal[False]
 
 
 @dataclass(frozen=True)
@@ -141,6 +141,8 @@ class Drive:
                 ended = True
             elif isinstance(request, Control):
                 self._control(request, t)
+            elif isinstance(request, Rejoin):
+                self._rejoin(request, t)
             elif request is not False:
                 segment = self._requested(request if isinstance(request, Order)
                                           else Order(request), t)
@@ -213,6 +215,17 @@ class Drive:
         self.tracker.began(segment.tag, self.session.tags(), self._again)
         if segment.warnings:
             self.tell(Note("warning", segment.warnings, aside=aside, id=segment.tag))
+
+    def _rejoin(self, rejoin: Rejoin, t: float) -> None:
+        """A board is back, holding ``rejoin.values``: the hand goes on from what the
+        boards hold."""
+        for servo_id, value in rejoin.values.items():
+            self.mirror.put(servo_id, value)
+        self.events = []
+        self.tracker.halt(self.session.tags())
+        self.session.stop(t, self.mirror.held())
+        self.moving = False
+        self.tell(Note("board-back", text=str(rejoin.board)))
 
     def _again(self, steps: list[Action], sources: SourceMap | None, tag: str) -> None:
         """Queue another pass of a request that loops."""

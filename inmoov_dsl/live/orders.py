@@ -41,6 +41,15 @@ class Control:
     id: str | None = None
 
 
+@dataclass(frozen=True)
+class Rejoin:
+    """A board that was away is back, holding ``values`` (servo ID -> value): the hand
+    goes on from there."""
+
+    board: int
+    values: dict[int, int]
+
+
 Tell = Callable[[str, str], None]  #: (event: started, finished or stopped; request id)
 Append = Callable[[Sequence[Action], SourceMap | None, str], None]  #: queue another pass
 

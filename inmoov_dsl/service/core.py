@@ -13,7 +13,7 @@ import json
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from ..compiling.actions import Steps
+from ..compiling.actions import Action, Steps
 from ..errors import Diagnostic, GestError, Pos, did_you_mean
 from ..language.program import Program
 from ..live.orders import Order
@@ -73,6 +73,11 @@ def play_order(doc: dict[str, Any], program: Program, profile: Profile, id: str)
     steps, sources = line_steps(_one_line(text), program, profile, REQUEST, 1, side)
     name = text if what == "gesture" else "steps"
     return Order(Steps(tuple(steps), name, sources), id, when == "after", loop)
+
+
+def boards_of(actions: Sequence[Action], profile: Profile) -> set[int]:
+    """The boards that ``actions`` drive."""
+    return {profile.servos[i].board for a in actions for i in a.servos()}
 
 
 def _field(doc: dict[str, Any], key: str, kind: type) -> Any:

@@ -24,7 +24,7 @@ from aiohttp import WSMsgType, web
 from ..errors import GestError
 from ..live.drive import Drive, Next, Note
 from ..live.orders import Control
-from . import core, openapi
+from . import core, links, openapi
 from .guard import Guard
 
 POSE_EVERY = 0.020  #: s between pose events while the hand moves, at most one per frame
@@ -52,9 +52,21 @@ class Service:
 
     def told(self, note: Note) -> None:
         """The drive loop's ``tell`` (its thread): the note as an event, if it is one."""
+        if note.kind == "board-back":
+            self.lost.discard(int(note.text))
+            self.publish({"event": "board-back", "id": None, "board": int(note.text)})
+            return
         event = core.note_event(note.kind, note.id, note.diagnostics)
         if event is not None:
             self.publish(event)
+
+    def board_lost(self, board: int) -> None:
+        """A board's link went away (the drive loop's thread): an event, and the other
+        boards stop where they are."""
+        if board not in self.lost:
+            self.lost.add(board)
+            self.publish({"event": "board-lost", "id": None, "board": board})
+            self.requests.put(links.lost_request(board))
 
     def publish(self, event: dict[str, Any]) -> None:
         """Send ``event`` to every WebSocket (from any thread)."""
@@ -145,8 +157,9 @@ async def _play(request: web.Request, service: Service) -> web.Response:
         return _json(exc.json(), 400)
     except GestError as exc:
         return _json(core.problem(exc), 422)
-    if service.lost:
-        return _lost(service)
+    needed = core.boards_of(order.what.actions, service.profile) & service.lost
+    if needed:
+        return _lost(needed)
     service.requests.put(order)
     return _json({"id": order.id}, 202)
 
@@ -163,8 +176,8 @@ async def _control(request: web.Request, service: Service, kind: str) -> web.Res
     return _json({"id": control.id})
 
 
-def _lost(service: Service) -> web.Response:
-    boards = ", ".join(map(str, sorted(service.lost)))
+def _lost(boards: set[int]) -> web.Response:
+    boards = ", ".join(map(str, sorted(boards)))
     return _json({"error": f"board {boards} is not there: its link was lost",
                   "hint": "plug it back in: the service picks it up again"}, 503)
 

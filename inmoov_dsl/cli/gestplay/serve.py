@@ -12,6 +12,7 @@ from ...errors import Diagnostic, GestError
 from ...language.library import library_dirs, scan_library
 from ...live.drive import Drive, library_program
 from ...profiles.profile import load_profile
+from ...wire.player import Link
 from .. import hand
 from ..common import EXIT_OK, add_blind, add_lib
 
@@ -22,7 +23,7 @@ DEFAULT_HTTP = "127.0.0.1:8180"
 def run(args: argparse.Namespace) -> int:
     """Open the boards, listen, and drive the hand until Ctrl-C or SIGTERM."""
     try:
-        from ...service import guard, http
+        from ...service import guard, http, links
     except ImportError:
         raise GestError(Diagnostic("error", "the service needs aiohttp, which is not "
                                    "installed", hint="pip install 'inmoov-dsl[serve]'")
@@ -35,6 +36,10 @@ def run(args: argparse.Namespace) -> int:
     gestures = _listing(program, profile, dirs)
     service = http.Service(program, profile, lambda: gestures)
     with hand.opened(PROG, profile, args.port, args.blind) as on:
+        ports = [links.Resilient(link, service.board_lost) for link in on.links]
+        on.links[:] = [Link(p.board, p, p.name) for p in ports]  # closed and cancelled too
+        watcher = links.Watcher(ports, {b.id: b.baud for b in profile.boards},
+                                service.requests.put)
         service.drive = Drive(on.links, profile, on.pose, program, service.told)
         server = http.Server(service, guard.Guard(host, port, token), host, port)
         try:
@@ -48,9 +53,11 @@ def run(args: argparse.Namespace) -> int:
         print(f"{PROG}: http://{shown}:{port}/ drives {profile.name} on "
               f"{', '.join(link.name for link in on.links)}; Ctrl-C stops",
               file=sys.stderr, flush=True)
+        watcher.start()
         try:
             service.drive.run(service.next_request)
         finally:
+            watcher.stop()
             server.stop()
     return EXIT_OK
 

@@ -1,0 +1,108 @@
+"""Boards that may be unplugged while the service runs (an edge): a lost link is an
+event, its bytes go nowhere until it comes back, and a watcher opens it again, asks the
+board its pose and hands the board back to the drive loop, which goes on from there."""
+
+from __future__ import annotations
+
+import contextlib
+import threading
+from collections.abc import Callable
+
+import serial
+
+from ..errors import GestError
+from ..live.orders import Control, Rejoin
+from ..wire.player import Link, ask_dump, wait_ready
+from ..wire.ports import open_port
+
+RETRY = 0.5  #: s between attempts to open a lost board's port again
+
+
+class Resilient:
+    """A board's port that does not raise when the board goes away: writes are dropped
+    and reads are empty until ``back`` gives it a new port."""
+
+    def __init__(self, link: Link, lost: Callable[[int], None]):
+        self.board, self.name, self.port = link.board, link.name, link.port
+        self.lost, self.down = lost, False
+        self.lock = threading.Lock()
+
+    def write(self, data: bytes) -> int:
+        """Send ``data`` (dropped while the board is away)."""
+        with self.lock:
+            if not self.down:
+                try:
+                    return self.port.write(data)
+                except (serial.SerialException, OSError):
+                    self._lose()
+            return len(data)
+
+    def read(self, size: int = 1) -> bytes:
+        """What the board has sent (nothing while it is away)."""
+        with self.lock:
+            if not self.down:
+                try:
+                    return self.port.read(size)
+                except (serial.SerialException, OSError):
+                    self._lose()
+            return b""
+
+    def _lose(self) -> None:
+        self.down = True
+        with contextlib.suppress(serial.SerialException, OSError):
+            self.port.close()
+        self.lost(self.board)
+
+    def back(self, port) -> None:
+        """The board is there again, on ``port``."""
+        with self.lock:
+            self.port, self.down = port, False
+
+    def close(self) -> None:
+        """Close the port."""
+        with self.lock:
+            if not self.down:
+                self.port.close()
+
+
+class Watcher:
+    """Opens lost boards' ports again, every RETRY s, until the service stops."""
+
+    def __init__(self, ports: list[Resilient], bauds: dict[int, int],
+                 request: Callable[[object], None]):
+        self.ports, self.bauds, self.request = ports, bauds, request
+        self.stopping = threading.Event()
+        self.thread = threading.Thread(target=self._run, name="board-watcher", daemon=True)
+
+    def start(self) -> None:
+        """Watch."""
+        self.thread.start()
+
+    def stop(self) -> None:
+        """Stop watching."""
+        self.stopping.set()
+        self.thread.join(timeout=5)
+
+    def _run(self) -> None:
+        while not self.stopping.wait(RETRY):
+            for port in self.ports:
+                if port.down and not self.stopping.is_set():
+                    self._try(port)
+
+    def _try(self, lost: Resilient) -> None:
+        try:
+            port = open_port(lost.name, self.bauds[lost.board])
+        except GestError:
+            return
+        values = ask_dump(port, lost.board) if wait_ready(port) else None
+        if values is None:
+            port.close()
+            return
+        lost.back(port)
+        self.request(Rejoin(lost.board, values))
+
+
+def lost_request(board: int) -> Control:
+    """What the drive loop is asked when a board goes away: stop the others where they
+    are, so that no part of the hand goes on without the rest."""
+    return Control("stop", f"board-{board}-lost")
