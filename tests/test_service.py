@@ -357,7 +357,7 @@ def page(browser, service: Service) -> None:
 from test_firmware import boards, build, firmware_pty, simboard  # noqa: E402, F401
 
 
-def test_on_the_firmware_the_board_holds_what_the_service_says(firmware_pty):
+def test_on_the_firmware_the_board_holds_what_the_service_says(firmware_pty):  # noqa: F811
     with serving(port=firmware_pty) as service, service.events() as ws:
         _, a, _ = service.call("POST", "/api/play", {"gesture": "rockon"})
         until(ws, "done", a["id"], timeout=60)

@@ -11,86 +11,21 @@ from __future__ import annotations
 
 import asyncio
 import json
-import queue
 import sys
 import threading
 import uuid
-from collections.abc import Callable
 from importlib import metadata, resources
 from typing import Any
 
 from aiohttp import WSMsgType, web
 
 from ..errors import GestError
-from ..live.drive import Drive, Next, Note
 from ..live.orders import Control
-from . import core, links, openapi
+from . import core, openapi
 from .guard import Guard
+from .hub import QUEUE, Service
 
 POSE_EVERY = 0.020  #: s between pose events while the hand moves, at most one per frame
-QUEUE = 1000  #: events kept for a WebSocket that reads slowly; older ones are dropped
-
-
-class Service:
-    """What the HTTP thread and the drive loop share: requests one way, notes the other."""
-
-    def __init__(self, program, profile, listing: Callable[[], list[dict[str, Any]]]):
-        self.program, self.profile, self.listing = program, profile, listing
-        self.requests: queue.Queue = queue.Queue()
-        self.drive: Drive | None = None
-        self.loop: asyncio.AbstractEventLoop | None = None
-        self.listeners: set[asyncio.Queue] = set()
-        self.lost: set[int] = set()  #: boards whose link is down
-
-    def next_request(self, timeout: float) -> Next:
-        """The drive loop's ``next_request``."""
-        try:
-            return self.requests.get(timeout=timeout) if timeout > 0 else \
-                self.requests.get_nowait()
-        except queue.Empty:
-            return False
-
-    def told(self, note: Note) -> None:
-        """The drive loop's ``tell`` (its thread): the note as an event, if it is one."""
-        if note.kind == "board-back":
-            self.lost.discard(int(note.text))
-            self.publish({"event": "board-back", "id": None, "board": int(note.text)})
-            return
-        event = core.note_event(note.kind, note.id, note.diagnostics)
-        if event is not None:
-            self.publish(event)
-
-    def board_lost(self, board: int) -> None:
-        """A board's link went away (the drive loop's thread): an event, and the other
-        boards stop where they are."""
-        if board not in self.lost:
-            self.lost.add(board)
-            self.publish({"event": "board-lost", "id": None, "board": board})
-            self.requests.put(links.lost_request(board))
-
-    def publish(self, event: dict[str, Any]) -> None:
-        """Send ``event`` to every WebSocket (from any thread)."""
-        if self.loop is not None:
-            self.loop.call_soon_threadsafe(self._fan_out, event)
-
-    def _fan_out(self, event: dict[str, Any]) -> None:
-        for listener in self.listeners:
-            if listener.full():
-                listener.get_nowait()
-            listener.put_nowait(event)
-
-    def pose(self) -> dict[str, Any]:
-        """The pose as ``GET /api/pose`` gives it."""
-        drive = self.drive
-        now = drive.now()
-        velocity = drive.session.state(now).velocity if drive.session.busy(now) else \
-            (0.0,) * len(self.profile.servos)
-        return core.pose(self.profile, drive.mirror.held(), velocity, drive.tracker.playing)
-
-    def moving(self) -> bool:
-        """Does the hand move (or wait in a gesture)?"""
-        drive = self.drive
-        return drive is not None and (bool(drive.events) or drive.session.busy(drive.now()))
 
 
 def app(service: Service, guard: Guard) -> web.Application:

@@ -12,8 +12,9 @@ import serial
 
 from ..errors import GestError
 from ..live.orders import Control, Rejoin
+from ..profiles.data import Profile
+from ..wire.link import open_board
 from ..wire.player import Link, ask_dump, wait_ready
-from ..wire.ports import open_port
 
 RETRY = 0.5  #: s between attempts to open a lost board's port again
 
@@ -68,9 +69,9 @@ class Resilient:
 class Watcher:
     """Opens lost boards' ports again, every RETRY s, until the service stops."""
 
-    def __init__(self, ports: list[Resilient], bauds: dict[int, int],
+    def __init__(self, ports: list[Resilient], profile: Profile,
                  request: Callable[[object], None]):
-        self.ports, self.bauds, self.request = ports, bauds, request
+        self.ports, self.profile, self.request = ports, profile, request
         self.stopping = threading.Event()
         self.thread = threading.Thread(target=self._run, name="board-watcher", daemon=True)
 
@@ -91,7 +92,8 @@ class Watcher:
 
     def _try(self, lost: Resilient) -> None:
         try:
-            port = open_port(lost.name, self.bauds[lost.board])
+            board = next(b for b in self.profile.boards if b.id == lost.board)
+            port = open_board(lost.name, self.profile, board)
         except GestError:
             return
         values = ask_dump(port, lost.board) if wait_ready(port) else None

@@ -23,7 +23,7 @@ DEFAULT_HTTP = "127.0.0.1:8180"
 def run(args: argparse.Namespace) -> int:
     """Open the boards, listen, and drive the hand until Ctrl-C or SIGTERM."""
     try:
-        from ...service import guard, http, links
+        from ...service import guard, http, hub, links
     except ImportError:
         raise GestError(Diagnostic("error", "the service needs aiohttp, which is not "
                                    "installed", hint="pip install 'inmoov-dsl[serve]'")
@@ -34,12 +34,11 @@ def run(args: argparse.Namespace) -> int:
     dirs = library_dirs(args.lib)
     program = library_program(dirs)
     gestures = _listing(program, profile, dirs)
-    service = http.Service(program, profile, lambda: gestures)
+    service = hub.Service(program, profile, lambda: gestures)
     with hand.opened(PROG, profile, args.port, args.blind) as on:
         ports = [links.Resilient(link, service.board_lost) for link in on.links]
         on.links[:] = [Link(p.board, p, p.name) for p in ports]  # closed and cancelled too
-        watcher = links.Watcher(ports, {b.id: b.baud for b in profile.boards},
-                                service.requests.put)
+        watcher = links.Watcher(ports, profile, service.requests.put)
         service.drive = Drive(on.links, profile, on.pose, program, service.told)
         server = http.Server(service, guard.Guard(host, port, token), host, port)
         try:
