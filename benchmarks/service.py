@@ -18,6 +18,7 @@ import json
 import os
 import random
 import re
+import socket
 import statistics
 import subprocess
 import sys
@@ -54,19 +55,25 @@ def arrivals(log: Path) -> list[float]:
     return [float(line.split()[0]) for line in log.read_text().splitlines() if line]
 
 
-async def latency(url: str, log: Path) -> list[float]:
-    """Seconds from sending a play to its first byte reaching the board, one at a time."""
+def latency(url: str, log: Path) -> list[float]:
+    """Seconds from a play request's last byte leaving this program (a plain socket,
+    kept alive, so no client library's work is counted) to its first byte reaching the
+    board, one at a time."""
+    host, port = url[len("http://"):].rsplit(":", 1)
     out = []
-    async with aiohttp.ClientSession() as http:
+    with socket.create_connection((host, int(port))) as sock:
         for k in range(LATENCY_RUNS):
-            await asyncio.sleep(0.05)
+            time.sleep(0.05)
+            body = json.dumps({"steps": f"index {k % 2 * 90} over 0.3s"}).encode()
+            head = (f"POST /api/play HTTP/1.1\r\nHost: {host}:{port}\r\nContent-Type: "
+                    f"application/json\r\nContent-Length: {len(body)}\r\n\r\n").encode()
             seen = len(arrivals(log))
             t0 = time.monotonic()
-            async with http.post(f"{url}/api/play", json={"steps": f"index {k % 2 * 90} "
-                                                                   f"over 0.3s"}) as r:
-                assert r.status == 202
+            sock.sendall(head + body)
+            answer = sock.recv(65536)
+            assert answer.startswith(b"HTTP/1.1 202"), answer
             while len(times := arrivals(log)) == seen:
-                await asyncio.sleep(0.001)
+                time.sleep(0.0005)
             out.append(times[seen] - t0)
     return out
 
@@ -152,7 +159,7 @@ def main() -> None:
     log = Path(tempfile.mkdtemp()) / "received.log"
     board, pty, service, url = start(log)
     try:
-        waits = asyncio.run(latency(url, log))
+        waits = latency(url, log)
         result = asyncio.run(load(url, service.pid))
         service.terminate()
         service.wait(timeout=20)
@@ -178,8 +185,9 @@ def main() -> None:
     print("- events heard: " + ", ".join(f"{k} {n:,}" for k, n in
                                           sorted(result["events"].items())))
     memory = result["memory"]
-    print(f"- the service's memory: {memory[0] / 1024:.1f} MB at the start, "
-          f"{max(memory) / 1024:.1f} MB at most, {memory[-1] / 1024:.1f} MB at the end")
+    quarters = [memory[len(memory) * q // 4] / 1024 for q in range(4)] + [memory[-1] / 1024]
+    print("- the service's memory (MB) at the start, after each quarter of the load: "
+          + ", ".join(f"{m:.1f}" for m in quarters))
     print(f"- the board's DUMP after the last request equals the service's pose: "
           f"{held == result['pose']} ({held})")
     assert got == total and not any(status == 500 for _, status in answers)

@@ -158,3 +158,21 @@ def test_a_step_that_cannot_be_planned_drops_its_line_not_the_next(program, monk
     following = session.next(first.plan.duration, REST)
     assert following.step.targets == ((RHAND.index("middle"), 90),)
     assert not session.queue
+
+
+def test_every_takeover_is_planned_even_where_ruckig_stumbles(program):
+    """Requests 0.1 s apart, each reversing a 0.3 s move: the seventh once started from a
+    state ruckig could not plan from (an error to the person); it is planned from a
+    millisecond on, and so is every one of many random takeovers."""
+    there, back = steps("index 90 over 0.3s", program), steps("index 0 over 0.3s", program)
+    session = Session(RHAND, [0] * 6, 0.0)
+    for k in range(12):
+        session.submit(back if k % 2 == 0 else there, k * 0.1, [0] * 6)
+    rng = np.random.default_rng(1)
+    session, t = Session(RHAND, [0] * 6, 0.0), 0.0
+    for _ in range(300):
+        t += rng.uniform(0.01, 0.3)
+        line = (f"index {rng.integers(181)}, middle {rng.integers(181)} over "
+                f"{rng.choice([0.1, 0.3, 0.6])}s")
+        segment = session.submit(steps(line, program), t, [0] * 6)
+        assert segment is not None and segment.origin - t <= 0.001

@@ -29,6 +29,9 @@ from ..profiles.data import Profile
 LINE = "<repl>"  #: the file name diagnostics give for lines typed at a terminal
 STDIN = "<stdin>"  #: and for lines read from a pipe or a file
 _NAME = "_"  #: the typed line becomes this gesture
+#: s; a takeover that ruckig cannot plan from the hand's state (a rare numerical edge of
+#: its solver) is planned from where the running move has the hand this much later
+RETRY_LATER = 0.001
 _PREFIX = f"{_NAME}: "
 
 
@@ -127,7 +130,11 @@ class Session:
         else:
             for i, v in step.targets:
                 final[i] = v
-            plan = self.planner.take_over(self.state(now), final, step.over, step)
+            try:
+                plan = self.planner.take_over(self.state(now), final, step.over, step)
+            except GestError:  # ruckig fails on a few moving states: from a moment on
+                now += RETRY_LATER
+                plan = self.planner.take_over(self.state(now), final, step.over, step)
         plan = replace(plan, start=tuple(held))  # what the board holds is what changed
         self.current = Segment(now, plan, encode(plan), step, plan.warnings)
         return self.current
