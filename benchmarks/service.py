@@ -51,14 +51,16 @@ def rss(pid: int) -> int:
     return int(re.search(r"VmRSS:\s+(\d+)", text)[1])
 
 
-def arrivals(log: Path) -> list[float]:
-    return [float(line.split()[0]) for line in log.read_text().splitlines() if line]
+def arrivals(log: Path) -> list[tuple[float, int]]:
+    """(time, byte) of every byte the board has received."""
+    return [(float(t), int(b)) for t, b in map(str.split, log.read_text().splitlines())]
 
 
 def latency(url: str, log: Path) -> list[float]:
     """Seconds from a play request's last byte leaving this program (a plain socket,
     kept alive, so no client library's work is counted) to its first byte reaching the
-    board, one at a time."""
+    board (the CANCEL its stream opens with: the bytes before it are the running
+    move's), one at a time."""
     host, port = url[len("http://"):].rsplit(":", 1)
     out = []
     with socket.create_connection((host, int(port))) as sock:
@@ -72,9 +74,9 @@ def latency(url: str, log: Path) -> list[float]:
             sock.sendall(head + body)
             answer = sock.recv(65536)
             assert answer.startswith(b"HTTP/1.1 202"), answer
-            while len(times := arrivals(log)) == seen:
+            while not (new := [t for t, b in arrivals(log)[seen:] if b == 255]):
                 time.sleep(0.0005)
-            out.append(times[seen] - t0)
+            out.append(new[0] - t0)
     return out
 
 

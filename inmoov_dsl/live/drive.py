@@ -109,7 +109,9 @@ class Drive:
                  file: str = LINE):
         self.links, self.profile, self.program = links, profile, program
         self.file, self.lines = file, 0  #: typed lines are lines of ``file``; how many came
-        self.tell, self.take_over = tell, take_over
+        self.take_over, self.told = take_over, tell
+        self.notes: list[Note] = []  #: told once the bytes due are out (``_flush``)
+        self.tell: Tell = self.notes.append
         self.now, self.sleep = now, sleep
         start = [pose.get(s.name, s.rest) for s in profile.servos]
         self.mirror = Mirror(profile, [link.board for link in links])
@@ -117,7 +119,7 @@ class Drive:
         self.session = Session(profile, start, now(), program.sources)
         self.events: list[tuple[float, int, int]] = []  # (clock time, link, byte), pending
         self.moving = False  #: a request has moved the hand since the last "done"
-        self.tracker = Tracker(lambda kind, tag: tell(Note(kind, id=tag)))
+        self.tracker = Tracker(lambda kind, tag: self.tell(Note(kind, id=tag)))
 
     def run(self, next_request: Callable[[float], Next]) -> None:
         """Run until the input ends (``next_request`` gives None) and the hand is still.
@@ -125,6 +127,7 @@ class Drive:
         ended = False
         while True:
             if self._still(self.now()) and ended:
+                self._flush()
                 return
             wait = self._wait(self.now(), ended)
             if ended:
@@ -154,6 +157,7 @@ class Drive:
             if segment is not None:
                 self._begin(segment, aside=queued)
             self._send()
+            self._flush()
 
     def settled(self) -> bool:
         """The steps requested so far are done: nothing to send, nothing queued, no
@@ -250,6 +254,12 @@ class Drive:
         except GestError as exc:
             self.tell(Note("error", tuple(exc.diagnostics), aside=True))
             return None
+
+    def _flush(self) -> None:
+        """Tell the front end what happened: after the bytes, so words never delay them."""
+        notes, self.notes[:] = list(self.notes), []
+        for note in notes:
+            self.told(note)
 
     def _send(self) -> None:
         """Write every byte that is due, and mirror it."""
