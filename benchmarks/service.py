@@ -118,7 +118,10 @@ async def listener(url: str, events: Counter, stop: asyncio.Event) -> None:
             except TimeoutError:
                 continue
             if message.type == aiohttp.WSMsgType.TEXT:
-                events[json.loads(message.data)["event"]] += 1
+                event = json.loads(message.data)
+                events[event["event"]] += 1
+                if event["event"] == "error":
+                    events["error: " + event["diagnostics"][0]["message"]] += 1
 
 
 async def load(url: str, pid: int) -> dict:
@@ -185,7 +188,11 @@ def main() -> None:
     print("- answers: " + ", ".join(f"{kind} {status}: {n:,}"
                                     for (kind, status), n in sorted(answers.items())))
     print("- events heard: " + ", ".join(f"{k} {n:,}" for k, n in
-                                          sorted(result["events"].items())))
+                                          sorted(result["events"].items())
+                                          if not k.startswith("error: ")))
+    for k, n in sorted(result["events"].items()):
+        if k.startswith("error: "):
+            print(f"  - {n:,} x {k}")
     memory = result["memory"]
     quarters = [memory[len(memory) * q // 4] / 1024 for q in range(4)] + [memory[-1] / 1024]
     print("- the service's memory (MB) at the start, after each quarter of the load: "

@@ -11,6 +11,7 @@ board already holds. Times are the caller's clock, in seconds; this module has n
 
 from __future__ import annotations
 
+import contextlib
 import functools
 from collections import deque
 from collections.abc import Sequence
@@ -31,7 +32,7 @@ STDIN = "<stdin>"  #: and for lines read from a pipe or a file
 _NAME = "_"  #: the typed line becomes this gesture
 #: s; a takeover that ruckig cannot plan from the hand's state (a rare numerical edge of
 #: its solver) is planned from where the running move has the hand this much later
-RETRY_LATER = 0.001
+RETRY_LATER = (0.001, 0.002, 0.005, 0.010, 0.020)
 _PREFIX = f"{_NAME}: "
 
 
@@ -130,14 +131,21 @@ class Session:
         else:
             for i, v in step.targets:
                 final[i] = v
-            try:
-                plan = self.planner.take_over(self.state(now), final, step.over, step)
-            except GestError:  # ruckig fails on a few moving states: from a moment on
-                now += RETRY_LATER
-                plan = self.planner.take_over(self.state(now), final, step.over, step)
+            plan, now = self._take_over(now, final, step)
         plan = replace(plan, start=tuple(held))  # what the board holds is what changed
         self.current = Segment(now, plan, encode(plan), step, plan.warnings)
         return self.current
+
+    def _take_over(self, now: float, final: list[int], step: Action) -> tuple[Plan, float]:
+        """The plan from where the hand is at ``now`` to ``final``, and when it starts:
+        ruckig's solver stumbles on a few moving states, so a failure is tried again
+        from where the running move has the hand a little later (RETRY_LATER)."""
+        for later in (0.0, *RETRY_LATER[:-1]):
+            with contextlib.suppress(GestError):
+                return self.planner.take_over(self.state(now + later), final, step.over,
+                                              step), now + later
+        now += RETRY_LATER[-1]
+        return self.planner.take_over(self.state(now), final, step.over, step), now
 
 
 class _Typed(SourceMap):
