@@ -415,3 +415,34 @@ def test_a_board_unplugged_is_an_event_and_a_503_until_it_comes_back(tmp_path):
     finally:
         if first.poll() is None:
             first.kill()
+
+
+# -- any request, a clear answer ----------------------------------------------------------
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from inmoov_dsl.errors import GestError  # noqa: E402
+from inmoov_dsl.live.drive import library_program  # noqa: E402
+from inmoov_dsl.profiles.profile import load_profile  # noqa: E402
+
+PROGRAM, RHAND = library_program(), load_profile("rhand")
+JSON = st.recursive(st.none() | st.booleans() | st.integers() | st.floats() | st.text(),
+                    lambda inner: st.lists(inner) | st.dictionaries(st.text(), inner),
+                    max_leaves=8)
+FIELDS = st.dictionaries(st.sampled_from([*core.PLAY_FIELDS, "x"]),
+                         JSON | st.sampled_from(["peace", "index 90", "now", "after", "left",
+                                                 "indx 9", "fist & wave", "wait 1s"]),
+                         max_size=5)
+
+
+@settings(max_examples=300, deadline=None, derandomize=True)
+@given(body=st.binary(max_size=300) | FIELDS.map(lambda d: json.dumps(d).encode()))
+def test_any_body_is_an_order_a_400_or_a_422(body):
+    try:
+        order = core.play_order(core.read_json(body), PROGRAM, RHAND, "id")
+    except core.BadRequest as exc:
+        assert exc.message and json.dumps(exc.json())
+    except GestError as exc:
+        assert core.problem(exc)["text"].startswith("<request>:")
+    else:
+        assert order.id == "id" and order.what.actions and order.loop >= 0
