@@ -191,7 +191,7 @@ def test_a_stretch_is_told_once_per_place_with_its_count(rhand, body):
 
 
 def test_a_stretch_says_enough_decimals_to_tell_the_two_apart():
-    from inmoov_dsl.compiling.plan import stretch_message
+    from inmoov_dsl.compiling.stretch import stretch_message
     assert stretch_message(0.5049, 0.5) == "move stretched: needs 0.505 s, asked 0.500 s"
     assert stretch_message(0.62, 0.4) == "move stretched: needs 0.62 s, asked 0.40 s"
 

@@ -4,6 +4,7 @@ is (pure data)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 from ..errors import Pos, SourceMap
 
@@ -25,10 +26,13 @@ class Action:
     #: ``a & b``: steps that run at the same time on their own servos, each from the
     #: step's start (``targets`` is then empty); the step ends when the longest ends
     branches: tuple[tuple[Action, ...], ...] = ()
+    #: ``say``: a ``speech.Speech``, the sound and the mouth moving with it (not imported
+    #: here: a step's data stays below the planning that reads it)
+    speech: Any = None
 
     def servos(self) -> set[int]:
         """The servos this step moves (in its branches too)."""
-        found = {i for i, _ in self.targets}
+        found = {i for i, _ in self.targets} | ({self.speech.servo} if self.speech else set())
         for branch in self.branches:
             for action in branch:
                 found |= action.servos()

@@ -11,7 +11,8 @@ for tools. Both are described in docs/compiled-format.md; ``compiled_reader`` re
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -68,6 +69,22 @@ class StepSummary:
 
 
 @dataclass(frozen=True)
+class Cue:
+    """A sound the gesture plays (a ``say``): when (s from the gesture's start), what the
+    step said, where the sound comes from (the WAV file's path, or the voice that speaks
+    the text: name, words per minute, pitch), its SHA-256 and its length (s).
+    ``sound``: the sound itself, when the compiler made it (a file read back has none)."""
+
+    start: float
+    said: str
+    file: str | None
+    voice: tuple[str, int, int] | None
+    sha256: str
+    duration: float
+    sound: Any = field(default=None, compare=False, repr=False)
+
+
+@dataclass(frozen=True)
 class Compiled:
     """Everything the player needs: streams, poses, steps, and where they came from."""
 
@@ -82,6 +99,7 @@ class Compiled:
     steps: tuple[StepSummary, ...]
     streams: tuple[Stream, ...]
     warnings: tuple[Diagnostic, ...] = ()
+    sounds: tuple[Cue, ...] = ()  #: what ``say`` steps play, in time order
 
     def stream(self, board: int | None = None) -> Stream:
         """The stream of ``board``; with no board, the only one."""
@@ -122,6 +140,10 @@ def to_json(c: Compiled) -> str:
             for s in c.streams
         ],
     }
+    if c.sounds:
+        doc["sounds"] = [{"start": round(q.start, 9), "say": q.said, "file": q.file,
+                          "voice": list(q.voice) if q.voice else None, "sha256": q.sha256,
+                          "duration": round(q.duration, 9)} for q in c.sounds]
     return json.dumps(doc, indent=1) + "\n"
 
 

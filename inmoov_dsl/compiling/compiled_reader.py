@@ -9,13 +9,14 @@ column of the field or list element it is about.
 from __future__ import annotations
 
 import os
+import re
 
 import numpy as np
 
 from .. import protocol
 from ..errors import Diagnostic, GestError, decode_utf8
 from ..resources import read_regular
-from .compiled import FORMAT, VERSION, Compiled, StepSummary, Stream
+from .compiled import FORMAT, VERSION, Compiled, Cue, StepSummary, Stream
 from .jsonfields import Fields, shown, whole
 from .plan import MAX_GESTURE_DURATION
 
@@ -67,6 +68,8 @@ class CompiledReader(Fields):
             steps=tuple(self.step(st, k, duration)
                         for k, st in enumerate(self.field(doc, "steps", list, ()))),
             streams=read,
+            sounds=tuple(_cue(self, q, k, duration) for k, q in enumerate(
+                self.field(doc, "sounds", list, ()) if "sounds" in doc else ())),
         )
 
     def pose(self, doc: dict, key: str, count: int) -> tuple[int, ...]:
@@ -204,6 +207,28 @@ class CompiledReader(Fields):
         if len(owner) > servos:
             raise self.bad(f"the streams command {len(owner)} servo IDs, more than the "
                            f"{servos} servos of the gesture", ("streams",))
+
+
+def _cue(self: CompiledReader, q: object, k: int, duration: float) -> Cue:
+    """A sound of ``sounds``: when it starts (within the gesture), what was said,
+    its WAV file or the voice that speaks it, its SHA-256 and length."""
+    at = ("sounds", k)
+    if not isinstance(q, dict):
+        raise self.bad("a sound must be an object", at)
+    start, length = self.number(q, "start", at), self.number(q, "duration", at)
+    if not 0 <= start <= duration + _SLACK or not 0 < length <= duration + _SLACK:
+        raise self.bad("a sound must start and end within the gesture", at)
+    said, digest = self.field(q, "say", str, at), self.field(q, "sha256", str, at)
+    file, voice = q.get("file"), q.get("voice")
+    if not re.fullmatch(r"[0-9a-f]{64}", digest):
+        raise self.bad("'sha256' must be 64 hexadecimal digits", (*at, "sha256"))
+    if (file is None) == (voice is None) or file is not None and not isinstance(file, str) \
+            or voice is not None and not (isinstance(voice, list) and len(voice) == 3
+                                          and isinstance(voice[0], str)
+                                          and whole(voice[1]) and whole(voice[2])):
+        raise self.bad("a sound has a 'file' (a path) or a 'voice' ([name, words per "
+                       "minute, pitch])", at)
+    return Cue(start, said, file, tuple(voice) if voice else None, digest, length)
 
 
 def read_compiled(path: str | os.PathLike) -> Compiled:

@@ -14,10 +14,11 @@ from ..language.program import Program
 from ..profiles.data import Profile
 from ..profiles.profile import load_profile
 from .actions import Action
-from .compiled import Compiled, StepSummary
+from .compiled import Compiled, Cue, StepSummary
 from .encode import encode
 from .plan import Plan, Planner
 from .resolve import resolver
+from .speech import Speech
 
 
 def _sha256(text: str) -> str:
@@ -128,8 +129,17 @@ def compile_program(program: Program, gesture: str | None = None,
         steps=steps,
         streams=streams,
         warnings=plan.warnings,
+        sounds=tuple(cue(start, s) for start, s in plan.sounds),
     )
     return compiled, plan
+
+
+def cue(start: float, speech: Speech) -> Cue:
+    """What the compiled gesture keeps of a ``say`` that starts at ``start``."""
+    sound, v = speech.sound, speech.voice
+    return Cue(start, sound.source, sound.path or None,
+               None if sound.path else (v.voice, v.speed, v.pitch), sound.digest,
+               sound.duration, sound)
 
 
 def compile_source(text: str, gesture: str | None = None, profile: str | Profile = "rhand",

@@ -4,13 +4,13 @@ or a gesture; one table, checked once for names that clash."""
 from __future__ import annotations
 
 import functools
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from ..errors import Diagnostic, GestError, did_you_mean
 from ..language import syntax as ast
 from ..language.program import Program
 from ..profiles.data import Profile
-from ..profiles.profile import profiles_with
 
 ANYTHING = "servo, group, pose or gesture"  #: what an unknown name could have been
 
@@ -51,9 +51,12 @@ Entity = Servo | Group | Pose | Gesture
 class NameTable:
     """Every name the program and the profile define -> what it is."""
 
-    def __init__(self, program: Program, profile: Profile):
-        """Build the table; names that clash are GestErrors, all reported at once."""
-        self.profile = profile
+    def __init__(self, program: Program, profile: Profile,
+                 elsewhere: Callable[[str], Sequence[str]]):
+        """Build the table; names that clash are GestErrors, all reported at once.
+        ``elsewhere(name)``: the built-in profiles that have a servo or group ``name``
+        (``profiles.profile.profiles_with``, asked only to word a hint)."""
+        self.profile, self.elsewhere = profile, elsewhere
         self.in_library = program.in_library
         self._table = _table(program, profile)
 
@@ -65,7 +68,7 @@ class NameTable:
         """A hint for an unknown ``name``: the built-in profile that has it, the library
         file that defines it (a file's names come in with ``use``), or the closest name.
         Every command that resolves a name words it here."""
-        others = [p for p in profiles_with(name) if p != self.profile.name]
+        others = [p for p in self.elsewhere(name) if p != self.profile.name]
         if others:
             return f"'{name}' is in profile '{others[0]}': add --profile {others[0]}"
         found = self.in_library(name) if self.in_library else None

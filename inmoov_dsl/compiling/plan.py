@@ -19,8 +19,10 @@ from ruckig import InputParameter, Result, Ruckig, Synchronization, Trajectory
 
 from ..errors import Diagnostic, GestError, Pos, SourceMap
 from ..profiles.data import Profile
-from . import flow
+from . import flow, speech
 from .actions import Action
+from .speech import Speech
+from .stretch import STRETCH_HINT, TIMES, stretch_message
 from .tracks import MotionState, Track, TrackBuilder
 
 MAX_GESTURE_DURATION = 3600.0  #: s; a compile's work is bounded by this
@@ -53,6 +55,11 @@ class Plan:
     final: tuple[int, ...]
     duration: float
     warnings: tuple[Diagnostic, ...]
+    sounds: tuple[tuple[float, Speech], ...] = ()  #: (start, s) of each ``say``'s sound
+
+
+#: what a step tells its gesture besides its report: warnings, and (start, sound) pairs
+Told = tuple[list[Diagnostic], list[tuple[float, Speech]]]
 
 
 class Planner:
@@ -75,6 +82,7 @@ class Planner:
         builders = [TrackBuilder(v) for v in pose]
         reports: list[PlannedStep] = []
         branched: list[Diagnostic] = []  # the warnings of 'a & b' steps' branches
+        sounds: list[tuple[float, Speech]] = []
         # a stretch is told once per place and message, however often the step is
         # played (a call in a repeat): (pos, message) -> how many times
         stretched: dict[tuple[Pos | None, str], int] = {}
@@ -82,7 +90,7 @@ class Planner:
         while k < len(steps):
             run = flow.run_at(steps, k)
             planned = self._run(run, now, pose, builders) if len(run) > 1 else \
-                [self._step(steps[k], now, pose, builders, strict, branched)]
+                [self._step(steps[k], now, pose, builders, strict, (branched, sounds))]
             for step, (report, needed) in zip(run, planned, strict=True):
                 if report.stretched:
                     key = (step.over_pos or step.pos, stretch_message(needed, step.over))
@@ -95,14 +103,14 @@ class Planner:
                     f"the gesture lasts more than {MAX_GESTURE_DURATION:g} s", run[-1].pos,
                     "split it into shorter gestures"))
         make = self.sources.error if strict else self.sources.warning
-        told = tuple(make(message + (_TIMES.format(count) if count > 1 else ""), pos,
+        told = tuple(make(message + (TIMES.format(count) if count > 1 else ""), pos,
                           STRETCH_HINT)
                      for (pos, message), count in stretched.items()) + \
             tuple(dict.fromkeys(branched))  # a branch played again warns once
         if strict and told:
             raise GestError(told)
         return Plan(self.profile, tuple(b.build() for b in builders), tuple(reports),
-                    tuple(start), tuple(pose), now, () if strict else told)
+                    tuple(start), tuple(pose), now, () if strict else told, tuple(sounds))
 
     def _trajectory(self, servos: list[int], start: MotionState, target: Sequence[float],
                     over: float | None, step: Action | None,
@@ -128,18 +136,24 @@ class Planner:
         return traj
 
     def _step(self, step: Action, now: float, pose: list[int], builders: list[TrackBuilder],
-              strict: bool, branched: list[Diagnostic]) -> tuple[PlannedStep, float]:
-        """A hold, ``a & b`` (``_together``: its branches' warnings go to ``branched``),
-        or a move from rest to rest (``_move``)."""
+              strict: bool, told: Told) -> tuple[PlannedStep, float]:
+        """A hold, ``a & b`` (``_together``: its branches' warnings and sounds go to
+        ``told``), a ``say`` (the mouth follows its sound) or a move from rest to rest
+        (``_move``)."""
         if step.hold > 0:
             return PlannedStep(step.where, step.pos, "hold", now, now + step.hold, step.hold,
                                False, ()), step.hold
         if step.branches:
-            return self._together(step, now, pose, builders, strict, branched)
+            return self._together(step, now, pose, builders, strict, told)
+        if step.speech is not None:
+            length = speech.follow(step.speech, self.profile, now, pose, builders)
+            told[1].append((now, step.speech))
+            return PlannedStep(step.where, step.pos, "say", now, now + length, None, False,
+                               (step.speech.servo,)), length
         return self._move(step, now, pose, builders)
 
     def _together(self, step: Action, now: float, pose: list[int],
-                  builders: list[TrackBuilder], strict: bool, branched: list[Diagnostic]
+                  builders: list[TrackBuilder], strict: bool, told: Told
                   ) -> tuple[PlannedStep, float]:
         """``a & b``: each branch planned on its own from the step's start, its servos'
         tracks joined to the gesture's; the step lasts as long as its longest branch."""
@@ -148,7 +162,8 @@ class Planner:
             for i in set().union(*(a.servos() for a in branch)):
                 builders[i].extend(plan.tracks[i], now)
                 pose[i] = plan.final[i]
-            branched.extend(plan.warnings)
+            told[0].extend(plan.warnings)
+            told[1].extend((now + t, s) for t, s in plan.sounds)
         duration = max(plan.duration for plan, _ in plans)
         return PlannedStep(step.where, step.pos, "move", now, now + duration, None, False,
                            tuple(sorted(step.servos()))), duration
@@ -263,27 +278,3 @@ def _calculate(ruckig: Ruckig, inp: InputParameter, traj: Trajectory, step: Acti
             step.pos if step is not None else None,
             "the servos it moves may have limits too far apart for this duration: "
             "try another 'over', or check the profile's limits"))
-
-
-STRETCH_HINT = ("the profile's limits allow no faster move; ask for more time or raise "
-                "the limits")
-
-
-_TIMES = " ({} times)"  #: after a warning whose place the gesture plays more than once
-
-
-def without_count(message: str) -> str:
-    """``message`` without the `` (3 times)`` a plan adds when it plays the warning's
-    place more than once: what the warning says of its place, whichever gesture plays
-    it (``gestc check`` tells each place once)."""
-    head, times, tail = message.rpartition(" (")
-    return head if times and tail.endswith(" times)") and tail[:-7].isdigit() else message
-
-
-def stretch_message(needed: float, asked: float) -> str:
-    """``move stretched: needs 0.52 s, asked 0.40 s``, with as many decimals as it takes
-    (up to six) for the two numbers to differ."""
-    digits = 2
-    while digits < 6 and f"{needed:.{digits}f}" == f"{asked:.{digits}f}":
-        digits += 1
-    return f"move stretched: needs {needed:.{digits}f} s, asked {asked:.{digits}f} s"

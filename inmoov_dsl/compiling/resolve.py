@@ -14,9 +14,11 @@ from ..errors import GestError, Pos
 from ..language import syntax as ast
 from ..language.program import Program
 from ..profiles.data import Profile
-from . import sides
+from ..profiles.profile import profiles_with
+from . import saying, sides
 from .actions import Action, Frame
 from .names import ANYTHING, Entity, Gesture, Group, NameTable, Pose, Servo, call_chain
+from .speech import Speech
 
 MAX_STEPS = 100_000  #: the most steps one gesture may expand to
 MAX_NESTING = 100  #: the deepest chain of calls and repeats, or of poses within poses
@@ -32,13 +34,14 @@ class _Targets:
         self.program = program
         self.profile = profile
         self.src = program.sources
-        self.names = NameTable(program, profile)
+        self.names = NameTable(program, profile, profiles_with)  # the one place it is made
         # what is expanded once and kept: each pose's targets and nesting height, each
         # gesture's nesting height, each move's targets (by the node's id; the program
         # keeps the nodes), and the gestures counted against MAX_TOTAL_STEPS
         self._poses: dict[str, tuple[dict[int, int], int]] = {}
         self._heights: dict[str, int] = {}
         self._moves: dict[int, tuple[tuple[int, int], ...]] = {}
+        self._speech: dict[int, Speech] = {}
         self._counted: set[str] = set()
         self._total = 0
         # while one gesture expands: (callee, where) -> where its Actions are in the
@@ -119,7 +122,6 @@ class _Targets:
             out[index] = t.value
 
 
-
 class Resolver(_Targets):
     """Turns a gesture of a Program into Actions for one profile."""
 
@@ -161,6 +163,8 @@ class Resolver(_Targets):
                     height = max(height, self._call(step, callee, at, out))
                 case ast.Move():
                     out.append(self._move(step, at.where))
+                case ast.Say():
+                    out.append(self._say(step, at.where))
             self._within_budget(len(out), at)
         return height
 
@@ -212,12 +216,14 @@ class Resolver(_Targets):
         """``a & b``: each part expanded on its own, into one Action of their branches;
         a servo moved by two parts fails, naming both. Returns the nesting height."""
         branches: list[tuple[Action, ...]] = []
-        owner: dict[int, ast.Move] = {}
+        owner: dict[int, ast.Move | ast.Say] = {}
         height = 0
         saved, self._spans = self._spans, {}  # the spans are places in one output list
         for part in step.parts:
             branch: list[Action] = []
-            if (callee := self._callee(part)) is not None:
+            if isinstance(part, ast.Say):
+                branch.append(self._say(part, at.where))
+            elif (callee := self._callee(part)) is not None:
                 height = max(height, self._call(part, callee, at, branch))
             else:
                 branch.append(self._move(part, at.where))
@@ -225,8 +231,8 @@ class Resolver(_Targets):
                 if i in owner:
                     first = owner[i]
                     self.fail(f"'{self.profile.servos[i].name}' is moved by two parts of "
-                              f"this step: '{first.targets[0].name.text}' at column "
-                              f"{first.pos.column} and '{part.targets[0].name.text}'",
+                              f"this step: '{saying.label(first)}' at column "
+                              f"{first.pos.column} and '{saying.label(part)}'",
                               part.pos, "each part of 'a & b' moves servos of its own")
                 owner[i] = part
             branches.append(tuple(branch))
@@ -239,16 +245,14 @@ class Resolver(_Targets):
                  at: ast.Name | None) -> None:
         """Move ``out[start:]`` (gesture ``name``'s steps) onto ``side`` (``at``: the
         word that asked for it, if one did)."""
-        partner = sides.onto(self.profile, side)
-        if not partner:
-            self.fail(f"profile '{self.profile.name}' has no [sides]: it cannot play "
-                      f"'{name}' on the {side}", at and at.pos, "a robot profile pairs its sides "
-                      "in [sides]; a hand alone has its own profile (--profile lhand)")
-        out[start:], clashes = sides.moved(out[start:], partner)
-        if clashes:
-            servo = self.profile.servos[clashes[0]].name
-            self.fail(f"on the {side}, '{name}' would set '{servo}' twice in one step: it "
-                      f"moves both sides", at and at.pos, f"play '{name}' as it is")
+        out[start:] = sides.to_side(out[start:], self.profile, side, name,
+                                    lambda m, h: self.fail(m, at and at.pos, h))
+
+    def _say(self, step: ast.Say, where: str) -> Action:
+        """``say``: its sound and the mouth moving with it (each sound heard once)."""
+        if id(step) not in self._speech:
+            self._speech[id(step)] = saying.speech(step, self.program, self.profile)
+        return Action((), pos=step.pos, where=where, speech=self._speech[id(step)])
 
     def _callee(self, move: ast.Move) -> str | None:
         """The gesture ``move`` calls, if it is a call: a gesture's name alone."""

@@ -6,8 +6,9 @@ other way, so the same value is the mirror image)."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import replace
+from typing import NoReturn
 
 from ..profiles.data import Profile
 from .actions import Action
@@ -40,3 +41,20 @@ def moved(actions: Sequence[Action], partner: dict[int, int]
         return replace(action, targets=tuple(targets.items()), branches=branches)
 
     return [move(a) for a in actions], clashes
+
+
+def to_side(steps: list[Action], profile: Profile, side: str, name: str,
+            fail: Callable[[str, str], NoReturn]) -> list[Action]:
+    """Gesture ``name``'s ``steps`` played on ``side``; ``fail(message, hint)`` where they
+    cannot be (a profile without ``[sides]``, a step that would set a servo twice)."""
+    partner = onto(profile, side)
+    if not partner:
+        fail(f"profile '{profile.name}' has no [sides]: it cannot play '{name}' on the "
+             f"{side}", "a robot profile pairs its sides in [sides]; a hand alone has its "
+             "own profile (--profile lhand)")
+    moved_steps, clashes = moved(steps, partner)
+    if clashes:
+        servo = profile.servos[clashes[0]].name
+        fail(f"on the {side}, '{name}' would set '{servo}' twice in one step: it moves "
+             f"both sides", f"play '{name}' as it is")
+    return moved_steps

@@ -72,6 +72,18 @@ class TrackBuilder:
                     self.coefs.extend((p, v, a, j))
                     t += dt
 
+    def phases_for(self, t0: float, profile: RuckigProfile, length: float) -> None:
+        """Append ruckig's phases (``phases``) for ``length`` s only: what a controller
+        that plans again every ``length`` s follows of each plan."""
+        t, end = t0, t0 + length
+        parts = [profile.brake, profile] if profile.brake.duration > 0 else [profile]
+        for part in parts:
+            for dt, j, a, v, p in zip(part.t, part.j, part.a, part.v, part.p, strict=False):
+                if dt > 1e-12 and t < end - 1e-12:
+                    self.breaks.append(t)
+                    self.coefs.extend((p, v, a, j))
+                    t += dt
+
     def extend(self, track: Track, t0: float) -> None:
         """Append ``track`` (planned from 0) from ``t0`` on."""
         self.breaks.extend((track.breaks + t0).tolist())

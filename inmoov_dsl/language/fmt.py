@@ -111,7 +111,9 @@ def _step(step: ast.Step) -> _Node:
     return _Node(step.pos.line, _move(step))
 
 
-def _move(step: ast.Move) -> str:
+def _move(step: ast.Move | ast.Say) -> str:
+    if isinstance(step, ast.Say):
+        return f'say "{step.text}"'
     text = _targets(step.targets)
     if step.side is not None:
         text = f"{step.side.text} {text}"

@@ -13,6 +13,7 @@ from pathlib import Path
 
 from ..errors import Diagnostic, GestError, Pos, SourceMap, decode_utf8
 from ..resources import read_regular
+from ..voice.hearing import Hearing
 from . import syntax as ast
 from .library import library_dirs, scan
 from .parse import MAX_SOURCE, parse
@@ -59,7 +60,8 @@ def load_program(path: str, read: Reader, search: Sequence[str] = (),
     ``first_wins`` (a library along its search path): then a name already defined by
     another file is shadowed, and only one file defining it twice is an error.
     """
-    program = Program(path, in_library=functools.partial(in_library, tuple(search)))
+    program = Program(path, in_library=functools.partial(in_library, tuple(search)),
+                      hear=Hearing(search))
     loader = _Loader(program, read, search, first_wins)
     loader.visit(path, read(path) if text is None else text, True)
     if loader.errors:

@@ -1,8 +1,5 @@
-"""Parse .gest text into a syntax tree (stage 1 of the compiler).
-
-The Lark LALR parser is built once per process; syntax errors become
-GestError diagnostics with the position, the line and a caret.
-"""
+"""Parse .gest text into a syntax tree (stage 1 of the compiler). The Lark LALR parser
+is built once per process; syntax errors become GestErrors at their place."""
 
 from __future__ import annotations
 
@@ -79,8 +76,7 @@ class _Indenter(Indenter):
         yield from super().handle_NL(token)
 
     def _check_style(self, token: Token, indent_str: str) -> None:
-        """One file indents with spaces or with tabs, never both (their widths would
-        be a guess)."""
+        """One file indents with spaces or with tabs, never both (widths would be guesses)."""
         pos = _next_line_pos(token, indent_str)
         hint = "indent with spaces only (four per level), or with tabs only"
         if " " in indent_str and "\t" in indent_str:
@@ -208,8 +204,11 @@ class _ToAst(Transformer):
         return ast.Move(targets, timing.get("over"), timing.get("stagger"),
                         (side or targets[0].name).pos, timing.get("through"), side)
 
-    def together(self, *parts: ast.Move):
+    def together(self, *parts: ast.Move | ast.Say):
         return ast.Together(parts, parts[0].pos)
+
+    def say(self, keyword: Token, text: Token):
+        return ast.Say(text[1:-1], self._pos(keyword), self._pos(text))
 
     def over(self, duration: ast.Duration):  # the timings: (kind, value)
         return ("over", duration)

@@ -26,6 +26,9 @@ class Program:
     #: loader knows the search path (``load.in_library``), and an error's hint asks
     in_library: Callable[[str], str | None] | None = field(default=None, repr=False,
                                                            compare=False)
+    #: the sound of ``say "text"`` in a file (``voice.hearing.Hearing``): the loader
+    #: knows where files are; (text, file, voice, speed, pitch) -> sound
+    hear: Callable[..., Any] | None = field(default=None, repr=False, compare=False)
     #: one resolve.Resolver per profile (see ``resolve.resolver``), and the SHA-256 of
     #: every text
     resolvers: dict[int, Any] = field(default_factory=dict, repr=False)

@@ -8,7 +8,7 @@ from ..errors import Pos
 
 #: the language's keywords: never a gesture, pose, group or servo name
 KEYWORDS = frozenset({"use", "group", "pose", "wait", "hold", "repeat", "over", "stagger",
-                      "through", "left", "right"})
+                      "through", "left", "right", "say"})
 
 
 @dataclass(frozen=True)
@@ -69,14 +69,30 @@ class Repeat:
 
 
 @dataclass(frozen=True)
-class Together:
-    """``a & b``: moves, calls or poses that run at the same time, on their own servos."""
+class Say:
+    """``say "hello.wav"`` or ``say "Hello"``: a sound (a WAV file, or text spoken by
+    espeak-ng) and the mouth moving with it."""
 
-    parts: tuple[Move, ...]
+    text: str
+    pos: Pos  #: the keyword
+    text_pos: Pos  #: the string, quotes included
+
+    @property
+    def is_file(self) -> bool:
+        """Is it a WAV file's name (else text to speak)?"""
+        return self.text.lower().endswith(".wav")
+
+
+@dataclass(frozen=True)
+class Together:
+    """``a & b``: moves, calls, poses or sounds that run at the same time, on their own
+    servos."""
+
+    parts: tuple[Move | Say, ...]
     pos: Pos
 
 
-Step = Move | Wait | Repeat | Together
+Step = Move | Wait | Repeat | Together | Say
 
 
 @dataclass(frozen=True)

@@ -81,7 +81,8 @@ class Session:
         ``sources`` has the text the steps' diagnostics point into; ``tag`` names the
         request they come from."""
         self.queue = deque((step, sources, tag) for step in steps)
-        if self.queue and self.queue[0][0].hold == 0 and not self.queue[0][0].branches:
+        first = self.queue[0][0] if self.queue else None
+        if first and first.hold == 0 and not first.branches and first.speech is None:
             return self._start(now, held)
         return self.next(now, held)
 
@@ -124,7 +125,7 @@ class Session:
         if sources is not None:
             self.planner.sources = sources
         final = list(self.current.plan.final)
-        if step.hold > 0 or step.branches:
+        if step.hold > 0 or step.branches or step.speech is not None:
             plan = self.planner.plan([step], final)
         elif now >= self.end:
             plan = self.planner.plan([step], final)  # from rest: exactly as compiled
@@ -175,7 +176,8 @@ def line_steps(line: str, program: Program, profile: Profile, file: str = LINE,
     with snippet.parsed(line, file, _PREFIX, number) as module:
         gesture = next(item for item in module.items if isinstance(item, GestureDef))
         typed = Program(file, sources, program.texts, {**program.gestures, _NAME: gesture},
-                        program.poses, program.groups, [_NAME])
+                        program.poses, program.groups, [_NAME],
+                        in_library=program.in_library, hear=program.hear)
         actions = Resolver(typed, profile).gesture(_NAME, side, line.strip()[:40])
     back = functools.partial(snippet.shift, text=line, file=file, prefix=_PREFIX,
                              line=number)

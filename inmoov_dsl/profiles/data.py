@@ -66,6 +66,20 @@ class Glove:
 
 
 @dataclass(frozen=True)
+class Voice:
+    """``[voice]``: the servo that is the mouth, its closed and open values, and how
+    espeak-ng speaks the profile's text (its voice, words per minute and pitch)."""
+
+    mouth: str
+    closed: int
+    opened: int
+    voice: str = "en"
+    speed: int = 160
+    pitch: int = 50
+    pos: Pos | None = field(default=None, compare=False)  #: the ``[voice]`` table
+
+
+@dataclass(frozen=True)
 class Profile:
     """A robot: its boards, its servos board by board, its groups and its gloves."""
 
@@ -80,6 +94,7 @@ class Profile:
     #: ``[sides]``: "right" and "left", each a list of servos, the k-th of one side the
     #: mirror image of the k-th of the other (empty: the profile has one side)
     sides: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    voice: Voice | None = None  #: ``[voice]``: the mouth that moves with ``say``
 
     def index(self, name: str) -> int:
         """The position of servo ``name`` in ``servos``; KeyError if there is none."""

@@ -18,7 +18,7 @@ from typing import Any
 
 from ..errors import Diagnostic, GestError, Pos, decode_utf8, did_you_mean
 from ..resources import profiles_dir, read_regular
-from . import tables
+from . import tables, voicetable
 from .data import Board, Glove, Profile, Sensor, Servo
 from .fields import LIMITS, NAME_RE, cut
 from .keys import Report
@@ -168,6 +168,7 @@ def _build(data: dict[str, Any], report: Report, file: str) -> Profile:
         if (glove := tables.glove(report, k, table, by_id, taken)) is not None:
             gloves.append(glove)
             taken.add(glove.id)
+    voice = voicetable.voice(report, data["voice"], servos) if "voice" in data else None
     report.stop()
     return Profile(name, description, tuple(boards), tuple(servos), groups, file,
-                   gloves=tuple(gloves), sides=sides)
+                   gloves=tuple(gloves), sides=sides, voice=voice)

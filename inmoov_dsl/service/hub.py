@@ -9,7 +9,8 @@ from collections.abc import Callable
 from typing import Any
 
 from ..live.drive import Drive, Next, Note
-from . import core, links
+from ..live.orders import Control
+from . import core
 
 QUEUE = 1000  #: events kept for a WebSocket that reads slowly; older ones are dropped
 
@@ -49,7 +50,7 @@ class Service:
         if board not in self.lost:
             self.lost.add(board)
             self.publish({"event": "board-lost", "id": None, "board": board})
-            self.requests.put(links.lost_request(board))
+            self.requests.put(Control("stop", f"board-{board}-lost"))
 
     def publish(self, event: dict[str, Any]) -> None:
         """Send ``event`` to every WebSocket (from any thread)."""

@@ -11,7 +11,7 @@ from collections.abc import Callable
 import serial
 
 from ..errors import GestError
-from ..live.orders import Control, Rejoin
+from ..live.orders import Rejoin
 from ..profiles.data import Profile
 from ..wire.link import open_board
 from ..wire.player import Link, ask_dump, wait_ready
@@ -102,9 +102,3 @@ class Watcher:
             return
         lost.back(port)
         self.request(Rejoin(lost.board, values))
-
-
-def lost_request(board: int) -> Control:
-    """What the drive loop is asked when a board goes away: stop the others where they
-    are, so that no part of the hand goes on without the rest."""
-    return Control("stop", f"board-{board}-lost")

@@ -6,7 +6,7 @@ import argparse
 from collections.abc import Iterable
 
 from ...compiling.compiler import compile_program
-from ...compiling.plan import without_count
+from ...compiling.stretch import without_count
 from ...errors import Diagnostic, GestError, Pos, decode_utf8
 from ...language.library import library_dirs
 from ...language.load import load

@@ -1,0 +1,70 @@
+"""How a program hears its ``say`` steps (an edge: it reads files and runs espeak-ng),
+in one place: a ``.wav`` is looked for as ``use`` looks for a file (beside the file that
+says it, then along the search path), its name and its target's ending in ``.wav``;
+other text is spoken with the profile's voice; each sound is made once."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Sequence
+from dataclasses import replace
+
+from ..resources import read_regular
+from .speak import speak
+from .wav import MAX_SECONDS, Sound, SoundError, read_wav
+
+MAX_WAV_BYTES = int(MAX_SECONDS * 48_000 * 2 * 4) + 1024  #: the largest file read
+WAV_SUFFIX = ".wav"
+REQUEST = "<request>"  #: what another program sent: it names no file of this computer
+
+
+class Hearing:
+    """The sounds of one program's ``say`` steps; ``Speak(text, voice, speed, pitch)``
+    makes WAV bytes of text."""
+
+    def __init__(self, search: Sequence[str] = (),
+                 speaker: Callable[[str, str, int, int], bytes] = speak):
+        self.search, self.speaker = list(search), speaker
+        self.made: dict[tuple, Sound] = {}
+
+    def __call__(self, text: str, file: str, voice: str, speed: int, pitch: int) -> Sound:
+        """The sound of ``say "text"`` written in ``file`` (a pseudo-file such as
+        ``<repl>`` for a typed line: a WAV is then looked for from here)."""
+        if text.lower().endswith(WAV_SUFFIX):
+            path = self._find(text, file)
+            key: tuple = ("file", os.path.realpath(path))
+        else:
+            key = ("text", text, voice, speed, pitch)
+        if key not in self.made:
+            if key[0] == "file":
+                self.made[key] = replace(read_wav(_read(path), text),
+                                         path=os.path.abspath(path))
+            else:
+                self.made[key] = read_wav(self.speaker(text, voice, speed, pitch), text)
+        return self.made[key]
+
+    def _find(self, name: str, file: str) -> str:
+        if file == REQUEST:
+            raise SoundError("a request names no file: it may say text, not a .wav",
+                             'say "Hello, I am InMoov"')
+        here = "" if file.startswith("<") else os.path.dirname(file)
+        places = [os.path.join(here, name), *(os.path.join(d, name) for d in self.search)]
+        for place in places:
+            if os.path.exists(place):
+                if not os.path.realpath(place).lower().endswith(WAV_SUFFIX):
+                    raise SoundError(f"'{place}' links to '{os.path.realpath(place)}', "
+                                     f"which is not a {WAV_SUFFIX} file")
+                return place
+        raise SoundError(f"cannot find '{name}'", "looked in " + ", ".join(
+            os.path.dirname(p) or "." for p in places))
+
+
+def _read(path: str) -> bytes:
+    try:
+        data = read_regular(path, MAX_WAV_BYTES)
+    except (OSError, ValueError) as exc:
+        raise SoundError(f"cannot read '{path}': {exc}") from None
+    if len(data) > MAX_WAV_BYTES:
+        raise SoundError(f"'{path}' is larger than {MAX_WAV_BYTES:,} bytes: it is not read",
+                         "split it into shorter sounds")
+    return data
