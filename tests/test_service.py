@@ -136,7 +136,7 @@ def test_the_library_and_the_openapi_document_are_served():
         status, doc, _ = service.call("GET", "/api/openapi.json")
         assert status == 200 and doc["openapi"].startswith("3.")
         assert set(doc["paths"]) == {"/api/gestures", "/api/play", "/api/stop",
-                                     "/api/relax", "/api/pose", "/api/events"}
+                                     "/api/relax", "/api/pose", "/api/events", "/api/view"}
         play = doc["components"]["schemas"]["Play"]
         assert set(play["properties"]) == set(core.PLAY_FIELDS)
 
@@ -348,9 +348,13 @@ def page(browser, service: Service) -> None:
     error = wait_for("document.getElementById('error').textContent")
     assert error.splitlines() == ["error: unknown servo or group 'indx'", "indx 90", "^~~~",
                                   "hint: did you mean 'index'?"]
-    here = (f"http://{service.host}:{service.port}/", f"ws://{service.host}:{service.port}/")
-    assert browser.requests and all(url.startswith(here) for url in browser.requests), \
-        browser.requests
+    view = value("document.getElementById('view').src")  # the hand in 3-D (viser)
+    assert not value("document.getElementById('view').hidden")
+    assert view.startswith("http://127.0.0.1:") and any(u.startswith(view)
+                                                        for u in browser.requests)
+    here = ("http://127.0.0.1:", "ws://127.0.0.1:", "data:", "blob:")  # all from here
+    off = [url for url in browser.requests if not url.startswith(here)]
+    assert browser.requests and not off, off
 
 
 # -- on the firmware, in simavr -----------------------------------------------------------

@@ -65,6 +65,7 @@ class WebView:
         self.shown: list[int] | None = None
         self._pending: list[int] | None = None
         self._lock = threading.Lock()
+        self._whole = False  #: ``pose`` gave the whole robot's values
         self._wake, self._closing = threading.Event(), threading.Event()
         self._thread = threading.Thread(target=self._run, name="gestsim-web", daemon=True)
         self._thread.start()
@@ -114,6 +115,19 @@ class WebView:
             self._pending = self.shown
         self._wake.set()
 
+    def pose(self, values: Sequence[int]) -> None:
+        """Hand over the whole robot's values (profile order), if they changed: for a
+        page that shows every board (``gestplay serve``)."""
+        values = list(values)
+        if values == self.shown:
+            return
+        self.shown = values
+        with self._lock:
+            self._pending = None
+            self.values = list(values)
+            self._whole = True
+        self._wake.set()
+
     def _run(self) -> None:
         """Until closed: wait for new values, move the model, pause a frame."""
         while True:
@@ -123,10 +137,13 @@ class WebView:
             self._wake.clear()
             with self._lock:
                 board_values, self._pending = self._pending, None
-            if board_values is not None:
-                for slot, value in zip(self.slots, board_values, strict=True):
-                    self.values[slot] = value
-                self.robot.update_cfg(self.configuration(self.values))
+                whole, self._whole = self._whole, False
+                if board_values is not None:
+                    for slot, value in zip(self.slots, board_values, strict=True):
+                        self.values[slot] = value
+                values = list(self.values)
+            if board_values is not None or whole:
+                self.robot.update_cfg(self.configuration(values))
             if self._closing.wait(FRAME):
                 return
 

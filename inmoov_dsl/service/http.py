@@ -39,6 +39,7 @@ def app(service: Service, guard: Guard) -> web.Application:
         web.post("/api/relax", lambda r: _control(r, service, "relax")),
         web.get("/api/pose", lambda r: _pose(r, service)),
         web.get("/api/events", lambda r: _events(r, service)),
+        web.get("/api/view", lambda r: _json({"url": service.view and service.view.url})),
     ])
     application.on_startup.append(lambda a: _start_ticker(a, service))
     return application
@@ -141,7 +142,7 @@ async def _page(request: web.Request) -> web.Response:
     return web.Response(text=page, content_type="text/html", headers={
         "Cache-Control": "no-store", "Content-Security-Policy":
         "default-src 'self'; script-src 'unsafe-inline' 'self'; style-src 'unsafe-inline'; "
-        "connect-src 'self' ws: ; img-src 'self' data:"})
+        "connect-src 'self' ws: ; img-src 'self' data:; frame-src http://127.0.0.1:*"})
 
 
 async def _events(request: web.Request, service: Service) -> web.WebSocketResponse:
@@ -186,6 +187,8 @@ async def _tick(service: Service) -> None:
             held = service.drive.mirror.held()
             if held != last:
                 last = held
+                if service.view is not None:
+                    service.view.pose(held)
                 service.publish({"event": "pose", "id": service.drive.tracker.playing,
                                  "servos": dict(zip(service.profile.names, held,
                                                     strict=True))})

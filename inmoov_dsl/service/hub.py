@@ -25,6 +25,7 @@ class Service:
         self.loop: asyncio.AbstractEventLoop | None = None
         self.listeners: set[asyncio.Queue] = set()
         self.lost: set[int] = set()  #: boards whose link is down
+        self.view = None  #: the hand in 3-D (``model.webview.WebView``), when it can be
 
     def next_request(self, timeout: float) -> Next:
         """The drive loop's ``next_request``."""

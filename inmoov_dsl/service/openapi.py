@@ -42,6 +42,9 @@ def document(version: str, max_body: int, max_loop: int) -> dict[str, Any]:
             "/api/relax": {"post": {"summary": "the servos go limp", **control}},
             "/api/pose": {"get": {"summary": "what each board holds",
                                   "responses": {"200": _answer("the pose", "Pose")}}},
+            "/api/view": {"get": {"summary": "where the hand is drawn in 3-D (null without "
+                                             "the web extra)",
+                                  "responses": {"200": {"description": "{\"url\": ...}"}}}},
             "/api/events": {"get": {"summary": "a WebSocket: one JSON object per event",
                                     "responses": {"101": {"description": "switching to "
                                                                          "WebSocket"}}}},

@@ -42,6 +42,7 @@ def run(args: argparse.Namespace) -> int:
         on.links[:] = [Link(p.board, p, p.name) for p in ports]  # closed and cancelled too
         watcher = links.Watcher(ports, profile, service.requests.put)
         service.drive = Drive(on.links, profile, on.pose, program, service.told)
+        service.view = _view(profile, service.drive.mirror.held())
         server = http.Server(service, guard.Guard(host, port, token), host, port)
         try:
             port = server.start()
@@ -64,7 +65,21 @@ def run(args: argparse.Namespace) -> int:
         finally:
             watcher.stop()
             server.stop()
+            if service.view is not None:
+                service.view.close()
     return EXIT_OK
+
+
+def _view(profile, pose: list[int]):
+    """The hand in 3-D for the page, on 127.0.0.1 (a free port), where the ``web`` extra
+    is installed; None where it is not (the page shows bars)."""
+    try:
+        from ...model.webview import WebView
+        view = WebView(profile, profile.boards[0], 0)
+    except GestError:  # viser is not installed
+        return None
+    view.pose(pose)
+    return view
 
 
 def _address(text: str) -> tuple[str, int]:
