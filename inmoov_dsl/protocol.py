@@ -33,6 +33,14 @@ LAST_BOARD_ID = min(Signal) - 1  #: and end below the signals
 DEFAULT_BAUD = 9600  #: a board's or glove's link, unless its profile says otherwise
 MAX_BAUD = 2_000_000  #: the fastest link a board or glove may declare
 POSE_SETTLE = 1.0  #: s without a servo command before a board stores its pose (EEPROM)
+#: host -> servo board, where a servo ID is expected, followed by a number: play the
+#: stored gesture of that number (or, for ``CATALOG``, say which ones it holds). The
+#: original firmware reads the two bytes as a pair for a servo it does not have. Not a
+#: ``Signal``: it acts only as an ID does (in value position it is a value), and board
+#: IDs may still be 247.
+PLAY = 247
+CATALOG = 180  #: the number after PLAY that asks a board for its stored gestures
+MAX_STORED = CATALOG  #: stored gestures are numbered 0..MAX_STORED - 1
 
 BITS_PER_BYTE = 10  #: 8N1: start bit, 8 data bits, stop bit
 SERVO_FRAME = 0.020  #: s; a hobby servo takes one new position per 20 ms PWM frame

@@ -23,6 +23,15 @@
  *                        every byte 0xFF), written back to FILE at the end
  *       --cut N          the power fails just after the N-th EEPROM byte written: the run
  *                        ends there, nothing more is sent or asked
+ *       --wait S         run S seconds after the last byte before asking for the DUMP
+ *                        (default 0.05; a stored gesture stops at any byte)
+ *       --button PIN     a push button to ground on PIN, held high as the pin's pull-up
+ *                        does (its pin is no servo's: it is not reported)
+ *       --press PIN S H  press that button S seconds after ready, for H seconds
+ *       --watch SYMBOL   print "watch S VALUE" whenever the byte at SYMBOL (a variable
+ *                        of the sketch) changes, S seconds after ready
+ *       --flash SYMBOL K B   the image's flash byte K after SYMBOL is B (a table of the
+ *                        image changed without building it again)
  *   simboard FIRMWARE.elf --pty [--baud B] [--eeprom FILE]
  *       Serves the board on a pseudo-terminal in real time and prints its path. Like an
  *       Uno or a Nano, the board resets when a program opening the port raises DTR: at
@@ -101,6 +110,31 @@ static struct {
   uint8_t byte;
 } eeprom_log[MAX_EEPROM_LOG];
 
+/* -- buttons, watched variables ------------------------------------------------------ */
+#define MAX_PRESSES 64
+static int button[PINS];       /* a button is on the pin: held high unless pressed */
+static struct {
+  int pin;
+  double at, hold; /* s after ready */
+} presses[MAX_PRESSES];
+static int press_count;
+static const char *watch_name;
+static uint32_t watch_addr;
+static int watch_last = -1;
+#define MAX_WATCH 100000
+static struct {
+  avr_cycle_count_t cycle;
+  uint8_t value;
+} watch_log[MAX_WATCH];
+static long watch_count;
+#define MAX_POKES 16
+static struct {
+  const char *name;
+  uint32_t offset;
+  uint8_t byte;
+} pokes[MAX_POKES];
+static int poke_count;
+
 /* simavr's own messages: errors to stderr, the rest (loading, tracing) dropped, so that
  * stdout carries only what this harness prints. */
 static void logger(avr_t *a, const int level, const char *format, va_list ap) {
@@ -116,7 +150,7 @@ static double since_ready(avr_cycle_count_t c) { return ((double)c - (double)rea
 static void on_pin(struct avr_irq_t *irq, uint32_t value, void *param) {
   (void)irq;
   int pin = (int)(intptr_t)param;
-  if (pin < 0 || pin >= PINS || (int)(value & 1) == pins[pin].high) return;
+  if (pin < 0 || pin >= PINS || button[pin] || (int)(value & 1) == pins[pin].high) return;
   pins[pin].high = value & 1;
   avr_cycle_count_t now = avr->cycle;
   if (pins[pin].high) {
@@ -150,8 +184,22 @@ static void save_eeprom(void) {
  * order (simavr writes a byte at once, where a real one takes 3.3 ms). With --cut, the
  * bytes after the N-th are put back: the power failed before they were written. */
 #define EEPROM_LOOK 1600 /* cycles: 100 us */
+static void push_buttons(avr_cycle_count_t when);
+
+static void look_at_watch(avr_cycle_count_t when) {
+  if (!watch_addr || avr->data[watch_addr] == watch_last) return;
+  watch_last = avr->data[watch_addr];
+  if (watch_count < MAX_WATCH) {
+    watch_log[watch_count].cycle = when;
+    watch_log[watch_count].value = (uint8_t)watch_last;
+    watch_count++;
+  }
+}
+
 static avr_cycle_count_t look_at_eeprom(avr_t *a, avr_cycle_count_t when, void *param) {
   (void)a, (void)param;
+  look_at_watch(when);
+  push_buttons(when);
   if (memcmp(eeprom, shadow, eeprom_size) == 0) return when + EEPROM_LOOK;
   int changed = 0;
   for (uint16_t k = 0; k < eeprom_size; k++) {
@@ -195,6 +243,35 @@ static void on_xoff(struct avr_irq_t *irq, uint32_t value, void *param) {
 static void on_xon(struct avr_irq_t *irq, uint32_t value, void *param) {
   (void)irq, (void)value, (void)param;
   xoff = 0;
+}
+
+/* A level from outside on Arduino pin `pin` (a button's contact, or its pull-up). */
+static void drive_pin(int pin, int level) {
+  char port = pin < 8 ? 'D' : pin < 14 ? 'B' : 'C';
+  int bit = pin < 8 ? pin : pin < 14 ? pin - 8 : pin - 14;
+  avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(port), bit), level);
+}
+
+static void release_buttons(void) {
+  for (int pin = 0; pin < PINS; pin++)
+    if (button[pin]) drive_pin(pin, 1);
+}
+
+/* Press or release the buttons whose time has come (--press): each is pressed at its
+ * time and released `hold` s later. */
+static int press_state[MAX_PRESSES]; /* 0: not yet, 1: pressed, 2: released */
+static void push_buttons(avr_cycle_count_t when) {
+  if (!ready_at) return;
+  double t = since_ready(when);
+  for (int k = 0; k < press_count; k++) {
+    if (press_state[k] == 0 && t >= presses[k].at) {
+      drive_pin(presses[k].pin, 0);
+      press_state[k] = 1;
+    } else if (press_state[k] == 1 && t >= presses[k].at + presses[k].hold) {
+      drive_pin(presses[k].pin, 1);
+      press_state[k] = 2;
+    }
+  }
 }
 
 /* Run the board until `cycle`: 0, or CUT when the power failed (--cut), -1 if it crashed. */
@@ -253,6 +330,7 @@ static void relax_level_triggers(void) {
 static void reset_board(void) {
   avr_reset(avr);
   relax_level_triggers();
+  release_buttons();
   ready_at = 0;
   for (int pin = 0; pin < PINS; pin++) pins[pin].high = 0;
   avr_cycle_timer_register(avr, EEPROM_LOOK, look_at_eeprom, NULL);
@@ -284,6 +362,19 @@ static int load(const char *path, elf_firmware_t *fw) {
   avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUT_XON),
                           on_xon, NULL);
   rx_addr = find_symbol(fw, "inmoov_rx_count");
+  if (watch_name && !(watch_addr = find_symbol(fw, watch_name))) {
+    fprintf(stderr, "simboard: %s has no variable %s\n", path, watch_name);
+    return -1;
+  }
+  for (int k = 0; k < poke_count; k++) {
+    uint32_t at = find_symbol(fw, pokes[k].name);
+    if (!at || at + pokes[k].offset >= avr->flashend) {
+      fprintf(stderr, "simboard: %s has no flash table %s\n", path, pokes[k].name);
+      return -1;
+    }
+    avr->flash[at + pokes[k].offset] = pokes[k].byte;
+  }
+  release_buttons();
   for (int pin = 0; pin < PINS; pin++) {
     char port = pin < 8 ? 'D' : pin < 14 ? 'B' : 'C';
     int bit = pin < 8 ? pin : pin < 14 ? pin - 8 : pin - 14;
@@ -348,10 +439,12 @@ static void report(long sent, long before_dump, int cut) {
   for (long k = 0; k < eeprom_writes && k < MAX_EEPROM_LOG; k++)
     printf("eeprom %.6f %u %u\n", since_ready(eeprom_log[k].cycle), eeprom_log[k].address,
            eeprom_log[k].byte);
+  for (long k = 0; k < watch_count; k++)
+    printf("watch %.6f %u\n", since_ready(watch_log[k].cycle), watch_log[k].value);
   if (cut) printf("cut %.6f\n", since_ready(cut_at));
 }
 
-static int script(double run_on) {
+static int script(double run_on, double wait) {
   if (wait_ready() < 0) return 1;
   long sent = 0, before_dump = out_count;
   double t;
@@ -367,9 +460,10 @@ static int script(double run_on) {
     sent += !r;
   }
   if (!r) { /* the stream is over: let it settle (replies end), then ask for the values */
-    r = run_until(last + F_CPU / 20);
+    avr_cycle_count_t then = last + (avr_cycle_count_t)(wait * F_CPU);
+    r = run_until(then);
     before_dump = out_count;
-    if (!r) r = send_byte(253, last + F_CPU / 20);
+    if (!r) r = send_byte(253, then);
     sent += !r;
   }
   avr_cycle_count_t limit = avr->cycle + F_CPU / 5;
@@ -449,7 +543,7 @@ int main(int argc, char **argv) {
   const char *path = NULL;
   int pty = 0, bad = 0;
   long baud = 9600;
-  double run_on = 0;
+  double run_on = 0, wait = 0.05;
   for (int i = 1; i < argc; i++) {
     int more = i + 1 < argc;
     if (strcmp(argv[i], "--pty") == 0)
@@ -464,19 +558,39 @@ int main(int argc, char **argv) {
       eeprom_path = argv[++i];
     else if (strcmp(argv[i], "--cut") == 0 && more)
       cut_after = atol(argv[++i]);
+    else if (strcmp(argv[i], "--wait") == 0 && more)
+      wait = atof(argv[++i]);
+    else if (strcmp(argv[i], "--button") == 0 && more) {
+      int pin = atoi(argv[++i]);
+      if (pin < 0 || pin >= PINS) bad = 1;
+      else button[pin] = 1;
+    } else if (strcmp(argv[i], "--press") == 0 && i + 3 < argc && press_count < MAX_PRESSES) {
+      presses[press_count].pin = atoi(argv[++i]);
+      presses[press_count].at = atof(argv[++i]);
+      presses[press_count].hold = atof(argv[++i]);
+      int pin = presses[press_count++].pin;
+      if (pin < 0 || pin >= PINS || !button[pin]) bad = 1; /* --button PIN first */
+    } else if (strcmp(argv[i], "--watch") == 0 && more)
+      watch_name = argv[++i];
+    else if (strcmp(argv[i], "--flash") == 0 && i + 3 < argc && poke_count < MAX_POKES) {
+      pokes[poke_count].name = argv[++i];
+      pokes[poke_count].offset = (uint32_t)atol(argv[++i]);
+      pokes[poke_count++].byte = (uint8_t)atoi(argv[++i]);
+    }
     else if (!path && argv[i][0] != '-')
       path = argv[i];
     else
       bad = 1;
   }
-  if (!path || bad || baud <= 0 || run_on < 0) {
+  if (!path || bad || baud <= 0 || run_on < 0 || wait < 0) {
     fprintf(stderr, "usage: simboard FIRMWARE.elf [--baud B] [--run-on S] [--eeprom FILE] "
-                    "[--cut N] [--pulses] < timed\n"
+                    "[--cut N] [--pulses] [--wait S] [--button PIN [--press PIN S H]...] "
+                    "[--watch SYMBOL] [--flash SYMBOL K B] < timed\n"
                     "       simboard FIRMWARE.elf --pty [--baud B] [--eeprom FILE]\n");
     return 2;
   }
   elf_firmware_t fw;
   if (load(path, &fw) < 0) return 1;
   byte_cycles = (avr_cycle_count_t)(10 * F_CPU / baud);
-  return pty ? serve() : script(run_on);
+  return pty ? serve() : script(run_on, wait);
 }

@@ -14,7 +14,7 @@ import re
 import shutil
 import subprocess
 import sys
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from ..errors import Diagnostic, GestError, did_you_mean
@@ -22,6 +22,7 @@ from ..profiles.data import Profile
 from ..profiles.profile import builtin_profiles, load_profile
 from ..resources import data_dir
 from ..wire.ports import not_found, permission_denied
+from ..wire.stored import StoredSet
 from .sketches import sketches
 
 UNO_BAUD = 115200  #: Optiboot: an Uno, a Nano with the new bootloader
@@ -80,24 +81,34 @@ def find_sketch(name: str) -> Profile:
     raise GestError(Diagnostic("error", f"no board called '{name}'", hint=hint))
 
 
-def stale_files(profile: Profile, out: Path, baud: int | None = None) -> dict[Path, str]:
-    """The sketch files under ``out`` that differ from what ``profile`` generates."""
-    stale = {}
-    for folder, files in sketches(profile, baud).items():
+def stale_files(profile: Profile, out: Path, baud: int | None = None,
+                stored: Mapping[int, StoredSet] | None = None) -> dict[Path, str | None]:
+    """The sketch files under ``out`` that differ from what ``profile`` generates (with
+    ``stored``: board ID -> its stored gestures); None for a ``stored.h`` that should
+    no longer be there."""
+    stale: dict[Path, str | None] = {}
+    for folder, files in sketches(profile, baud, stored).items():
         for name, text in files.items():
             path = out / folder / name
             current = path.read_text(encoding="utf-8") if path.is_file() else None
             if current != text:
                 stale[path] = text
+        if "stored.h" not in files and (out / folder / "stored.h").is_file():
+            stale[out / folder / "stored.h"] = None
     return stale
 
 
-def write_sketchbook(profile: Profile, out: Path, baud: int | None = None) -> list[Path]:
-    """Write ``profile``'s sketches under ``out`` (only the files that changed), and the
-    library and the build beside them if ``out`` has none: a sketchbook the Arduino IDE
-    opens and ``make -C out`` builds. Returns the files written."""
-    stale = stale_files(profile, out, baud)
+def write_sketchbook(profile: Profile, out: Path, baud: int | None = None,
+                     stored: Mapping[int, StoredSet] | None = None) -> list[Path]:
+    """Write ``profile``'s sketches under ``out`` (only the files that changed; a
+    ``stored.h`` of gestures no longer stored removed), and the library and the build
+    beside them if ``out`` has none: a sketchbook the Arduino IDE opens and ``make -C
+    out`` builds. Returns the files written or removed."""
+    stale = stale_files(profile, out, baud, stored)
     for path, text in stale.items():
+        if text is None:
+            path.unlink()
+            continue
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(text, encoding="utf-8")
     if not (out / "libraries" / "InmoovDsl").exists():
@@ -111,15 +122,16 @@ def write_sketchbook(profile: Profile, out: Path, baud: int | None = None) -> li
     return list(stale)
 
 
-def build(profile: Profile, names: Sequence[str], where: Path, baud: int | None = None
-          ) -> dict[str, Path]:
-    """Build the sketches ``names`` of ``profile`` in the sketchbook ``where``: sketch
-    name -> its .hex. make's output goes to the user."""
+def build(profile: Profile, names: Sequence[str], where: Path, baud: int | None = None,
+          stored: Mapping[int, StoredSet] | None = None) -> dict[str, Path]:
+    """Build the sketches ``names`` of ``profile`` in the sketchbook ``where`` (with
+    ``stored``: board ID -> its stored gestures): sketch name -> its .hex. make's
+    output goes to the user."""
     missing = [tool for tool in BUILD_TOOLS if shutil.which(tool) is None]
     if missing:
         raise GestError(Diagnostic("error", f"cannot build the firmware: {missing[0]} not "
                                    f"found", hint=INSTALL_BUILD))
-    write_sketchbook(profile, where, baud)
+    write_sketchbook(profile, where, baud, stored)
     done = subprocess.run(["make", "-s", "-C", str(where), "-j2", *names],
                           stdout=sys.stderr, stderr=subprocess.PIPE, text=True)
     if done.returncode != 0:

@@ -4,7 +4,9 @@
 // EEPROM and the clock. Nothing is printed but the protocol's own bytes, so nothing can
 // stall the loop.
 //
-// settings.h defines: BOARD_ID, BAUD, SERVO_COUNT and SERVOS[SERVO_COUNT].
+// settings.h defines: BOARD_ID, BAUD, SERVO_COUNT and SERVOS[SERVO_COUNT]. A sketch
+// built with stored gestures includes stored.h too (INMOOV_STORED_GESTURES, the
+// INMOOV_STORED blob): the board then plays them itself (InmoovStored.h).
 #ifndef INMOOV_SERVO_BOARD_H
 #define INMOOV_SERVO_BOARD_H
 
@@ -40,6 +42,15 @@ inmoov::ServoCore inmoov_core(BOARD_ID, SERVOS, SERVO_COUNT, inmoov_values,
 inmoov::PoseStore inmoov_store(E2END + 1, BOARD_ID, SERVOS, SERVO_COUNT, inmoov_record,
                                inmoov_eeprom_read, inmoov_eeprom_write);
 
+#ifdef INMOOV_STORED_GESTURES
+#include "InmoovStored.h"
+#else  // no stored gesture: nothing to do
+inline void inmoov_stored_setup() {}
+inline void inmoov_stored_heard(uint8_t) {}
+inline bool inmoov_stored_busy() { return false; }
+inline void inmoov_stored_loop() {}
+#endif
+
 void inmoov_servo_setup() {
   for (uint8_t i = 0; i < SERVO_COUNT; i++) inmoov::pulses::attach(i, SERVOS[i].pin);
   uint8_t pose[SERVO_COUNT];
@@ -49,15 +60,21 @@ void inmoov_servo_setup() {
   inmoov::pulses::begin();
   Serial.begin(BAUD);
   Serial.write(inmoov::WAIT);
+  inmoov_stored_setup();
 }
 
 void inmoov_servo_loop() {
   // Drain the receive buffer every pass: it holds 63 bytes, 65 ms at 9600 baud.
   while (Serial.available() > 0) {
-    inmoov_core.feed(static_cast<uint8_t>(Serial.read()));
+    uint8_t byte = static_cast<uint8_t>(Serial.read());
+    inmoov_stored_heard(byte);  // any byte stops a stored gesture
+    inmoov_core.feed(byte);
     inmoov_rx_count++;
-    if (Serial.available() == 0 && inmoov_core.expects_id()) Serial.write(inmoov::WAIT);
+    if (Serial.available() == 0 && inmoov_core.expects_id() && !inmoov_stored_busy()) {
+      Serial.write(inmoov::WAIT);
+    }
   }
+  inmoov_stored_loop();
   uint16_t now = static_cast<uint16_t>(millis());
   if (inmoov_written) {
     inmoov_written = false;

@@ -24,6 +24,11 @@ const uint8_t MAX_VALUE = 180;       // largest servo value; larger values are c
 const uint8_t MAX_SERVO_ID = 180;    // servo IDs are values too
 const uint8_t FIRST_BOARD_ID = 181;  // board IDs start here
 const uint16_t POSE_SETTLE_MS = 1000;  // ms without a servo command before the pose is stored
+// host -> servo board where a servo ID is expected, then a number: play that stored
+// gesture, or (CATALOG) list them. The original firmware reads a pair for a servo it
+// does not have. Not a signal: in value position 247 is a value, as any byte is.
+const uint8_t PLAY = 247;
+const uint8_t CATALOG = 180;
 
 }  // namespace inmoov
 

@@ -25,11 +25,15 @@ void ServoCore::feed(uint8_t byte) {
     int8_t index = index_of(static_cast<uint8_t>(pending_));
     pending_ = NONE;
     if (index < 0) return;
-    set(static_cast<uint8_t>(index), byte > MAX_VALUE ? MAX_VALUE : byte);
-    if (relaxed_) {
-      relaxed_ = false;
-      drive_(true);
-    }
+    command(static_cast<uint8_t>(index), byte > MAX_VALUE ? MAX_VALUE : byte);
+  }
+}
+
+void ServoCore::command(uint8_t index, uint8_t value) {
+  set(index, value);
+  if (relaxed_) {
+    relaxed_ = false;
+    drive_(true);
   }
 }
 

@@ -49,6 +49,9 @@ class ServoCore {
   void begin(const uint8_t* pose = 0);
   // Read one byte from the host.
   void feed(uint8_t byte);
+  // Servo `index` to `value` (0..180) from the board itself (a stored gesture): as a
+  // servo command does, it drives every servo again after RELAX.
+  void command(uint8_t index, uint8_t value);
   // True when the next byte read is a servo ID (no command half-read).
   bool expects_id() const { return pending_ == NONE; }
   // True after RELAX, until the next servo write.

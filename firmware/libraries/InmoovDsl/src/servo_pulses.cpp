@@ -29,6 +29,7 @@ Channel channels_[PULSE_CHANNELS];
 uint8_t count_ = 0;         // channels attached (the highest + 1)
 volatile bool quiet_ = false;  // stop(): no channel starts a pulse
 uint16_t frame_used_;       // ticks of this frame's pulses so far
+volatile uint8_t frames_ = 0;  // frames whose pulses are over
 // The pin that is high, and the one that goes high at the next compare (port 0: none),
 // kept ready so that the interrupt moves both edges within a few cycles of each other.
 uint8_t high_ = NONE, high_port_ = 0, high_mask_ = 0;
@@ -96,6 +97,8 @@ void stop() { quiet_ = true; }
 
 void start() { quiet_ = false; }
 
+uint8_t frames() { return frames_; }
+
 }  // namespace pulses
 }  // namespace inmoov
 
@@ -118,6 +121,7 @@ ISR(TIMER1_COMPA_vect) {
   uint16_t rest = frame_used_ < FRAME_TICKS - 200 ? FRAME_TICKS - frame_used_ : 200;
   OCR1A = rest - 1;
   frame_used_ = 0;
+  frames_++;
   plan_next(NONE);
 }
 

@@ -29,6 +29,9 @@ void write(uint8_t channel, uint16_t us);
 // Stop every pin's pulses (pins low) / pulse them again at the widths they have.
 void stop();
 void start();
+// Frames begun so far (modulo 256): it counts up once every channel has pulsed, in the
+// quiet before the next frame, so a width written then is every channel's next pulse.
+uint8_t frames();
 
 }  // namespace pulses
 }  // namespace inmoov
