@@ -48,14 +48,28 @@ def serve(args: argparse.Namespace) -> int:
         views.append(BarsView(profile, board_cfg))
     web = _web(args, profile, board_cfg)
     views += [web] if web is not None else []
+    flash = None if glove else _stored(args, profile, board_cfg)
     try:
-        return _serve(args, profile, board_cfg, glove, views, web)
+        return _serve(args, profile, board_cfg, glove, views, web, flash)
     finally:
         if web is not None:
             web.close()
 
 
-def _serve(args: argparse.Namespace, profile, board_cfg, glove, views: list, web) -> int:
+def _stored(args: argparse.Namespace, profile, board_cfg):
+    """The gestures the board stores: a built sketch's (--flash), or those the options
+    ask for (--store...), compiled as ``gestc firmware`` does; None if neither."""
+    from ..wire.stored import read_blob, read_set
+    from .gestc.storing import stored_sets, wants_store
+
+    if args.flash:
+        return read_set(read_blob(args.flash))
+    return stored_sets(args, profile, board_cfg, PROG).get(board_cfg.id) \
+        if wants_store(args) else None
+
+
+def _serve(args: argparse.Namespace, profile, board_cfg, glove, views: list, web,
+           flash=None) -> int:
     """The pty, its path printed, the board on it until stopped."""
     import tty
 
@@ -78,7 +92,8 @@ def _serve(args: argparse.Namespace, profile, board_cfg, glove, views: list, web
             print(f"{PROG}: the hand in 3-D at {web.url}{busy}", file=sys.stderr, flush=True)
         _Pty(master, args.boot, glove and glove.stream, views, log,
              lambda ready_at: VirtualBoard(BoardCore.from_profile(profile, board_cfg),
-                                           board_cfg.baud, ready_at=ready_at)).serve()
+                                           board_cfg.baud, ready_at=ready_at,
+                                           flash=flash)).serve()
     except KeyboardInterrupt:
         return EXIT_OK
     finally:
@@ -264,6 +279,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--http-port", type=number(0, 65535, whole=True), default=8080,
                     metavar="N", help="with --web: the page's port (default 8080; 0: any "
                     "free one; a busy one: the next free)")
+    ap.add_argument("--flash", metavar="DIR", help="the board stores the gestures of the "
+                    "sketch in DIR, built with gestc firmware --store (or its stored.h)")
+    from .gestc.storing import add_store_options
+
+    add_store_options(ap, "the virtual board")
     args = parse_args(ap, argv)
     return run(PROG, lambda: serve(args))
 

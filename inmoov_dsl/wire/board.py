@@ -15,6 +15,8 @@ the firmware's host tests check the C++ core against the same rules.
 - Any other byte is a servo ID where an ID is expected (a foreign one, if the board has
   no such servo: its value is read and the pair ignored) and a value where a value is
   expected, clamped to 180: WAIT (254) arriving as a value sets 180.
+- A pair for PLAY (247) asks for a stored gesture (its value is the gesture's number,
+  or CATALOG for the list): ``asked`` says which, for the board to play (``sim.py``).
 - A value is mapped onto the servo's calibration (reversed servos map 180..0 onto it)
   with the Arduino's integer ``map()``, and the angle onto a pulse of 544..2400 us.
 """
@@ -26,7 +28,7 @@ from dataclasses import dataclass
 
 from ..decode import BOARD, Pair, Reader
 from ..profiles.data import Board, Profile
-from ..protocol import MAX_VALUE, Signal, reply
+from ..protocol import MAX_VALUE, PLAY, Signal, reply
 
 PULSE_MIN, PULSE_MAX = 544, 2400  #: us: the pulse for servo angle 0 and 180
 
@@ -86,6 +88,7 @@ class BoardCore:
         self._reader = Reader(BOARD)
         self.values: list[int] = []  #: last value written, unscaled
         self.relaxed = False  #: RELAX came: no pulses until the next servo write
+        self.asked: int | None = None  #: the number after PLAY the last byte completed
         self.restore(None)
 
     @classmethod
@@ -102,6 +105,7 @@ class BoardCore:
 
     def feed(self, byte: int) -> tuple[Write | None, bytes]:
         """Read one byte: the servo write it completes, if any, and the bytes to reply."""
+        self.asked = None
         for event in self._reader.feed(byte):
             match event:
                 case Signal.DUMP:
@@ -109,11 +113,17 @@ class BoardCore:
                 case Signal.RELAX:
                     self.relaxed = True
                 case Pair(id=sid, value=value) if sid in self._index:
-                    index = self._index[sid]
-                    self.values[index] = value
-                    self.relaxed = False
-                    return Write(sid, value, self.servos[index].angle(value)), b""
+                    return self.command(self._index[sid], value), b""
+                case Pair(id=sid, value=value) if sid == PLAY:
+                    self.asked = value
         return None, b""
+
+    def command(self, index: int, value: int) -> Write:
+        """Servo ``index`` to ``value``, as a servo command or a stored gesture does: it
+        drives every servo again after RELAX."""
+        self.values[index] = value
+        self.relaxed = False
+        return Write(self.servos[index].id, value, self.servos[index].angle(value))
 
     def restore(self, values: Sequence[int] | None) -> None:
         """Reset: every servo at ``values`` (the pose kept in EEPROM) or, if None, at

@@ -7,6 +7,11 @@ firmware does. Every servo write is recorded with the time it happened. Like the
 firmware, it keeps its pose once the pose has settled (no servo write for
 POSE_SETTLE s: the EEPROM record) and starts from that pose after a reset. Time is
 passed in, so the same board runs in real time behind ``sim://`` or on a test's clock.
+
+With gestures stored in its flash (``flash``, the same bytes a build puts in the
+image: ``stored.py``), it plays them as the firmware does: on PLAY N, at power-up, when
+idle, when a button is pressed (``press``); any byte from the host stops them, and it
+sends WAIT when one ends by itself (``stored_play.py``).
 """
 
 from __future__ import annotations
@@ -16,8 +21,12 @@ import math
 from collections import deque
 from dataclasses import dataclass, field
 
-from ..protocol import DEFAULT_BAUD, POSE_SETTLE, Signal, byte_time
+from ..protocol import CATALOG, DEFAULT_BAUD, POSE_SETTLE, Signal, byte_time
 from .board import BoardCore, Write
+from .stored import BOOT_QUIET, DEBOUNCE, StoredSet, catalog_reply
+from .stored_play import Playback
+
+TX_BUFFER = 64  #: bytes the firmware's serial port holds: a catalog cut short still sends them
 
 
 @dataclass
@@ -55,6 +64,7 @@ class VirtualBoard:
     stored: list[int] | None = None  #: the pose kept in EEPROM (None: never written)
     records: int = 0  #: poses stored (EEPROM records written)
     resets: int = 0
+    flash: StoredSet | None = None  #: the gestures stored in its flash
 
     def __post_init__(self) -> None:
         self.tau = byte_time(self.baud)
@@ -65,6 +75,12 @@ class VirtualBoard:
         self._clock = 0.0
         self._booted = False
         self._last_write: float | None = None  # a servo write not yet stored
+        self.playing: Playback | None = None  #: the stored gesture it is playing
+        self._own: list[tuple[float, int]] = []  # (when, gesture): buttons pressed
+        self._boot_at: float | None = None  # when the boot gesture starts
+        self._quiet = 0.0  # the last host byte, press or gesture's end
+        self._catalog: list[float] = []  # when each catalog byte is ready (to cut it)
+        self._triggers = True  # boot, idle and buttons may start gestures
         if self.stored is not None:
             self.core.restore(self.stored)
 
@@ -92,6 +108,7 @@ class VirtualBoard:
         self._inbox.clear()
         self._outbox.clear()
         self._last_write = None
+        self.playing, self._own, self._catalog, self._boot_at = None, [], [], None
         self.core.restore(self.stored)
         self.ready_at = now + boot
         self._booted = False
@@ -101,24 +118,103 @@ class VirtualBoard:
         """Let the board run until ``now``."""
         if not self._booted and now >= self.ready_at:
             self._booted = True
-            self._clock = self.ready_at
+            self._clock = self._quiet = self.ready_at
             self._send(self.ready_at, bytes([Signal.WAIT]))
-        while self._inbox and self._inbox[0][0] <= now:
-            arrival, byte = self._inbox.popleft()
-            if arrival < self.ready_at:
-                self.swallowed += 1
-                continue
-            self._settle(arrival)
-            self._clock = arrival
-            write, reply = self.core.feed(byte)
-            if write is not None:
-                self.log.append((arrival, write))
-                self._last_write = arrival
-            self._send(arrival, reply)
-            idle = not self._inbox or self._inbox[0][0] > arrival
-            if idle and self.core.pending is None:
-                self._send(arrival, bytes([Signal.WAIT]))
+            if self.flash is not None and self.flash.boot is not None:
+                self._boot_at = self.ready_at + BOOT_QUIET
+        while True:
+            arrival = self._inbox[0][0] if self._inbox else math.inf
+            due, start = self._due()
+            if min(arrival, due) > now or min(arrival, due) == math.inf:
+                break
+            if arrival <= due:
+                self._read()
+            elif start is not None:
+                self._play(due, start)
+            else:
+                self._step(due)
         self._settle(now)
+
+    def _read(self) -> None:
+        """The next byte on the wire reaches the board."""
+        arrival, byte = self._inbox.popleft()
+        if arrival < self.ready_at:
+            self.swallowed += 1
+            return
+        self._settle(arrival)
+        self._clock = self._quiet = arrival
+        self.playing = self._boot_at = None  # any byte stops what the board does itself
+        self._cut_catalog(arrival)
+        write, reply = self.core.feed(byte)
+        if write is not None:
+            self._wrote(arrival, write)
+        self._send(arrival, reply)
+        asked = self.core.asked if self.flash is not None else None
+        if asked is not None and asked < len(self.flash.gestures):
+            self._play(arrival, asked)
+        idle = not self._inbox or self._inbox[0][0] > arrival
+        if idle and self.core.pending is None and self.playing is None:
+            self._send(arrival, bytes([Signal.WAIT]))
+        if asked == CATALOG:
+            self._catalog = [self._send(arrival, catalog_reply(self.core.board_id,
+                                                               self.flash.to_bytes()))]
+
+    def _due(self) -> tuple[float, int | None]:
+        """When the board next acts by itself, and the gesture it then starts (None: a
+        step of the one it plays)."""
+        if not self._booted or self.flash is None:
+            return math.inf, None
+        if self.playing is not None:
+            return self.playing.due(), None
+        if not self._triggers:
+            return math.inf, None
+        starts = list(self._own)
+        if self._boot_at is not None:
+            starts.append((self._boot_at, self.flash.boot))
+        if self.flash.idle is not None and self._boot_at is None:
+            starts.append((self._quiet + self.flash.idle_after, self.flash.idle))
+        return min(starts, default=(math.inf, None))
+
+    def _play(self, now: float, number: int) -> None:
+        """Start stored gesture ``number`` at ``now``."""
+        self._own = [o for o in self._own if o[0] > now]
+        if self._boot_at is not None and self._boot_at <= now:
+            self._boot_at = None
+        if self.core.relaxed:
+            self._wrote(now, self.core.command(0, self.core.values[0]))
+        self.playing = Playback(self.flash, number, self.core.values, now)
+
+    def _step(self, now: float) -> None:
+        """What the stored gesture does at ``now``: writes, or its end (then WAIT)."""
+        writes, over = self.playing.run()
+        for index, value in writes:
+            self._wrote(now, self.core.command(index, value))
+        if over:
+            self.playing, self._quiet = None, now
+            if self.core.pending is None:
+                self._send(now, bytes([Signal.WAIT]))
+
+    def _wrote(self, now: float, write: Write) -> None:
+        self.log.append((now, write))
+        self._last_write = now
+
+    def press(self, pin: int, now: float) -> None:
+        """A button on ``pin`` is pressed at ``now`` (and held): its gesture starts once
+        the press has lasted DEBOUNCE."""
+        self.advance(now)
+        for button, number in self.flash.buttons if self.flash is not None else ():
+            if button == pin:
+                self._own.append((now + DEBOUNCE, number))
+
+    def _cut_catalog(self, now: float) -> None:
+        """A host byte cuts a catalog being sent short: what is not yet in the serial
+        port's buffer is never sent."""
+        if not self._catalog:
+            return
+        keep = now + TX_BUFFER * self.tau
+        self._outbox = deque((t, b) for t, b in self._outbox if t <= keep)
+        self._out_free = min(self._out_free, max((t for t, _ in self._outbox), default=now))
+        self._catalog = []
 
     def _settle(self, now: float) -> None:
         """Store the pose if it has settled by ``now`` and differs from the stored one."""
@@ -129,11 +225,12 @@ class VirtualBoard:
             self.stored = list(self.core.values)
             self.records += 1
 
-    def _send(self, at: float, data: bytes) -> None:
+    def _send(self, at: float, data: bytes) -> float:
         for b in data:
             ready = max(at, self._out_free) + self.tau
             self._out_free = ready
             self._outbox.append((ready, b))
+        return self._out_free
 
     def settled(self) -> list[int] | None:
         """The pose this board will have stored once what is on the wire has arrived and
@@ -144,6 +241,7 @@ class VirtualBoard:
             twin = copy.deepcopy(self)
         finally:
             self.log = log
+        twin._triggers = False  # a gesture playing ends; no other starts by itself
         twin.advance(math.inf)
         return twin.stored
 

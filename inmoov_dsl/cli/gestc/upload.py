@@ -20,6 +20,7 @@ from .target import PROG
 def run(args: argparse.Namespace) -> int:
     """Build boards' firmware from their profile and flash it through the bootloader."""
     from ...firmware.upload import OLD_NANO_BAUD, UNO_BAUD, build
+    from .storing import one_board, stored_sets, wants_store
 
     profile, names = _boards(args.profile, args.board)
     targets = [args.board] if args.board else list(names)
@@ -27,17 +28,24 @@ def run(args: argparse.Namespace) -> int:
     if args.hex and len(targets) > 1:
         raise GestError(Diagnostic("error", "--hex is one board's firmware",
                                    hint="name the board: gestc upload BOARD --hex FILE"))
+    if args.hex and wants_store(args):
+        raise GestError(Diagnostic("error", "--hex flashes an image built elsewhere: its "
+                                   "stored gestures are the ones it was built with",
+                                   hint="leave out --hex to build one with --store"))
     check_ports([ports[name] for name in targets], args.dry_run)
+    stored = stored_sets(args, profile, one_board(profile, args.board, PROG), PROG) \
+        if wants_store(args) else {}
     baud = OLD_NANO_BAUD if args.old_bootloader else UNO_BAUD
     if args.dry_run:
         print("\n".join(dry_run(args, profile, targets, ports, baud)))
     elif args.hex:
         _flash({targets[0]: Path(args.hex)}, ports, baud, args)
     elif args.build_dir:
-        _flash(build(profile, targets, Path(args.build_dir), args.baud), ports, baud, args)
+        _flash(build(profile, targets, Path(args.build_dir), args.baud, stored), ports, baud,
+               args)
     else:
         with tempfile.TemporaryDirectory(prefix="inmoov-upload-") as tmp:
-            _flash(build(profile, targets, Path(tmp), args.baud), ports, baud, args)
+            _flash(build(profile, targets, Path(tmp), args.baud, stored), ports, baud, args)
     return EXIT_OK
 
 
@@ -70,10 +78,22 @@ def dry_run(args: argparse.Namespace, profile: Profile, targets: list[str],
         hexes = {name: where / "build" / f"{name}.hex" for name in targets}
         baud_option = ["--baud", str(args.baud)] if args.baud else []
         lines = [shlex.join([PROG, "firmware", args.profile or profile.name, "-o",
-                             str(where), *baud_option]),
+                             str(where), *baud_option, *store_options(args)]),
                  shlex.join(["make", "-C", str(where), *targets])]
     return lines + [shlex.join(avrdude_command(hexes[name], ports[name], baud, args.avrdude,
                                                args.avrdude_option)) for name in targets]
+
+
+def store_options(args: argparse.Namespace) -> list[str]:
+    """The ``gestc firmware`` options that store what ``args`` asks to store."""
+    out = [f"--store={','.join(args.store)}"] if args.store else []
+    out += [f"--on-boot={args.on_boot}"] if args.on_boot else []
+    out += [f"--button={b}" for b in args.button]
+    out += [f"--idle={args.idle}", f"--idle-after={args.idle_after}"] if args.idle else []
+    out += [f"--lib={d}" for d in args.lib]
+    if out and args.board:
+        out.append(f"--board={args.board}")
+    return out
 
 
 def _flash(hexes: dict[str, Path], ports: dict[str, str], baud: int,
@@ -147,4 +167,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="the avrdude to run (default: avrdude on the PATH)")
     p.add_argument("--avrdude-option", action="append", default=[], metavar="ARG",
                    help="pass ARG to avrdude (e.g. -v, or -x attempts=1); may be repeated")
+    from .storing import add_store_options
+
+    add_store_options(p, "the board")
     p.set_defaults(func=run)

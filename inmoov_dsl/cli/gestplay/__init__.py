@@ -17,7 +17,8 @@ from ..common import add_version, parse_args, run
 PROG = "gestplay"
 #: each tool (``play`` for a gesture) -> its module, in the order ``--help`` lists them
 TOOLS = {"play": "play", "ports": "ports", "dump": "dump", "send": "send", "relax": "relax",
-         "calibrate": "calibrate", "repl": "repl", "teach": "teach", "serve": "serve"}
+         "calibrate": "calibrate", "repl": "repl", "teach": "teach", "serve": "serve",
+         "stored": "stored"}
 
 
 def parser(tool: str | None = None) -> argparse.ArgumentParser:

@@ -19,6 +19,7 @@ from ...wire.player import play
 from .. import hand
 from ..common import EXIT_OK, add_blind, add_lib, number, report, warn
 from ..target import Target, load_target
+from . import sounds
 
 PROG = "gestplay"
 
@@ -60,6 +61,10 @@ class Playing:
 
 def run(args: argparse.Namespace) -> int:
     """Play (or with --dry-run print) the gesture."""
+    if args.stored:
+        from .stored import play_stored
+
+        return play_stored(args)
     target = Playing(load_target(args.target, args.gesture, args.profile, args.lib, PROG,
                                  compiled=True, side=args.hand), args.strict, args.hand)
     if args.dry_run:
@@ -69,10 +74,14 @@ def run(args: argparse.Namespace) -> int:
                                    "--port /dev/ttyUSB0, or --port sim:// for the virtual "
                                    "board (--dry-run prints the schedule)"))
     boards = target.boards()
-    with hand.opened(PROG, target.profile, args.port, args.blind, boards=boards) as on:
-        pose = play_on(on, target, args.loop, args.speed)
-        if all(link.name.startswith("sim://") for link in on.links):
-            show_virtual(on, boards, pose, args.target)
+    audio = sounds.Audio(args.audio, PROG)
+    try:
+        with hand.opened(PROG, target.profile, args.port, args.blind, boards=boards) as on:
+            pose = play_on(on, target, args.loop, args.speed, audio)
+            if all(link.name.startswith("sim://") for link in on.links):
+                show_virtual(on, boards, pose, args.target)
+    finally:
+        audio.close()
     return EXIT_OK
 
 
@@ -102,7 +111,8 @@ def dry_run(compiled: Compiled, speed: float) -> int:
     return EXIT_OK
 
 
-def play_on(on: hand.Hand, target: Playing, loop: int, speed: float) -> dict[str, int]:
+def play_on(on: hand.Hand, target: Playing, loop: int, speed: float,
+            audio: sounds.Audio | None = None) -> dict[str, int]:
     """Play ``loop`` times (0: until Ctrl-C) from the pose the hand holds, each pass from
     where the last one ended; one line of figures after, interrupted or not. The pose
     the hand ends in (servo name -> value)."""
@@ -116,8 +126,10 @@ def play_on(on: hand.Hand, target: Playing, loop: int, speed: float) -> dict[str
                     compiled.servos, compiled.start, strict=True)):
                 warn("the hand is not in the pose this compiled gesture starts from: it "
                      "will jump to it", PROG)
+            compiled, speaker = audio.ready(compiled, speed) if audio else (compiled, None)
             show = _progress(compiled, speed) if sys.stderr.isatty() else None
-            run.worst = max(run.worst, play(compiled, on.links, speed, progress=show))
+            run.worst = max(run.worst, play(compiled, on.links, speed, progress=show,
+                                            speaker=speaker))
             if show:
                 print(file=sys.stderr)
             pose = dict(zip(compiled.servos, compiled.final, strict=True))
@@ -197,6 +209,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     ap.add_argument("--dry-run", action="store_true",
                     help="print the schedule ('<seconds> <byte>') without a port")
     ap.add_argument("--strict", action="store_true", help="stretched moves are errors")
+    ap.add_argument("--stored", action="store_true", help="the board plays the gesture it "
+                    "stores in its flash (gestc upload --store; gestplay stored lists them), "
+                    "from wherever the hand is")
+    sounds.add_argument(ap)
     add_blind(ap)
     add_lib(ap)
     ap.set_defaults(func=run)

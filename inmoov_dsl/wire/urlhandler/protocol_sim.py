@@ -1,7 +1,11 @@
-"""``sim://[PROFILE][?board=ID&boot=SECONDS&fresh]``: the virtual board as a pyserial port.
+"""``sim://[PROFILE][?board=ID&boot=SECONDS&fresh&flash=DIR]``: the virtual board as a
+pyserial port.
 
 PROFILE defaults to ``rhand``, the board to the profile's first, ``boot`` (the time
 the bootloader swallows bytes after a reset, as an Uno or Nano does) to 0.2 s.
+``flash`` is the folder of a sketch built with stored gestures (``gestc firmware
+--store``), or its ``stored.h``: the board holds them, the same bytes, and plays them
+as that image does.
 A bare ``sim://`` is completed with the profile and board it is opened for (``complete``,
 called by the link edge, ``wire/link.py``).
 The board runs in real time on ``clock.now`` (the clock every tool reads): what the
@@ -33,10 +37,11 @@ from ...profiles.data import Profile
 from ...profiles.profile import builtin_profiles, find_profile, load_profile
 from ..board import BoardCore
 from ..sim import DtrLine, VirtualBoard
+from ..stored import StoredSet, read_blob, read_set
 from . import memory
 
 DEFAULT_BOOT = 0.2  #: s
-OPTIONS = ("board", "boot", "fresh")  #: what a sim:// URL may say after its '?'
+OPTIONS = ("board", "boot", "fresh", "flash")  #: what a sim:// URL may say after its '?'
 
 
 class SimError(SerialException):
@@ -100,7 +105,24 @@ def _board_from_url(url: str) -> tuple[VirtualBoard, Profile]:
                        f"its boards: {ids}")
     core = BoardCore.from_profile(profile, board)
     stored = None if "fresh" in options else memory.recall(profile, core)
-    return VirtualBoard(core, board.baud, stored=stored), profile
+    flash = _flash(url, options["flash"][0], core) if "flash" in options else None
+    return VirtualBoard(core, board.baud, stored=stored, flash=flash), profile
+
+
+def _flash(url: str, path: str, core: BoardCore) -> StoredSet:
+    """The gestures stored in the sketch at ``path``, for this board."""
+    try:
+        flash = read_set(read_blob(path))
+    except GestError as exc:
+        raise SimError(url, exc.first.message, exc.first.hint) from None
+    except (ValueError, IndexError):
+        raise SimError(url, f"flash={path}: its stored gestures are not of this version",
+                       "build it again: gestc firmware PROFILE --store ...") from None
+    if len(flash.limits) != len(core.servos):
+        raise SimError(url, f"flash={path}: stored for a board of {len(flash.limits)} "
+                       f"servos, and board {core.board_id} has {len(core.servos)}",
+                       "give the sketch of this board")
+    return flash
 
 
 def complete(url: str, profile: Profile, board: int) -> str:
