@@ -244,7 +244,7 @@ def stream(doc):
     (lambda d: d["steps"][0].__setitem__("end", 99.0),
      "step 1 runs from 0 s to 99 s, outside the gesture's 0.7 s"),
     (lambda d: d["steps"][0].__setitem__("kind", "dance"),
-     "a step's kind is 'move' or 'hold', got \"dance\""),
+     "a step's kind is 'move', 'hold' or 'say', got \"dance\""),
     (lambda d: d.pop("gesture"), "missing field 'gesture'"),
 ])
 def test_a_compiled_file_breaking_a_rule_is_refused_at_its_place(change, message):

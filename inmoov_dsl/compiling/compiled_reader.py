@@ -94,8 +94,8 @@ class CompiledReader(Fields):
         if not isinstance(st, dict):
             raise self.bad("a step must be an object", path)
         kind = self.field(st, "kind", str, path)
-        if kind not in ("move", "hold"):
-            raise self.bad(f"a step's kind is 'move' or 'hold', got {shown(kind)}",
+        if kind not in ("move", "hold", "say"):
+            raise self.bad(f"a step's kind is 'move', 'hold' or 'say', got {shown(kind)}",
                            (*path, "kind"))
         file, line = st.get("file"), st.get("line")
         if file is not None and not isinstance(file, str):

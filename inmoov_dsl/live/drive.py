@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal
 
 from .. import clock, protocol
 from ..compiling.actions import Action, Steps
@@ -106,10 +106,11 @@ class Drive:
     def __init__(self, links: list[Link], profile: Profile, pose: dict[str, int],
                  program: Program, tell: Tell, take_over: bool = True,
                  now: clock.Clock = clock.now, sleep: clock.Sleep = clock.sleep,
-                 file: str = LINE):
+                 file: str = LINE, speaker: Any = None):
         self.links, self.profile, self.program = links, profile, program
         self.file, self.lines = file, 0  #: typed lines are lines of ``file``; how many came
         self.take_over, self.told = take_over, tell
+        self.speaker = speaker  #: where ``say`` steps are heard (``wire.audio.Speaker``)
         self.notes: list[Note] = []  #: told once the bytes due are out (``_flush``)
         self.tell: Tell = self.notes.append
         self.now, self.sleep = now, sleep
@@ -202,6 +203,8 @@ class Drive:
         after = not self.take_over if order.after is None else order.after
         dropped = set() if after else {self.tracker.playing, *self.session.tags()}
         run = self.session.append if after else self.session.submit
+        if not after and self.speaker is not None:
+            self.speaker.stop()  # what it said is taken over too
         try:
             segment = run(steps, t, self.mirror.held(), sources, order.id)
         except GestError as exc:  # the session has dropped what was queued with the step
@@ -216,6 +219,9 @@ class Drive:
         of a queued step, told while the front end waits)."""
         self.events = _events(segment, self.links)
         self.moving = True
+        if self.speaker is not None:
+            for start, speech in segment.plan.sounds:
+                self.speaker.play(speech.sound, segment.origin + start)
         self.tracker.began(segment.tag, self.session.tags(), self._again)
         if segment.warnings:
             self.tell(Note("warning", segment.warnings, aside=aside, id=segment.tag))
@@ -241,6 +247,8 @@ class Drive:
         data = protocol.RELAX_BOARD if control.kind == "relax" else protocol.frame(())
         for link in self.links:
             link.port.write(data)
+        if self.speaker is not None:
+            self.speaker.stop()
         self.events = []
         self.tracker.halt(self.session.tags())
         self.session.stop(t, self.mirror.held())

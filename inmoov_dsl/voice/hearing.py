@@ -68,3 +68,17 @@ def _read(path: str) -> bytes:
         raise SoundError(f"'{path}' is larger than {MAX_WAV_BYTES:,} bytes: it is not read",
                          "split it into shorter sounds")
     return data
+
+
+def hear_again(said: str, file: str | None, voice: tuple[str, int, int] | None, sha256: str,
+               speaker: Callable[[str, str, int, int], bytes] = speak) -> Sound:
+    """The sound a compiled gesture's cue names (its WAV file, or its text spoken again):
+    a SoundError if the file is not the one compiled (its SHA-256 differs)."""
+    if file is not None:
+        sound = replace(read_wav(_read(file), said), path=file)
+        if sound.digest != sha256:
+            raise SoundError(f"'{file}' has changed since the gesture was compiled",
+                             "compile it again (gestc compile)")
+        return sound
+    name, speed, pitch = voice
+    return read_wav(speaker(said, name, speed, pitch), said)

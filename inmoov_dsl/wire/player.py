@@ -12,7 +12,7 @@ import contextlib
 import heapq
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Any, Protocol
 
 from .. import clock
 from ..clock import Clock, Sleep
@@ -27,6 +27,7 @@ SPIN = 0.0005  #: s; sleep until this close to a deadline, then spin on the cloc
 #: s; the same for runs of bytes: about 50 wake-ups a second can afford to wake this
 #: early, which keeps them on time when other programs keep every core busy
 RUN_SPIN = 0.003
+AUDIO_AHEAD = 0.05  #: s; a gesture with sounds starts this late: its first sound on time
 POLL = 0.2  #: s; in a long pause, look at the links this often (a pulled cable)
 
 
@@ -139,8 +140,11 @@ def wait_until(deadline: float, links: Sequence[Link], now: Clock, sleep: Sleep,
 
 def play(compiled: Compiled, links: Sequence[Link], speed: float = 1.0,
          now: Clock = clock.now, sleep: Sleep = clock.sleep,
-         progress: Callable[[float], None] | None = None) -> float:
-    """Send every byte at its planned time; returns the worst lateness in seconds.
+         progress: Callable[[float], None] | None = None, speaker: Any = None) -> float:
+    """Send every byte at its planned time; returns the worst lateness in seconds. With
+    a ``speaker`` (``audio.Speaker``), the gesture's sounds play from the same clock
+    (their cues hold them), the whole gesture a moment later (AUDIO_AHEAD) so that the
+    first sound can be placed on time; an interruption silences them.
 
     At full speed a run of bytes due one byte-time apart goes in one write, which the
     wire spaces as planned (``bursts``), and the player wakes RUN_SPIN before each;
@@ -149,9 +153,23 @@ def play(compiled: Compiled, links: Sequence[Link], speed: float = 1.0,
     events = bursts(compiled, links) if runs else \
         [(t, k, bytes([b])) for t, k, b in schedule(compiled, links)]
     spin = RUN_SPIN if runs else SPIN
-    start = now()
-    worst = 0.0
-    shown = -1.0
+    sounds = compiled.sounds if speaker is not None else ()
+    start = now() + (AUDIO_AHEAD if sounds else 0.0)
+    for cue in sounds:
+        speaker.play(cue.sound, start + cue.start)
+    try:
+        return _send(compiled, links, events, start, speed, now, sleep, spin, progress)
+    except BaseException:
+        if sounds:
+            speaker.stop()
+        raise
+
+
+def _send(compiled: Compiled, links: Sequence[Link], events, start: float, speed: float,
+          now: Clock, sleep: Sleep, spin: float,
+          progress: Callable[[float], None] | None) -> float:
+    """``play``'s loop: each byte at its time from ``start``; the worst lateness."""
+    worst, shown = 0.0, -1.0
     for t, k, data in events:
         due = start + t / speed
         wait_until(due, links, now, sleep, spin)

@@ -15,7 +15,8 @@ from ...live.drive import Drive, library_program
 from ...profiles.profile import load_profile
 from ...wire.player import Link
 from .. import hand
-from ..common import EXIT_OK, add_blind, add_lib
+from ..common import EXIT_OK, add_blind, add_lib, warn
+from . import sounds
 
 PROG = "gestplay serve"
 DEFAULT_HTTP = "127.0.0.1:8180"
@@ -41,7 +42,9 @@ def run(args: argparse.Namespace) -> int:
         ports = [links.Resilient(link, service.board_lost) for link in on.links]
         on.links[:] = [Link(p.board, p, p.name) for p in ports]  # closed and cancelled too
         watcher = links.Watcher(ports, profile, service.requests.put)
-        service.drive = Drive(on.links, profile, on.pose, program, service.told)
+        speaker = _speaker(args.audio)
+        service.drive = Drive(on.links, profile, on.pose, program, service.told,
+                              speaker=speaker)
         service.view = _view(profile, service.drive.mirror.held())
         server = http.Server(service, guard.Guard(host, port, token), host, port)
         try:
@@ -67,7 +70,29 @@ def run(args: argparse.Namespace) -> int:
             server.stop()
             if service.view is not None:
                 service.view.close()
+            if speaker is not None:
+                speaker.close()
     return EXIT_OK
+
+
+def _speaker(choice: str | None):
+    """Where ``say`` is heard: the default output, ``--audio DEVICE``, or none (``--audio
+    none``, or no sound library: then a warning, and ``say`` moves the mouth in
+    silence)."""
+    if choice == "none":
+        return None
+    from ...wire.audio import Speaker
+
+    try:
+        speaker = Speaker(None if choice in (None, "default") else
+                          int(choice) if choice.isdigit() else choice)
+    except GestError as exc:
+        if choice is not None:
+            raise
+        warn(f"'say' is silent here: {exc.first.message}", PROG)
+        return None
+    speaker.wait_flowing()
+    return speaker
 
 
 def _view(profile, pose: list[int]):
@@ -144,6 +169,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--token", help="a secret every request must show (Authorization: "
                    "Bearer TOKEN); prefer --token-file, which other users cannot see")
     p.add_argument("--token-file", metavar="FILE", help="read the token from FILE")
+    sounds.add_argument(p)
     add_blind(p)
     add_lib(p)
     p.set_defaults(func=run)

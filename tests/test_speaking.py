@@ -1,0 +1,97 @@
+"""Speaking out loud: a gesture's sounds are played from the same clock as its bytes,
+each heard within 10 ms of its planned time (measured by the sound library's own timing
+of each block, on a virtual output); without a sound library gestplay says how to get
+one, or plays in silence with --audio none."""
+
+import builtins
+import wave
+
+import numpy as np
+import pytest
+import serial
+from sound_server import sound_server  # noqa: F401 (a fixture)
+
+from inmoov_dsl.cli import gestplay
+from inmoov_dsl.compiling.compiler import compile_source
+from inmoov_dsl.profiles.profile import load_profile
+from inmoov_dsl.wire.player import Link, play
+
+INMOOV = load_profile("inmoov")
+
+
+def tone_wav(path, seconds=0.6, rate=44100):
+    t = np.arange(int(rate * seconds)) / rate
+    x = (0.5 * np.sin(2 * np.pi * 220 * t) * 32767).astype(np.int16)
+    with wave.open(str(path), "wb") as w:
+        w.setnchannels(1)
+        w.setsampwidth(2)
+        w.setframerate(rate)
+        w.writeframes(x.tobytes())
+
+
+def test_each_sound_is_heard_within_10_ms_of_its_planned_time(sound_server, tmp_path):  # noqa: F811
+    from inmoov_dsl.wire.audio import Speaker
+
+    tone_wav(tmp_path / "a.wav")
+    source = ('g:\n    say "a.wav" & neck 100 over 0.5s\n    wait 0.3s\n'
+              '    say "a.wav"\n    neck 90\n')
+    compiled = compile_source(source, profile=INMOOV, file=str(tmp_path / "g.gest"))
+    second = next(s.start for s in compiled.steps if s.kind == "say" and s.start > 0)
+    assert [q.start for q in compiled.sounds] == [0.0, second] and second > 0.9
+    links = [Link(b.id, serial.serial_for_url("loop://", timeout=0), "loop://")
+             for b in INMOOV.boards]
+    speaker = Speaker()
+    try:
+        assert speaker.wait_flowing()
+        play(compiled, links, speaker=speaker)
+    finally:
+        speaker.close()
+    assert len(speaker.heard) == 2
+    for planned, heard in speaker.heard:
+        assert abs(heard - planned) <= 0.010, (planned, heard)
+    assert speaker.heard[1][0] - speaker.heard[0][0] == pytest.approx(second, abs=1e-6)
+
+
+def test_without_a_sound_library_gestplay_says_how_or_plays_in_silence(tmp_path, capsys,
+                                                                        monkeypatch):
+    tone_wav(tmp_path / "a.wav")
+    (tmp_path / "g.gest").write_text('g: say "a.wav" & neck 100 over 0.5s\n')
+    real_import = builtins.__import__
+
+    def no_sounddevice(name, *args, **kwargs):
+        if name == "sounddevice":
+            raise ImportError("No module named 'sounddevice'")
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", no_sounddevice)
+    argv = [str(tmp_path / "g.gest"), "--profile", "inmoov", "--port", "loop://",
+            "--blind"]
+    assert gestplay.main(argv) == 1
+    err = capsys.readouterr().err
+    assert "error: playing sound needs sounddevice and PortAudio" in err
+    assert "pip install 'inmoov-dsl[voice]'" in err and "--audio none" in err
+    assert gestplay.main([*argv, "--audio", "none"]) == 0
+    assert "played g: 0.69 s" in capsys.readouterr().err
+
+
+def test_say_plays_at_its_own_speed_only(tmp_path, capsys):
+    tone_wav(tmp_path / "a.wav")
+    (tmp_path / "g.gest").write_text('g: say "a.wav"\n')
+    assert gestplay.main([str(tmp_path / "g.gest"), "--profile", "inmoov", "--port",
+                          "loop://", "--blind", "--speed", "0.5"]) == 1
+    assert "'say' plays its sound at its own speed" in capsys.readouterr().err
+
+
+def test_a_wav_changed_since_it_was_compiled_is_refused(tmp_path, capsys):
+    from inmoov_dsl.compiling.compiled import to_json
+
+    tone_wav(tmp_path / "a.wav")
+    compiled = compile_source('g: say "a.wav"\n', profile=INMOOV,
+                              file=str(tmp_path / "g.gest"))
+    (tmp_path / "g.gestc").write_text(to_json(compiled))
+    tone_wav(tmp_path / "a.wav", seconds=0.5)
+    assert gestplay.main([str(tmp_path / "g.gestc"), "--port", "loop://", "--blind",
+                          "--audio", "default"]) == 1
+    err = capsys.readouterr().err
+    assert "error: '" in err and "a.wav' has changed since the gesture was compiled" in err
+
