@@ -12,7 +12,9 @@ import subprocess
 import sys
 import time
 
+import numpy as np
 import pytest
+from sound_server import sound_server  # noqa: F401 (a fixture)
 from test_web import Lines, need
 
 from inmoov_dsl.service import core, guard
@@ -450,3 +452,29 @@ def test_any_body_is_an_order_a_400_or_a_422(body):
         assert core.problem(exc)["text"].startswith("<request>:")
     else:
         assert order.id == "id" and order.what.actions and order.loop >= 0
+
+
+# -- the service speaks ---------------------------------------------------------------------
+def test_the_service_speaks_on_its_computer(sound_server, tmp_path):  # noqa: F811
+    import shutil as which
+
+    if which.which("espeak-ng") is None:
+        need("espeak-ng", False, "apt-get install espeak-ng")
+    with serving("--profile", "inmoov") as service, service.events() as ws:
+        status, answer, _ = service.call("POST", "/api/play",
+                                         {"steps": 'say "hello.wav"'})
+        assert status == 422 and answer["error"] == ("a request names no file: it may say "
+                                                     "text, not a .wav")
+        record = subprocess.Popen(["parec", "-d", "speaker.monitor", "--raw",
+                                   "--format=s16le", "--channels=1", "--rate=8000"],
+                                  stdout=subprocess.PIPE)
+        time.sleep(0.5)
+        _, a, _ = service.call("POST", "/api/play", {"steps": 'say "Hello, I am InMoov" & '
+                                                               'neck 100 over 1s'})
+        told = until(ws, "done", a["id"], timeout=30)
+        record.terminate()
+        heard = np.frombuffer(record.communicate(timeout=10)[0], np.int16)
+        jaw = [e["servos"]["jaw"] for e in told if e["event"] == "pose"]
+        assert max(jaw) > 50  # the mouth opened
+        assert np.abs(heard.astype(float)).max() > 1000  # and the sink heard the voice
+        assert service.stop()[0] == 143
