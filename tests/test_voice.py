@@ -220,3 +220,23 @@ def test_a_compiled_say_keeps_its_sound_and_reads_back(tmp_path):
     assert compiled.duration >= cue.duration
     again = from_json(to_json(compiled))
     assert again.sounds == compiled.sounds and again.sounds[0].sound is None
+
+
+def test_gestc_show_and_plot_show_the_sound_beside_the_mouth(tmp_path, capsys):
+    from inmoov_dsl.cli import gestc
+
+    (tmp_path / "v.wav").write_bytes(wav(vowel()))
+    (tmp_path / "g.gest").write_text('g: say "v.wav" & neck 100 over 1s\n')
+    argv = [str(tmp_path / "g.gest"), "--profile", "inmoov"]
+    assert gestc.main(["show", *argv]) == 0
+    out = capsys.readouterr().out.splitlines()
+    head = next(k for k, line in enumerate(out) if line.startswith('say "v.wav"'))
+    assert out[head] == ('say "v.wav" at 0.000 s: 1.80 s of sound; the jaw opens 0..150, '
+                         'leading the sound by 40 ms')
+    loud, jaw = out[head + 1], out[head + 2]
+    assert loud.startswith("     0.00 s  loudness  ") and jaw.lstrip().startswith("jaw ")
+    bars = loud[len("     0.00 s  loudness  "):]
+    assert bars[:9].strip() == "" and set(bars[11:25]) == {"█"}  # silence, then the vowel
+    pytest.importorskip("matplotlib")
+    assert gestc.main(["plot", *argv, "-o", str(tmp_path / "g.png")]) == 0
+    assert (tmp_path / "g.png").stat().st_size > 10_000

@@ -21,6 +21,7 @@ PLAN_COLOUR = "#1f77b4"
 SENT_COLOUR = "#d62728"
 LIMIT_COLOUR = "#7f7f7f"
 HOLD_COLOUR = "#eeeeee"
+SOUND_COLOUR = "#2ca02c"
 
 
 def _matplotlib():
@@ -93,6 +94,7 @@ def _servo_row(pos, vel, plan: Plan, i: int, sent: tuple[np.ndarray, np.ndarray]
     pos.step(held_t, held_v, where="post", color=SENT_COLOUR, lw=0.9,
              label="values sent (as the board holds them)")
     _keyframes(pos, plan, i)
+    _sounds(pos, plan, i)
     pos.set_ylim(-12, 192)
     pos.set_yticks([0, 90, 180])
     pos.set_ylabel(f"{servo.name}\n(id {servo.id})", rotation=0, ha="right",
@@ -104,10 +106,26 @@ def _servo_row(pos, vel, plan: Plan, i: int, sent: tuple[np.ndarray, np.ndarray]
     vel.set_ylim(-1.15 * servo.max_velocity, 1.15 * servo.max_velocity)
 
 
+def _sounds(ax, plan: Plan, servo: int) -> None:
+    """Where this servo is a mouth: each sound's loudness, as the opening it asks (a
+    shaded envelope behind the track)."""
+    from ..compiling.speech import HOP
+
+    for start, speech in plan.sounds:
+        if speech.servo != servo:
+            continue
+        t = start + np.arange(len(speech.levels)) * HOP
+        ax.fill_between(t, speech.voice.closed, speech.openings, color=SOUND_COLOUR,
+                        alpha=0.25, lw=0, label="the sound's loudness, as an opening")
+
+
 def _legend(fig, pos, vel, plan: Plan, Patch) -> None:  # noqa: N803 (a class)
     """One legend for the figure: the lines of the first row, keyframes, holds."""
     handles, labels = (pos.get_legend_handles_labels()[k] + vel.get_legend_handles_labels()[k]
                        for k in (0, 1))
+    if plan.sounds and "the sound's loudness, as an opening" not in labels:
+        handles.append(Patch(color=SOUND_COLOUR, alpha=0.25))
+        labels.append("the sound's loudness, as an opening")
     handles.append(pos.scatter([], [], color="black", s=18))
     labels.append("keyframe, numbered as the steps of gestc show")
     if any(step.kind == "hold" for step in plan.steps):

@@ -6,6 +6,8 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from ..common import EXIT_OK
 from .target import add_arguments, compile_target
 
@@ -28,10 +30,45 @@ def run(args: argparse.Namespace) -> int:
         flag = "  stretched" if s.stretched else ""
         print(f"  {n:>3}  {s.where:<24} {source:<18} {s.kind:<5} {s.start:7.3f} "
               f"{s.end:7.3f} {asked} {s.end - s.start:7.3f}{flag}")
+    for start, speech in plan.sounds:
+        print()
+        print(sound_text(start, speech, plan))
     for link in measure(plan, compiled.streams):
         print()
         print(link_text(link))
     return EXIT_OK
+
+
+BLOCKS = " ▁▂▃▄▅▆▇█"  #: a value from nothing to the most, in one character
+SHOWN = 0.05  #: s a character stands for
+WIDTH = 60  #: characters on a line
+
+
+def sound_text(start: float, speech, plan) -> str:
+    """A ``say``: its sound, and its loudness beside the mouth's planned opening, a
+    character per SHOWN s (blank: silence or closed)."""
+    from ...compiling.speech import HOP, RESPONSE
+
+    sound, voice = speech.sound, speech.voice
+    every = round(SHOWN / HOP)
+    count = -(-len(speech.levels) // every)
+    levels = [max(speech.levels[k * every:(k + 1) * every], default=0) for k in range(count)]
+    times = start + (np.arange(count) + 0.5) * SHOWN
+    track = plan.tracks[speech.servo].position(times)
+    opening = (track - voice.closed) / (voice.opened - voice.closed)
+    rows = [f'say "{sound.source}" at {start:.3f} s: {sound.duration:.2f} s of sound; '
+            f"the {voice.mouth} opens {voice.closed}..{voice.opened}, leading the sound by "
+            f"{RESPONSE * 1000:.0f} ms"]
+    for at in range(0, count, WIDTH):
+        cut = slice(at, at + WIDTH)
+        rows.append(f"  {start + at * SHOWN:7.2f} s  loudness  {_bars(levels[cut])}")
+        rows.append(f"  {'':9}  {voice.mouth:<9} {_bars(opening[cut])}")
+    return "\n".join(rows)
+
+
+def _bars(values) -> str:
+    top = len(BLOCKS) - 1
+    return "".join(BLOCKS[min(top, max(0, round(float(v) * top)))] for v in values)
 
 
 def link_text(r: metrics.LinkReport) -> str:
