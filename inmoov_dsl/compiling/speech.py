@@ -29,7 +29,7 @@ EASE = (1.0, 1 - 1e-6, 1 - 1e-3, 1 - 1e-2, 0.95, 0.8)  #: of the acceleration, i
 RESPONSE = 0.040  #: s; the planned opening leads the sound by this (two servo frames)
 #: the tracker's lag behind a moving target, as a share of its servo's full swing time
 #: (measured on ten spoken sentences: benchmarks/voice.py)
-LAGGING = 0.4
+LAGGING = 0.3
 
 
 @dataclass(frozen=True, eq=False)
