@@ -27,8 +27,9 @@ from ..wire.stored import (
 FLASH_MAX = 30_720  #: bytes: an old-bootloader Nano's room for a sketch (Makefile's FLASH_MAX)
 #: bytes of flash the servo firmware takes with the stored-gesture player and no
 #: gesture (measured: tests/test_stored.py keeps the real build below it)
-FIRMWARE_FLASH = 5_800
+FIRMWARE_FLASH = 7_300
 FRAME = FRAME_US / 1e6
+MAX_FRAMES = 0xFFFF  #: a stored gesture's duration in frames (2 bytes): 21 minutes
 LED_PIN = 13  #: the Nano's LED pulls a button's pin low
 ANALOG_ONLY = (20, 21)  #: A6, A7 on a Nano: no digital input
 
@@ -123,6 +124,11 @@ def stored_gesture(compiled: Compiled, profile: Profile, board: Board) -> Stored
     start = tuple(compiled.start[profile.index(n)] for n in board.servos)
     last = max((f for f, _, _ in pairs), default=-1)
     frames = max(math.ceil(compiled.duration / FRAME - 1e-9), last + 1)
+    if frames > MAX_FRAMES:
+        raise GestError(Diagnostic("error", f"'{compiled.gesture}' lasts "
+                                   f"{compiled.duration:,.0f} s: a stored gesture lasts at "
+                                   f"most {MAX_FRAMES * FRAME:,.0f} s",
+                                   hint="store its parts as gestures of their own"))
     return StoredGesture(compiled.gesture, start, frames, pack(pairs, start))
 
 
@@ -146,7 +152,7 @@ def stored_set(gestures: Sequence[StoredGesture], request: Request, profile: Pro
 def check_fit(flash: StoredSet, room: int = FLASH_MAX - FIRMWARE_FLASH) -> None:
     """An error naming the sizes, and what to leave out, if ``flash`` does not fit in
     ``room`` bytes."""
-    blob = len(flash.to_bytes())
+    blob = flash.size()
     if blob <= room:
         return
     sizes = sorted(((len(g.data) + len(g.name) + 3 + 6 + len(g.start), g.name)
@@ -185,4 +191,4 @@ def stored_header(flash: StoredSet, profile: Profile, board: Board) -> str:
             "#include <stdint.h>\n\n"
             f"#define INMOOV_STORED_GESTURES {len(flash.gestures)}\n"
             f"const uint16_t INMOOV_STORED_SIZE = {len(blob)};\n"
-            f"const uint8_t INMOOV_STORED[] PROGMEM = {{\n{data}\n}};\n\n#endif\n")
+            f"extern const uint8_t INMOOV_STORED[] PROGMEM = {{\n{data}\n}};\n\n#endif\n")
