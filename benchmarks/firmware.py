@@ -1,9 +1,11 @@
 """The firmware: flash and RAM of every board beside the original servo firmware's
 3,872 bytes, and the EEPROM writes that the library's gestures cost the right hand's
 board (each gesture played on the built image in simavr, from rest, then a second and a
-half of stillness), with the lifetime that gives.
+half of stillness), with the lifetime that gives. With --stored: flash and RAM of
+servo_rhand alone, with the stored-gesture player, and with the whole right-hand
+library stored, and what each gesture costs in flash.
 
-    python benchmarks/firmware.py [--per-day 1000]
+    python benchmarks/firmware.py [--per-day 1000] [--stored]
 
 Needs make, gcc-avr, avr-libc, arduino-core-avr, simavr, libsimavr-dev (.ci/run's list).
 """
@@ -50,10 +52,53 @@ def play(simboard: Path, elf: Path, name: str, timed: str) -> tuple[str, int, in
     return name, len(writes), records(writes)
 
 
+def stored() -> None:
+    """servo_rhand alone, with the player and one empty gesture, with the whole library."""
+    from inmoov_dsl.cli import gestc
+    from inmoov_dsl.wire.stored import read_blob, read_set
+
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for what, options in [("alone", []), ("with the player (`reset`: no pair)",
+                                                ["--store", "reset"]),
+                              ("with the whole right-hand library", ["--store", "all"])]:
+            book = Path(tmp) / str(len(rows))
+            gestc.main(["firmware", "rhand", "-o", str(book), *options])
+            done = subprocess.run(["make", "-s", "-C", str(book), "servo_rhand"],
+                                  capture_output=True, text=True, check=True)
+            flash, ram = map(int, re.search(r"flash (\d+) .*RAM (\d+)", done.stdout).groups())
+            blob = read_blob(book / "servo_rhand") if options else b""
+            rows.append((what, flash, ram, len(blob)))
+        flash_set = read_set(blob)
+    print("| `servo_rhand` | flash (bytes) | of which stored | RAM (bytes) |")
+    print("|---|---:|---:|---:|")
+    for what, flash, ram, size in rows:
+        print(f"| {what} | {flash:,} ({100 * flash / 30720:.0f}% of 30,720) | {size:,} | "
+              f"{ram:,} |")
+    wire = {name: len(compile_program(program, name, profile)[0].stream().data)
+            for name, program, profile in library_gestures(("rhand",))}
+    print()
+    print("| gesture | duration (s) | on the wire (bytes) | stored stream (bytes) | "
+          "bytes/s |")
+    print("|---|---:|---:|---:|---:|")
+    total = [0.0, 0, 0]
+    for g in flash_set.gestures:
+        seconds = g.frames * 0.02
+        total = [total[0] + seconds, total[1] + wire[g.name], total[2] + len(g.data)]
+        rate = f"{len(g.data) / seconds:.0f}" if seconds else "-"
+        print(f"| {g.name} | {seconds:.2f} | {wire[g.name]:,} | {len(g.data):,} | {rate} |")
+    print(f"| **{len(flash_set.gestures)} gestures** | {total[0]:.2f} | {total[1]:,} | "
+          f"{total[2]:,} | {total[2] / total[0]:.0f} |")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--per-day", type=int, default=1000, help="gestures a day")
+    ap.add_argument("--stored", action="store_true", help="only the stored gestures' figures")
     args = ap.parse_args()
+    if args.stored:
+        stored()
+        return
     with tempfile.TemporaryDirectory() as tmp:
         where = Path(tmp)
         sizes = build(where)
