@@ -17,7 +17,7 @@ from inmoov_dsl.wire.player import play
 
 ROOT = Path(__file__).resolve().parent.parent
 LIBRARY = scan_library([ROOT / "gestures"])
-BODY = {name for name, e in LIBRARY.items() if e.path.name == "body.gest"}
+BODY = {name for name, e in LIBRARY.items() if e.path.name in ("body.gest", "talk.gest")}
 HAND = sorted(set(LIBRARY) - BODY)
 FINGERS = ("thumb", "index", "middle", "ring", "pinky")
 
@@ -130,7 +130,10 @@ def test_whole_robot_gestures_compile_to_one_stream_per_board(name):
     compiled, plan = compiled_for(name, inmoov)
     assert not compiled.warnings
     assert [s.board for s in compiled.streams] == [b.id for b in inmoov.boards]
-    assert all(r.coverage == 1.0 for r in measure(plan, compiled.streams))
+    # a jaw that talks turns quicker than its link can tell it at every turn: at some of
+    # its turns the value due is the one the board already holds (docs/speaking.md)
+    least = 0.98 if compiled.sounds else 1.0
+    assert all(r.coverage >= least for r in measure(plan, compiled.streams))
     assert decoded_final(inmoov, compiled) == dict(zip(inmoov.names, plan.final,
                                                        strict=True))
 

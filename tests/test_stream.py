@@ -286,10 +286,11 @@ def test_every_library_gesture_reads_back():
     library = load_library()
     assert {"peace", "count", "hello"} <= set(library)  # the hand's and the body's
     for name, path in library.items():
-        profile = "inmoov" if path.name == "body.gest" else "rhand"
+        profile = "inmoov" if path.name in ("body.gest", "talk.gest") else "rhand"
         compiled = compile_file(path, name, profile)
         again = from_json(to_json(compiled))
         assert [s.data for s in again.streams] == [s.data for s in compiled.streams]
+        assert again.sounds == compiled.sounds
 
 
 def test_read_compiled_caps_the_size_before_reading(tmp_path, monkeypatch):

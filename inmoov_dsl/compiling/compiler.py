@@ -137,9 +137,9 @@ def compile_program(program: Program, gesture: str | None = None,
 def cue(start: float, speech: Speech) -> Cue:
     """What the compiled gesture keeps of a ``say`` that starts at ``start``."""
     sound, v = speech.sound, speech.voice
-    return Cue(start, sound.source, sound.path or None,
+    return Cue(round(start, 9), sound.source, sound.path or None,  # as its file says it
                None if sound.path else (v.voice, v.speed, v.pitch), sound.digest,
-               sound.duration, sound)
+               round(sound.duration, 9), sound)
 
 
 def compile_source(text: str, gesture: str | None = None, profile: str | Profile = "rhand",
