@@ -17,6 +17,13 @@
 //                                  EEPROM busy 4 ms), "cut N" (the power fails after N
 //                                  more bytes are written), "wear" (prints "wear BYTES MAX":
 //                                  bytes written, the most writes of one cell)
+//   core_driver stored < script    a servo board with stored gestures: "board" and
+//                                  "servo" lines as above, "blob HEX" (the stored bytes),
+//                                  "begin V V ..." (a board holding this pose), "host T B
+//                                  B ..." (bytes from the host at T us: prints "reply B
+//                                  ..." for what the core and the catalog send), "run T"
+//                                  (the player until T us, a servo frame ending every 20 ms
+//                                  from 10 ms: prints "write T INDEX VALUE", "end T")
 //   core_driver glove < script     a glove: "deadband D", "sensor ID PIN LO HI REV" lines,
 //                                  then "read R R ..." (sensor readings: prints the bytes
 //                                  sent) and "host B" (a byte from the computer) lines
@@ -28,12 +35,14 @@
 #include "glove_core.h"
 #include "pose_store.h"
 #include "servo_core.h"
+#include "stored_player.h"
 
 using inmoov::FlexSettings;
 using inmoov::GloveCore;
 using inmoov::PoseStore;
 using inmoov::ServoCore;
 using inmoov::ServoSettings;
+using inmoov::StoredPlayer;
 
 static char writes[8192];
 static char out[8192];
@@ -250,6 +259,75 @@ static int store() {
   return 0;
 }
 
+// -- stored gestures -------------------------------------------------------------------
+static uint8_t blob[65536];
+static long now_us = 0;
+static ServoCore* stored_core = 0;
+
+static uint8_t blob_read(uint16_t address) { return blob[address]; }
+
+static void stored_write(uint8_t index, uint8_t angle) {
+  (void)angle;
+  printf("write %ld %d %d\n", now_us, index, stored_core->value(index));
+}
+
+static int stored() {
+  ServoSettings servos[16];
+  uint8_t values[16], next[16];
+  uint16_t positions[16], speeds[16];
+  int board = 181, n = 0;
+  char line[200000];
+  StoredPlayer* player = 0;
+  while (fgets(line, sizeof line, stdin)) {
+    char* p = line;
+    if (board_line(line, &board, servos, &n)) continue;
+    if (strncmp(line, "blob", 4) == 0) {
+      p += 4;
+      while (*p == ' ') p++;
+      for (int k = 0; p[0] && p[1] && p[0] != '\n'; k++, p += 2) {
+        char hex[3] = {p[0], p[1], 0};
+        blob[k] = static_cast<uint8_t>(strtol(hex, 0, 16));
+      }
+    } else if (strncmp(line, "begin", 5) == 0) {
+      p += 5;
+      uint8_t pose[16];
+      for (int i = 0; i < n; i++) pose[i] = static_cast<uint8_t>(next_int(&p));
+      delete stored_core;
+      delete player;
+      stored_core = new ServoCore(static_cast<uint8_t>(board), servos, static_cast<uint8_t>(n),
+                                  values, stored_write, on_send, on_drive);
+      stored_core->begin(pose);
+      player = new StoredPlayer(static_cast<uint8_t>(board), blob_read, stored_core, positions,
+                                speeds, next);
+      now_us = 0;
+    } else if (strncmp(line, "host", 4) == 0) {
+      p += 4;
+      now_us = next_int(&p);
+      out[0] = 0;
+      for (char* end;; p = end) {
+        long byte = strtol(p, &end, 10);
+        if (end == p) break;
+        player->heard(static_cast<uint8_t>(byte), stored_core->expects_id(),
+                      static_cast<uint32_t>(now_us));
+        stored_core->feed(static_cast<uint8_t>(byte));
+      }
+      for (int16_t b; (b = player->reply()) >= 0;) append(out, b);
+      printf("reply%s\n", out);
+    } else if (strncmp(line, "run", 3) == 0) {
+      p += 3;
+      long until = next_int(&p);
+      for (; now_us <= until; now_us += 4) {
+        uint8_t frames = static_cast<uint8_t>((now_us + 10000) / 20000);
+        if (player->poll(static_cast<uint32_t>(now_us), frames)) printf("end %ld\n", now_us);
+      }
+      now_us = until;
+    }
+  }
+  delete player;
+  delete stored_core;
+  return 0;
+}
+
 static int glove() {
   FlexSettings sensors[16];
   uint16_t bounds[32], readings[16] = {0};
@@ -299,6 +377,8 @@ int main(int argc, char** argv) {
     return servo(true, atol(argv[2]), static_cast<unsigned>(atol(argv[3])));
   if (argc >= 2 && strcmp(argv[1], "glove") == 0) return glove();
   if (argc >= 2 && strcmp(argv[1], "store") == 0) return store();
-  fprintf(stderr, "usage: core_driver servo | fuzz N SEED | glove | store  (script on stdin)\n");
+  if (argc >= 2 && strcmp(argv[1], "stored") == 0) return stored();
+  fprintf(stderr, "usage: core_driver servo | fuzz N SEED | glove | store | stored  (script "
+                  "on stdin)\n");
   return 2;
 }

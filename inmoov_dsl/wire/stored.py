@@ -78,6 +78,12 @@ class StoredSet:
             out += g.frames.to_bytes(2, "little") + bytes([len(name)]) + name
         return bytes(out)
 
+    def size(self) -> int:
+        """The blob's length in bytes (``to_bytes``), however large."""
+        n = len(self.limits)
+        return (3 + len(self.catalog()) + 3 + 4 * n +
+                sum(2 + 2 + n + 2 + len(g.data) for g in self.gestures))
+
     def to_bytes(self) -> bytes:
         """The blob: FORMAT, the catalog's length (2 bytes) and the catalog; the number
         of servos, ``pair_us`` (2), each servo's limits (2 + 2); where each gesture is
