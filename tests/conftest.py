@@ -10,6 +10,13 @@ from inmoov_dsl import load_profile  # noqa: E402
 from inmoov_dsl.profiles.profile import parse_profile  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
+#: the library's files of whole-robot gestures (they need the inmoov profile)
+WHOLE_ROBOT = ("body.gest", "talk.gest")
+
+
+def library_profile(path: Path) -> str:
+    """The profile a library file's gestures play on."""
+    return "inmoov" if path.name in WHOLE_ROBOT else "rhand"
 
 
 @pytest.fixture(autouse=True)

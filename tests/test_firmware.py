@@ -17,6 +17,7 @@ from pathlib import Path
 
 import pytest
 import serial
+from conftest import WHOLE_ROBOT
 from toolchain import need
 
 from inmoov_dsl import load_profile, to_timed
@@ -409,7 +410,7 @@ def assert_pins(pins, expected: dict[int, int], which="last", periods=True):
             assert 20 - slack <= shortest and longest <= 20 + slack, (pin, pins[pin])
 
 
-HAND = sorted(n for n, e in LIBRARY.items() if e.path.name != "body.gest")
+HAND = sorted(n for n, e in LIBRARY.items() if e.path.name not in WHOLE_ROBOT)
 
 
 def test_library_streams_play_on_the_firmware_image(simboard, build):

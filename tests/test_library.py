@@ -7,6 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from boardmodel import final_values, read_stream
+from conftest import WHOLE_ROBOT
 
 from inmoov_dsl import GestError, clock, load_profile, measure
 from inmoov_dsl.cli import gestc, gestplay, hand
@@ -17,7 +18,7 @@ from inmoov_dsl.wire.player import play
 
 ROOT = Path(__file__).resolve().parent.parent
 LIBRARY = scan_library([ROOT / "gestures"])
-BODY = {name for name, e in LIBRARY.items() if e.path.name in ("body.gest", "talk.gest")}
+BODY = {name for name, e in LIBRARY.items() if e.path.name in WHOLE_ROBOT}
 HAND = sorted(set(LIBRARY) - BODY)
 FINGERS = ("thumb", "index", "middle", "ring", "pinky")
 

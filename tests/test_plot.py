@@ -5,6 +5,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import library_profile
 
 from inmoov_dsl.cli import gestc
 from inmoov_dsl.compiling.compiler import compile_program
@@ -18,7 +19,7 @@ PNG = b"\x89PNG\r\n\x1a\n"
 
 
 def profile_for(name):
-    return "inmoov" if LIBRARY[name].path.name == "body.gest" else "rhand"
+    return library_profile(LIBRARY[name].path)
 
 
 @pytest.mark.parametrize("name", sorted(LIBRARY))

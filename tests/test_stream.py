@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 from boardmodel import final_values, read_stream
-from conftest import make_profile
+from conftest import library_profile, make_profile
 from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
@@ -286,7 +286,7 @@ def test_every_library_gesture_reads_back():
     library = load_library()
     assert {"peace", "count", "hello"} <= set(library)  # the hand's and the body's
     for name, path in library.items():
-        profile = "inmoov" if path.name in ("body.gest", "talk.gest") else "rhand"
+        profile = library_profile(path)
         compiled = compile_file(path, name, profile)
         again = from_json(to_json(compiled))
         assert [s.data for s in again.streams] == [s.data for s in compiled.streams]

@@ -16,7 +16,7 @@ import sys
 import threading
 from collections.abc import Callable
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal
 
 from ... import clock
 from ...language.library import library_dirs
@@ -27,6 +27,7 @@ from ...profiles.profile import load_profile
 from ...wire.player import Link
 from .. import hand
 from ..common import EXIT_ERROR, EXIT_OK, add_blind, add_lib, report
+from . import sounds
 
 PROG = "gestplay repl"
 HELP = """\
@@ -110,16 +111,18 @@ def read_lines(lines: queue.Queue) -> None:
 def repl(links: list[Link], profile: Profile, pose: dict[str, int],
          next_line: Callable[[float], Line], take_over: bool = True,
          now: clock.Clock = clock.now, sleep: clock.Sleep = clock.sleep,
-         dirs: list[Path] | None = None, screen: Screen | None = None) -> int:
+         dirs: list[Path] | None = None, screen: Screen | None = None,
+         speaker: Any = None) -> int:
     """Run until the input ends and the hand is still. ``next_line(timeout)`` waits at
     most ``timeout`` s for a line (``waiting_on`` a queue). Each line takes over the
     running move (``take_over``, a person typing: errors say ``<repl>:N``), or waits for
     the steps before it (a script: errors say ``<stdin>:N``, and a line that failed
     makes the exit status 1, once every line has run). With a ``screen``, each line is
-    answered before the next prompt."""
+    answered before the next prompt. A ``speaker`` (``wire.audio.Speaker``) says what
+    ``say`` steps say."""
     told = _Told(screen)
     drive = Drive(links, profile, pose, library_program(dirs), told, take_over, now, sleep,
-                  LINE if take_over else STDIN)
+                  LINE if take_over else STDIN, speaker)
     drive.run(_Commands(next_line, drive))
     return EXIT_ERROR if told.errors and not take_over else EXIT_OK
 
@@ -194,6 +197,7 @@ def waiting_on(lines: queue.Queue) -> Callable[[float], Line]:
 def run(args: argparse.Namespace) -> int:
     """Read steps from the terminal (or a pipe) and do them on the hand."""
     profile = load_profile(args.profile or "rhand")
+    speaker = sounds.speaker(args.audio, PROG) if args.audio else None
     with hand.opened(PROG, profile, args.port, args.blind) as on:
         lines: queue.Queue = queue.Queue()
         interactive = sys.stdin.isatty()
@@ -202,8 +206,12 @@ def run(args: argparse.Namespace) -> int:
             print("gestplay repl: 'help' for help, Ctrl-D to leave", file=sys.stderr)
         threading.Thread(target=screen.read_lines if screen else read_lines, args=(lines,),
                          daemon=True).start()
-        return repl(on.links, profile, on.pose, waiting_on(lines), take_over=interactive,
-                    dirs=library_dirs(args.lib), screen=screen)
+        try:
+            return repl(on.links, profile, on.pose, waiting_on(lines), take_over=interactive,
+                        dirs=library_dirs(args.lib), screen=screen, speaker=speaker)
+        finally:
+            if speaker is not None:
+                speaker.close()
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -213,6 +221,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--port", action="append", default=[], required=True,
                    help="as for playing; BOARD=PORT for each board of a profile with several")
     p.add_argument("-p", "--profile", help="robot profile (default rhand)")
+    p.add_argument("--audio", metavar="DEVICE", help="hear what 'say' steps say: 'default' "
+                   "(the default output), a device's name or number; without it the mouth "
+                   "moves in silence (needs: pip install 'inmoov-dsl[voice]')")
     add_blind(p)
     add_lib(p)
     p.set_defaults(func=run)

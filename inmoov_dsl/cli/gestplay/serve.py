@@ -15,7 +15,7 @@ from ...live.drive import Drive, library_program
 from ...profiles.profile import load_profile
 from ...wire.player import Link
 from .. import hand
-from ..common import EXIT_OK, add_blind, add_lib, warn
+from ..common import EXIT_OK, add_blind, add_lib
 from . import sounds
 
 PROG = "gestplay serve"
@@ -42,7 +42,7 @@ def run(args: argparse.Namespace) -> int:
         ports = [links.Resilient(link, service.board_lost) for link in on.links]
         on.links[:] = [Link(p.board, p, p.name) for p in ports]  # closed and cancelled too
         watcher = links.Watcher(ports, profile, service.requests.put)
-        speaker = _speaker(args.audio)
+        speaker = sounds.speaker(args.audio, PROG)
         service.drive = Drive(on.links, profile, on.pose, program, service.told,
                               speaker=speaker)
         service.view = _view(profile, service.drive.mirror.held())
@@ -73,26 +73,6 @@ def run(args: argparse.Namespace) -> int:
             if speaker is not None:
                 speaker.close()
     return EXIT_OK
-
-
-def _speaker(choice: str | None):
-    """Where ``say`` is heard: the default output, ``--audio DEVICE``, or none (``--audio
-    none``, or no sound library: then a warning, and ``say`` moves the mouth in
-    silence)."""
-    if choice == "none":
-        return None
-    from ...wire.audio import Speaker
-
-    try:
-        speaker = Speaker(None if choice in (None, "default") else
-                          int(choice) if choice.isdigit() else choice)
-    except GestError as exc:
-        if choice is not None:
-            raise
-        warn(f"'say' is silent here: {exc.first.message}", PROG)
-        return None
-    speaker.wait_flowing()
-    return speaker
 
 
 def _view(profile, pose: list[int]):

@@ -53,6 +53,26 @@ class Audio:
             self.speaker.close()
 
 
+def speaker(choice: str | None, prog: str):
+    """Where a live front end's ``say`` is heard (the repl, the service): the default
+    output, ``--audio DEVICE``, or none (``--audio none``, or no sound library: then a
+    warning, and ``say`` moves the mouth in silence)."""
+    if choice == "none":
+        return None
+    from ...wire.audio import Speaker
+
+    try:
+        speaker = Speaker(None if choice in (None, "default") else
+                          int(choice) if choice.isdigit() else choice)
+    except GestError as exc:
+        if choice is not None:
+            raise
+        warn(f"'say' is silent here: {exc.first.message}", prog)
+        return None
+    speaker.wait_flowing()
+    return speaker
+
+
 def add_argument(p: argparse.ArgumentParser) -> None:
     """``--audio none|DEVICE``."""
     p.add_argument("--audio", metavar="DEVICE", help="where 'say' steps are heard: the "
