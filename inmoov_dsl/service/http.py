@@ -39,7 +39,7 @@ def app(service: Service, guard: Guard) -> web.Application:
         web.post("/api/relax", lambda r: _control(r, service, "relax")),
         web.get("/api/pose", lambda r: _pose(r, service)),
         web.get("/api/events", lambda r: _events(r, service)),
-        web.get("/api/view", lambda r: _json({"url": service.view and service.view.url})),
+        web.get("/api/view", lambda r: _view(service)),
     ])
     application.on_startup.append(lambda a: _start_ticker(a, service))
     return application
@@ -116,6 +116,11 @@ def _lost(boards: set[int]) -> web.Response:
     boards = ", ".join(map(str, sorted(boards)))
     return _json({"error": f"board {boards} is not there: its link was lost",
                   "hint": "plug it back in: the service picks it up again"}, 503)
+
+
+async def _view(service: Service) -> web.Response:
+    loop = asyncio.get_running_loop()  # making the view takes a moment: not on the loop
+    return _json({"url": await loop.run_in_executor(None, service.view_url)})
 
 
 async def _pose(request: web.Request, service: Service) -> web.Response:

@@ -26,6 +26,8 @@ class Service:
         self.listeners: set[asyncio.Queue] = set()
         self.lost: set[int] = set()  #: boards whose link is down
         self.view = None  #: the hand in 3-D (``model.webview.WebView``), when it can be
+        #: makes the view, the first time the page asks where it is (None: tried)
+        self.make_view: Callable[[], Any] | None = None
 
     def next_request(self, timeout: float) -> Next:
         """The drive loop's ``next_request``."""
@@ -63,6 +65,13 @@ class Service:
             if listener.full():
                 listener.get_nowait()
             listener.put_nowait(event)
+
+    def view_url(self) -> str | None:
+        """Where the page finds the hand in 3-D: made when first asked."""
+        if self.view is None and self.make_view is not None:
+            make, self.make_view = self.make_view, None
+            self.view = make()
+        return self.view.url if self.view is not None else None
 
     def pose(self) -> dict[str, Any]:
         """The pose as ``GET /api/pose`` gives it."""

@@ -4,6 +4,7 @@ WebSocket), with a page for people (docs/service.md)."""
 from __future__ import annotations
 
 import argparse
+import functools
 import gc
 import sys
 from pathlib import Path
@@ -36,8 +37,8 @@ def run(args: argparse.Namespace) -> int:
     profile = load_profile(args.profile or "rhand")
     dirs = library_dirs(args.lib)
     program = library_program(dirs)
-    gestures = _listing(program, profile, dirs)
-    service = hub.Service(program, profile, lambda: gestures)
+    service = hub.Service(program, profile, functools.cache(
+        lambda: _listing(program, profile, dirs)))  # compiled when first asked
     with hand.opened(PROG, profile, args.port, args.blind) as on:
         ports = [links.Resilient(link, service.board_lost) for link in on.links]
         on.links[:] = [Link(p.board, p, p.name) for p in ports]  # closed and cancelled too
@@ -45,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
         speaker = sounds.speaker(args.audio, PROG)
         service.drive = Drive(on.links, profile, on.pose, program, service.told,
                               speaker=speaker)
-        service.view = _view(profile, service.drive.mirror.held())
+        service.make_view = lambda: _view(profile, service.drive.mirror.held())
         server = http.Server(service, guard.Guard(host, port, token), host, port)
         try:
             port = server.start()
