@@ -98,6 +98,17 @@ def until(ws, event: str, request_id: str | None = None, timeout: float = 30) ->
             return seen
 
 
+def gone(ws) -> int:
+    """The close code of an events socket, once what it was told before is read."""
+    from websockets.exceptions import ConnectionClosed
+
+    try:
+        while True:
+            ws.recv(timeout=10)
+    except ConnectionClosed as closed:
+        return closed.rcvd.code if closed.rcvd else 1006
+
+
 def values(pose: dict) -> dict:
     return {name: s["value"] for name, s in pose["servos"].items()}
 
@@ -123,6 +134,7 @@ def test_curl_plays_a_gesture_and_the_board_holds_what_the_service_says():
         status, pose = service.curl(f"{service.url}/api/pose")
         assert status == 200 and values(pose) == PEACE and pose["playing"] is None
         code, err = service.stop()
+        gone(ws)
     assert code == 143 and "CANCEL sent" in err and "Traceback" not in err
     assert dump("sim://") == PEACE  # the board (its memory) holds what the service said
 
@@ -294,7 +306,9 @@ def test_sigterm_mid_move_sends_cancel_to_the_board(gestsim):
         until(ws, "started", a["id"])
         time.sleep(0.5)
         code, err = service.stop()
+        assert gone(ws) == 1001  # a client is told the service goes away
     assert code == 143 and "stopped by SIGTERM: CANCEL sent" in err
+    assert err.strip().endswith("the hand holds its pose")  # and nothing after it
     sent = [int(line.split()[1]) for line in log.read_text().splitlines()]
     assert sent[-1] == 255 and sent.count(255) >= 2  # the gesture's CANCEL, then the stop's
 
@@ -374,6 +388,7 @@ def test_on_the_firmware_the_board_holds_what_the_service_says(firmware_pty):  #
         time.sleep(0.3)
         _, pose, _ = service.call("GET", "/api/pose")
         code, _ = service.stop()
+        gone(ws)
     assert code == 143
     assert 0 < pose["servos"]["index"]["value"] < 120  # stopped on its way
     assert dump(firmware_pty) == values(pose)  # the firmware's own answer to DUMP
@@ -414,6 +429,7 @@ def test_a_board_unplugged_is_an_event_and_a_503_until_it_comes_back(tmp_path):
                 assert status == 202
                 until(ws, "done", b["id"])
                 code, err = service.stop()
+                gone(ws)
                 assert code == 143 and "Traceback" not in err
             finally:
                 second.kill()
@@ -478,3 +494,4 @@ def test_the_service_speaks_on_its_computer(sound_server, tmp_path):  # noqa: F8
         assert max(jaw) > 50  # the mouth opened
         assert np.abs(heard.astype(float)).max() > 1000  # and the sink heard the voice
         assert service.stop()[0] == 143
+        gone(ws)

@@ -17,7 +17,7 @@ import uuid
 from importlib import metadata, resources
 from typing import Any
 
-from aiohttp import WSMsgType, web
+from aiohttp import WSCloseCode, WSMsgType, web
 
 from ..errors import GestError
 from ..live.orders import Control
@@ -25,6 +25,8 @@ from . import core, openapi
 from .guard import Guard
 from .hub import QUEUE, Service
 
+TICKER = web.AppKey("ticker", asyncio.Task)  #: the pose events' clock
+SOCKETS = web.AppKey("sockets", set)  #: the open events sockets, closed as it stops
 POSE_EVERY = 0.020  #: s between pose events while the hand moves, at most one per frame
 
 
@@ -41,7 +43,9 @@ def app(service: Service, guard: Guard) -> web.Application:
         web.get("/api/events", lambda r: _events(r, service)),
         web.get("/api/view", lambda r: _view(service)),
     ])
+    application[SOCKETS] = set()
     application.on_startup.append(lambda a: _start_ticker(a, service))
+    application.on_shutdown.append(_close_sockets)
     return application
 
 
@@ -153,6 +157,7 @@ async def _page(request: web.Request) -> web.Response:
 async def _events(request: web.Request, service: Service) -> web.WebSocketResponse:
     ws = web.WebSocketResponse(heartbeat=20, max_msg_size=1024)
     await ws.prepare(request)
+    request.app[SOCKETS].add(ws)
     listener: asyncio.Queue = asyncio.Queue(QUEUE)
     service.listeners.add(listener)
     reader = asyncio.ensure_future(_drain(ws))
@@ -166,8 +171,15 @@ async def _events(request: web.Request, service: Service) -> web.WebSocketRespon
             await ws.send_str(json.dumps(getting.result()))
     finally:
         service.listeners.discard(listener)
+        request.app[SOCKETS].discard(ws)
         reader.cancel()
     return ws
+
+
+async def _close_sockets(application: web.Application) -> None:
+    """As the service stops: every events socket closed (going away), not waited on."""
+    for ws in list(application[SOCKETS]):
+        await ws.close(code=WSCloseCode.GOING_AWAY, message=b"the service stops")
 
 
 async def _drain(ws: web.WebSocketResponse) -> None:
@@ -178,7 +190,7 @@ async def _drain(ws: web.WebSocketResponse) -> None:
 
 
 async def _start_ticker(application: web.Application, service: Service) -> None:
-    application["ticker"] = asyncio.ensure_future(_tick(service))
+    application[TICKER] = asyncio.ensure_future(_tick(service))
 
 
 async def _tick(service: Service) -> None:

@@ -73,6 +73,7 @@ def run(args: argparse.Namespace) -> int:
                 service.view.close()
             if speaker is not None:
                 speaker.close()
+            gc.unfreeze()  # what is left is collected before the interpreter ends
     return EXIT_OK
 
 
