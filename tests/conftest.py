@@ -19,6 +19,14 @@ def library_profile(path: Path) -> str:
     return "inmoov" if path.name in WHOLE_ROBOT else "rhand"
 
 
+def early(profile, baud: int) -> float:
+    """Degrees the fastest servo's plan moves in a byte-time: a pair arrives up to a
+    byte-time before its slot (on the link's byte grid), with the value of its slot."""
+    from inmoov_dsl import protocol
+
+    return max(s.max_velocity for s in profile.servos) * protocol.byte_time(baud) + 1e-9
+
+
 @pytest.fixture(autouse=True)
 def _fresh_virtual_boards(tmp_path_factory, monkeypatch):
     """Each test finds new virtual boards on the desk (sim:// keeps a board's state for

@@ -4,8 +4,14 @@ The stream opens with CANCEL, then ``(servo ID, value)`` pairs. Time is cut into
 20 ms servo frames, ``(f * 20 ms, (f + 1) * 20 ms]``; a servo takes one value per
 frame, so each servo gets at most one pair per frame, and only when the rounded
 plan moved. Pairs are packed at the end of their frame so the board holds the
-freshest value when the frame closes; each value is the plan at the moment the
-pair has arrived, rounded to a whole degree.
+freshest value when the frame closes; each value is the plan at the pair's slot,
+rounded to a whole degree.
+
+Every byte sits on the link's byte grid, a whole number of byte-times after the
+stream's CANCEL: a pair arrives at the last grid point at or before its slot (less than
+a byte-time early). A player that fills the gaps with CANCEL (``wire.pace``) sends a
+continuous stream in which every byte's time is fixed by its place: the UART's clock
+keeps the schedule, not the operating system's.
 
 When a board's servos all fit in a frame (6 servos need 6 of the 9 pair slots at
 9600 baud), each servo has its own slot and the schedule is computed with numpy.
@@ -26,6 +32,12 @@ from .plan import Plan
 def frame_ends(count: int) -> np.ndarray:
     """End of servo frames 0..count-1; frame f is (f * 20 ms, (f + 1) * 20 ms]."""
     return (np.arange(count) + 1) * protocol.SERVO_FRAME
+
+
+def grid_points(times: np.ndarray, tau: float) -> np.ndarray:
+    """The last byte-time grid point at or before each of ``times`` (a whole number of
+    byte-times ``tau`` after the stream's start), as that number."""
+    return np.floor(np.asarray(times) / tau + 1e-9).astype(np.int64)
 
 
 def round_values(x: np.ndarray) -> np.ndarray:
@@ -115,12 +127,15 @@ def _furthest_behind(plan: Plan, servos: list[int], ends: np.ndarray, pair_time:
 
 def _serialise(board: int, baud: int, events) -> Stream:
     """The stream of ``events`` (arrival times, servo IDs, values): ``protocol.frame``'s
-    bytes, each pair's ID sent two byte-times and its value one before it arrives."""
+    bytes, each pair's ID sent two byte-times and its value one before it arrives, the
+    arrival moved to the last point of the byte grid at or before it (less than a
+    byte-time early; the value is the plan's at the slot's own time)."""
     arrivals, ids, values = events
     order = np.argsort(arrivals, kind="stable")
     arrivals, ids, values = arrivals[order], ids[order], values[order]
     tau = protocol.byte_time(baud)
-    sent = np.stack([arrivals - 2 * tau, arrivals - tau], axis=1).ravel()
-    times = np.concatenate(([0.0], sent))  # CANCEL at 0
+    arrived = grid_points(arrivals, tau)
+    sent = np.stack([arrived - 2, arrived - 1], axis=1).ravel()
+    times = np.concatenate(([0], sent)) * tau  # CANCEL at 0
     data = protocol.frame(zip(ids.tolist(), values.tolist(), strict=True))
     return Stream(board, baud, times, data)
