@@ -77,7 +77,7 @@ def test_strict_fails_where_the_link_cannot_keep_up(capsys, tmp_path):
         code, out, err = run(capsys, *command, sweep, "--profile", twelve, "--strict")
         assert code == 1 and out == ""
         assert err.startswith(f"{sweep}:2:1: error: gesture 'sweep': the link to board 181 "
-                              "carries 83.0% of the values the plan needs (234 of 282 "
+                              "carries 82.6% of the values the plan needs (228 of 276 "
                               "servo-frames at 9600 baud)\n    sweep: s0 180")
     slow = write(tmp_path, "slow.gest", "slow: " + ", ".join(f"s{i} 180" for i in range(3))
                  + "\n")
