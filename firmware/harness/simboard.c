@@ -62,6 +62,7 @@
 #include <simavr/sim_elf.h>
 
 #define F_CPU 16000000ULL
+#define UART_AHEAD 0.005 /* s of bytes a UART holds beyond the computer's buffer (pty) */
 #define MAX_OUT 1000000
 
 static avr_t *avr;
@@ -289,11 +290,26 @@ static int run_until(avr_cycle_count_t cycle) {
   return 0;
 }
 
+/* simavr 1.6 counts 11 bits for an 8N1 byte: its UART would deliver a continuous
+ * stream 10% slower than the wire sends it. Once the sketch has set its baud, the
+ * UART's byte-time is made the wire's 10 bits, so a stream with no gaps arrives as a
+ * real UART receives it (and simavr's input queue never has to hold bytes back). */
+static void exact_uart(void) {
+  for (avr_io_t *io = avr->io_port; io; io = io->next) {
+    if (io->kind && strcmp(io->kind, "uart") == 0 && ((avr_uart_t *)io)->name == '0') {
+      avr_uart_t *uart = (avr_uart_t *)io;
+      if (uart->cycles_per_byte && uart->cycles_per_byte != byte_cycles)
+        uart->cycles_per_byte = byte_cycles;
+    }
+  }
+}
+
 /* Put one byte on the wire: it reaches the UART no sooner than a byte-time after the
  * previous one (simavr adds the byte's own transmission time), and not while simavr's
- * UART still holds bytes it has not delivered (its own byte-time is a little longer
- * than the nominal one). What the board's sketch does with them is what is tested. */
+ * UART still holds bytes it has not delivered. What the board's sketch does with them
+ * is what is tested. */
 static int send_byte(uint8_t byte, avr_cycle_count_t at) {
+  exact_uart();
   if (at < wire_free) at = wire_free;
   int r = run_until(at);
   while (!r && xoff) r = run_until(avr->cycle + 100);
@@ -511,11 +527,24 @@ static int serve(void) {
   double start = wall();
   avr_cycle_count_t origin = avr->cycle;
   for (;;) {
+    /* the UART takes bytes from the computer only UART_AHEAD ahead of the wire: the
+     * rest stays in the pty, where the program may still discard it (tcflush) */
+    avr_cycle_count_t now = origin + (avr_cycle_count_t)((wall() - start) * F_CPU);
+    long fifo = (long)(UART_AHEAD * F_CPU / byte_cycles + 0.5);
+    if (fifo < 1) fifo = 1;
+    long queued = wire_free > now ? (long)((wire_free - now + byte_cycles - 1) / byte_cycles) : 0;
+    long room = fifo - queued;
+    if (room <= 0) {
+      if (run_until(now) < 0) return 1;
+      usleep(200);
+      continue;
+    }
     struct pollfd p = {master, POLLIN, 0};
     poll(&p, 1, 1);
-    avr_cycle_count_t now = origin + (avr_cycle_count_t)((wall() - start) * F_CPU);
+    now = origin + (avr_cycle_count_t)((wall() - start) * F_CPU);
     uint8_t buf[256];
-    ssize_t n = (p.revents & POLLIN) ? read(master, buf, sizeof buf) : 0;
+    if (room > (long)sizeof buf) room = sizeof buf;
+    ssize_t n = (p.revents & POLLIN) ? read(master, buf, (size_t)room) : 0;
     if (n <= 0 && (p.revents & POLLHUP)) {
       if (!hung_up) dtr = !drop_dtr; /* the program closed the port */
       hung_up = 1;

@@ -13,20 +13,16 @@ from __future__ import annotations
 
 import argparse
 import os
-import select
 import sys
-from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TextIO
 
-from .. import clock
 from ..errors import Diagnostic, GestError
 from ..profiles.data import Glove
 from ..profiles.profile import load_profile
 from ..wire.board import BoardCore
-from ..wire.glove import VirtualGlove
-from ..wire.sim import DtrLine, VirtualBoard
+from ..wire.sim import VirtualBoard
 from .common import EXIT_OK, add_version, number, parse_args, report, run
+from .gestsim_pty import Pty
 from .gestsim_views import BarsView, HandView
 
 PROG = "gestsim"
@@ -90,7 +86,7 @@ def _serve(args: argparse.Namespace, profile, board_cfg, glove, views: list, web
             busy = (f" (port {args.http_port} is busy)"
                     if args.http_port not in (0, web.port) else "")
             print(f"{PROG}: the hand in 3-D at {web.url}{busy}", file=sys.stderr, flush=True)
-        _Pty(master, args.boot, glove and glove.stream, views, log,
+        Pty(master, args.boot, glove and glove.stream, views, log,
              lambda ready_at: VirtualBoard(BoardCore.from_profile(profile, board_cfg),
                                            board_cfg.baud, ready_at=ready_at,
                                            flash=flash)).serve()
@@ -101,92 +97,6 @@ def _serve(args: argparse.Namespace, profile, board_cfg, glove, views: list, web
         if log is not None:
             log.close()
     return EXIT_OK
-
-
-class _Pty:
-    """The board's side of the pseudo-terminal: bytes in, replies out, resets as the
-    program on the other side raises DTR."""
-
-    def __init__(self, master: int, boot: float, glove: list[tuple[float, bytes]] | None,
-                 views: list, log: TextIO | None,
-                 new_board: Callable[[float], VirtualBoard]):
-        self.master, self.boot, self.glove, self.views, self.log = master, boot, glove, views, log
-        self.new_board = new_board
-        self.board: VirtualBoard | VirtualGlove | None = None
-        self.line = DtrLine()  # no program has the port open yet
-
-    def serve(self) -> None:
-        """The board on the desk, drawn; then forever: wait up to 5 ms for bytes, then
-        let the board read and answer."""
-        self.start(clock.now())
-        poller = select.poll()
-        poller.register(self.master, select.POLLIN)
-        while True:
-            flags = dict(poller.poll(5)).get(self.master, 0)
-            self.tick(flags, clock.now())
-
-    def start(self, now: float) -> None:
-        """A board is powered before any program opens its port: it is there, in its
-        rest pose, and drawn at once (the first open resets it, as DTR rises). A glove
-        starts its gesture when the port opens."""
-        if self.glove is None:
-            self.board = self.new_board(now + self.boot)
-            self._draw(now)
-
-    def tick(self, flags: int, now: float) -> None:
-        """One turn: read what came, notice a close or an open, let the board answer."""
-        data = b""
-        if flags & select.POLLIN:  # read first: the last bytes may come with the hang-up
-            try:
-                data = os.read(self.master, 4096)
-            except OSError:  # EIO: the other side has closed
-                data = b""
-        if data and self.log is not None:
-            self.log.write("".join(f"{now:.6f} {b}\n" for b in data))
-            self.log.flush()
-        if flags & select.POLLHUP and not data:
-            self.line.closed()  # the bytes already on the wire still arrive
-            if self.board is not None:
-                self.board.read(now)
-                self._draw(now)
-            clock.sleep(0.01)
-            return
-        if not self.line.is_open:  # a program opened the port: if DTR rises, a reset
-            self._opened(now)
-        self.line.hupcl = _hupcl(self.master)
-        if data:
-            self.board.write(data, now)
-        out = self.board.read(now)
-        if out:
-            try:
-                os.write(self.master, out)
-            except OSError:  # the other side closed meanwhile
-                self.line.closed()
-        self._draw(now)
-
-    def _opened(self, now: float) -> None:
-        rose = self.line.opened()
-        if self.glove is not None:
-            self.board = VirtualGlove(self.glove, now + self.boot)
-        elif self.board is None:
-            self.board = self.new_board(now + self.boot)
-        elif rose:
-            self.board.reset(now, self.boot)
-
-    def _draw(self, now: float) -> None:
-        for view in self.views:
-            view.draw(self.board, now)
-
-
-def _hupcl(master: int) -> bool:
-    """Does the program that has the pty open leave HUPCL set (DTR drops when it
-    closes)? A pty's settings are the ones the program set on its side."""
-    import termios  # POSIX only, as gestsim is
-
-    try:
-        return bool(termios.tcgetattr(master)[2] & termios.HUPCL)
-    except termios.error:
-        return True
 
 
 def _web(args: argparse.Namespace, profile, board_cfg):
@@ -257,8 +167,8 @@ def main(argv: list[str] | None = None) -> int:
                     "first; with --glove, which glove)")
     ap.add_argument("--boot", type=number(0, 10), default=0.5,
                     help="seconds the board ignores bytes after a reset (default 0.5)")
-    ap.add_argument("--log", help="write every byte received to this file, as it "
-                    "arrives: '<seconds> <byte>' per line (monotonic clock)")
+    ap.add_argument("--log", help="write every byte received to this file: '<seconds> "
+                    "<byte>' per line, when it starts on the wire (monotonic clock)")
     ap.add_argument("--quiet", action="store_true", help="no live view")
     ap.add_argument("--glove", metavar="GESTURE",
                     help="be the profile's glove instead, its fingers performing GESTURE "

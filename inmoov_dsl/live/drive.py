@@ -1,16 +1,18 @@
 """The drive loop (an edge): requests arrive while the hand moves, and each takes over.
 
 One loop for every front end that drives a hand live (``gestplay repl``, the ROS
-node): it waits for a request only until the next byte is nearly due, so a request
-starts within a millisecond; a request is a typed line of .gest text or steps already
-resolved (a trajectory's points), and each takes over the running move without a
-jump (``live.Session``). Bytes go out on time to the links, and a ``Mirror`` keeps
-what each board holds. What happens is told to the front end as ``Note``s.
+node, the service): it waits for a request only until the links need topping up, so a
+request starts within a few milliseconds; a request is a typed line of .gest text or
+steps already resolved (a trajectory's points), and each takes over the running move
+without a jump (``live.Session``). Each link's bytes go out as a continuous run timed
+by the wire (``wire.pace``), written HORIZON ahead; a take-over or a stop drops
+what is queued and not yet on the wire. A ``Mirror`` keeps what each board holds as
+its bytes arrive. What happens is told to the front end as ``Note``s.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
@@ -22,9 +24,9 @@ from ..language.library import library_dirs, library_files, scan
 from ..language.load import load
 from ..language.program import Program
 from ..profiles.data import Profile
-from ..wire.board import BoardCore
-from ..wire.player import POLL, SPIN, Link, drain
+from ..wire.player import POLL, Link, drain
 from .orders import Control, Order, Rejoin, Request, Tracker
+from .outbox import Outbox
 from .session import LINE, Segment, Session, line_steps
 
 #: what ``next_request`` gives: a request (an Order when it has an id or options, a
@@ -64,42 +66,6 @@ def library_program(dirs: list[Path] | None = None) -> Program:
     return load("<library>", uses, search=[str(d) for d in dirs], first_wins=True)
 
 
-class Mirror:
-    """What each board holds, from the bytes sent to it (the board's own rules)."""
-
-    def __init__(self, profile: Profile, boards: Sequence[int]):
-        by_id = {b.id: b for b in profile.boards}
-        self.cores = [BoardCore.from_profile(profile, by_id[board]) for board in boards]
-        where = {}
-        for k, core in enumerate(self.cores):
-            for j, servo in enumerate(core.servos):
-                where[servo.id] = (k, j)
-        self._where = [where[s.id] for s in profile.servos]
-        self._by_id = {s.id: where[s.id] for s in profile.servos}
-
-    def set(self, pose: list[int]) -> None:
-        """The boards hold ``pose`` (the profile's servo order)."""
-        for (k, j), v in zip(self._where, pose, strict=True):
-            self.cores[k].values[j] = v
-
-    def feed(self, k: int, byte: int) -> None:
-        """Board ``k`` reads ``byte``."""
-        self.cores[k].feed(byte)
-
-    def put(self, servo_id: int, value: int) -> bool:
-        """Servo ``servo_id`` holds ``value`` (a pair heard on a stream); False if the
-        profile has no such servo."""
-        if servo_id not in self._by_id:
-            return False
-        k, j = self._by_id[servo_id]
-        self.cores[k].values[j] = value
-        return True
-
-    def held(self) -> list[int]:
-        """What the boards hold, in the profile's servo order."""
-        return [self.cores[k].values[j] for k, j in self._where]
-
-
 class Drive:
     """One hand driven live: its links, the motion it follows, what its boards hold."""
 
@@ -115,10 +81,10 @@ class Drive:
         self.tell: Tell = self.notes.append
         self.now, self.sleep = now, sleep
         start = [pose.get(s.name, s.rest) for s in profile.servos]
-        self.mirror = Mirror(profile, [link.board for link in links])
+        self.out = Outbox(links, profile)
+        self.mirror = self.out.mirror
         self.mirror.set(start)
         self.session = Session(profile, start, now(), program.sources)
-        self.events: list[tuple[float, int, int]] = []  # (clock time, link, byte), pending
         self.moving = False  #: a request has moved the hand since the last "done"
         self.tracker = Tracker(lambda kind, tag: self.tell(Note(kind, id=tag)))
 
@@ -136,9 +102,9 @@ class Drive:
                 request: Next = False
             else:
                 request = next_request(wait)
-            if not self.events and request is False:
+            if request is False:
                 for link in self.links:
-                    drain(link.port)  # a pulled cable shows here
+                    drain(link.port)  # WAITs answering filler; a pulled cable shows here
             t = self.now()
             segment = None
             if request is None:
@@ -163,11 +129,11 @@ class Drive:
     def settled(self) -> bool:
         """The steps requested so far are done: nothing to send, nothing queued, no
         move or wait running."""
-        return not self.events and not self.session.busy(self.now())
+        return not self.out.sending() and not self.session.busy(self.now())
 
     def _still(self, t: float) -> bool:
         """Nothing to send and nothing to do; says "done" once after a move."""
-        if self.events or self.session.busy(t):
+        if self.out.sending() or self.session.busy(t):
             return False
         if self.moving:
             self.moving = False
@@ -176,10 +142,11 @@ class Drive:
         return True
 
     def _wait(self, t: float, ended: bool) -> float:
-        """How long to wait for a request: until the next byte is nearly due (then
-        spin), until the running step ends if another is queued, never more than POLL."""
-        if self.events:
-            return self.events[0][0] - t - SPIN
+        """How long to wait for a request: until a link needs topping up (a run's first
+        byte: nearly due, then spin) or the next byte arrives (the Mirror reads it),
+        until the running step ends if another is queued, never more than POLL."""
+        if self.out.sending():
+            return min(POLL, self.out.wake(t) - t)
         if self.session.queue or ended:
             return min(POLL, self.session.end - t)
         return POLL
@@ -206,7 +173,7 @@ class Drive:
         if not after and self.speaker is not None:
             self.speaker.stop()  # what it said is taken over too
         try:
-            segment = run(steps, t, self.mirror.held(), sources, order.id)
+            segment = run(steps, t, self.out.held(t), sources, order.id)
         except GestError as exc:  # the session has dropped what was queued with the step
             self.tell(Note("error", tuple(exc.diagnostics), name, id=order.id))
             return None
@@ -217,7 +184,9 @@ class Drive:
     def _begin(self, segment: Segment, aside: bool) -> None:
         """Send ``segment`` from now on; tell what began, and its warnings (``aside``:
         of a queued step, told while the front end waits)."""
-        self.events = _events(segment, self.links)
+        if not aside:  # it takes over: what is queued for the wire is dropped
+            self.out.discard(self.now())
+        self.out.add(segment)
         self.moving = True
         if self.speaker is not None:
             for start, speech in segment.plan.sounds:
@@ -229,9 +198,9 @@ class Drive:
     def _rejoin(self, rejoin: Rejoin, t: float) -> None:
         """A board is back, holding ``rejoin.values``: the hand goes on from what the
         boards hold."""
+        self.out.discard(t, resync=False)
         for servo_id, value in rejoin.values.items():
             self.mirror.put(servo_id, value)
-        self.events = []
         self.tracker.halt(self.session.tags())
         self.session.stop(t, self.mirror.held())
         self.moving = False
@@ -244,12 +213,11 @@ class Drive:
     def _control(self, control: Control, t: float) -> None:
         """Stop the hand where it holds (CANCEL to every board) or relax it; nothing
         runs or is queued after."""
-        data = protocol.RELAX_BOARD if control.kind == "relax" else protocol.frame(())
-        for link in self.links:
-            link.port.write(data)
+        self.out.discard(t)  # CANCEL, and what may have gone already, again
+        if control.kind == "relax":
+            self.out.signal(t, protocol.RELAX_BOARD)
         if self.speaker is not None:
             self.speaker.stop()
-        self.events = []
         self.tracker.halt(self.session.tags())
         self.session.stop(t, self.mirror.held())
         self.moving = False
@@ -270,17 +238,5 @@ class Drive:
             self.told(note)
 
     def _send(self) -> None:
-        """Write every byte that is due, and mirror it."""
-        events = self.events
-        while events and events[0][0] <= self.now():
-            _, k, byte = events.pop(0)
-            self.links[k].port.write(bytes([byte]))
-            self.mirror.feed(k, byte)
-
-
-def _events(segment: Segment, links: list[Link]) -> list[tuple[float, int, int]]:
-    """The segment's bytes, as (clock time, link index, byte), in time order."""
-    by_board = {link.board: k for k, link in enumerate(links)}
-    events = [(segment.origin + t, by_board[s.board], b)
-              for s in segment.streams for t, b in zip(s.times.tolist(), s.data, strict=True)]
-    return sorted(events)
+        """Top the links up, and mirror what has arrived."""
+        self.out.send(self.now())

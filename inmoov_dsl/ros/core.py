@@ -31,7 +31,8 @@ from ..cli.common import EXIT_OK, add_blind, add_lib, add_version, number
 from ..decode import RECORDER, Pair, Reader
 from ..errors import Diagnostic, GestError
 from ..language.library import library_dirs
-from ..live.drive import Drive, Mirror, Next, Note, library_program
+from ..live.drive import Drive, Next, Note, library_program
+from ..live.outbox import Mirror
 from ..model.joints import names, positions
 from ..profiles.data import Profile
 from ..profiles.profile import load_profile

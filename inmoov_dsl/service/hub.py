@@ -84,4 +84,4 @@ class Service:
     def moving(self) -> bool:
         """Does the hand move (or wait in a gesture)?"""
         drive = self.drive
-        return drive is not None and (bool(drive.events) or drive.session.busy(drive.now()))
+        return drive is not None and (drive.out.sending() or drive.session.busy(drive.now()))

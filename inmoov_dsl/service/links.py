@@ -14,6 +14,7 @@ from ..errors import GestError
 from ..live.orders import Rejoin
 from ..profiles.data import Profile
 from ..wire.link import open_board
+from ..wire.pace import discard_output
 from ..wire.player import Link, ask_dump, wait_ready
 
 RETRY = 0.5  #: s between attempts to open a lost board's port again
@@ -47,6 +48,12 @@ class Resilient:
                 except (serial.SerialException, OSError):
                     self._lose()
             return b""
+
+    def reset_output_buffer(self) -> None:
+        """Drop what the port holds unsent (a stop or a take-over goes at once)."""
+        with self.lock:
+            if not self.down:
+                discard_output(self.port)
 
     def _lose(self) -> None:
         self.down = True

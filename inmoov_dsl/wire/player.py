@@ -1,9 +1,10 @@
 """Playing compiled streams to boards (the only stage with a clock and ports).
 
 Time is data until the last moment: every byte has a planned time, and the player
-sends it at ``start + time / speed`` on one absolute clock, so lateness never
-accumulates. The clock, the sleep and the ports are passed in, so tests can drive the
-player as a timeline.
+puts it at ``start + time / speed`` on one absolute clock, as a place in a continuous
+run the UART's crystal times (``pace``), so neither lateness nor the operating
+system's wake-ups reach the board. The clock, the sleep and the ports are passed in,
+so tests can drive the player as a timeline.
 """
 
 from __future__ import annotations
@@ -18,15 +19,13 @@ from .. import clock
 from ..clock import Clock, Sleep
 from ..compiling.compiled import Compiled
 from ..decode import Replies
-from ..protocol import ASK_POSE, CANCEL_PENDING, RELAX_BOARD, SERVO_FRAME, Signal
+from ..protocol import ASK_POSE, CANCEL_PENDING, RELAX_BOARD, Signal
+from .pace import HORIZON, Pacer, commands, discard_output
 
 READY_TIMEOUT = 2.0  #: s; the longest we wait for a board to boot (its first WAIT)
 PROBE = 0.1  #: s; while waiting for a board, send it a CANCEL this often
 DUMP_TIMEOUT = 0.5  #: s; the longest we wait for a DUMP reply
 SPIN = 0.0005  #: s; sleep until this close to a deadline, then spin on the clock
-#: s; the same for runs of bytes: about 50 wake-ups a second can afford to wake this
-#: early, which keeps them on time when other programs keep every core busy
-RUN_SPIN = 0.003
 AUDIO_AHEAD = 0.05  #: s; a gesture with sounds starts this late: its first sound on time
 POLL = 0.2  #: s; in a long pause, look at the links this often (a pulled cable)
 
@@ -97,29 +96,6 @@ def schedule(compiled: Compiled, links: Sequence[Link]) -> list[tuple[float, int
     return list(heapq.merge(*streams))
 
 
-def bursts(compiled: Compiled, links: Sequence[Link]) -> list[tuple[float, int, bytes]]:
-    """The bytes of every board as writes, in time order: (seconds, link index, bytes).
-
-    A write is a run of one board's bytes each due one byte-time after the one before
-    (the pairs packed at a frame's end), no longer than a servo frame: written when its
-    first byte is due, the wire spaces the rest exactly as planned. A playing hand then
-    needs about 50 wake-ups a second instead of one per byte."""
-    by_board = {link.board: k for k, link in enumerate(links)}
-    runs = []
-    for s in compiled.streams:
-        if s.board not in by_board:
-            continue
-        k, tau = by_board[s.board], s.byte_time
-        times = s.times.tolist()
-        first = 0
-        for i in range(1, len(times) + 1):
-            if i == len(times) or times[i] - times[i - 1] > tau * (1 + 1e-6) \
-                    or times[i] - times[first] >= SERVO_FRAME:
-                runs.append((times[first], k, s.data[first:i]))
-                first = i
-    return sorted(runs, key=lambda r: (r[0], r[1]))
-
-
 def wait_until(deadline: float, links: Sequence[Link], now: Clock, sleep: Sleep,
                spin: float = SPIN) -> None:
     """Sleep until ``deadline`` (spinning for the last ``spin`` s); in long pauses drain
@@ -140,63 +116,82 @@ def wait_until(deadline: float, links: Sequence[Link], now: Clock, sleep: Sleep,
 
 def play(compiled: Compiled, links: Sequence[Link], speed: float = 1.0,
          now: Clock = clock.now, sleep: Sleep = clock.sleep,
-         progress: Callable[[float], None] | None = None, speaker: Any = None) -> float:
-    """Send every byte at its planned time; returns the worst lateness in seconds. With
-    a ``speaker`` (``audio.Speaker``), the gesture's sounds play from the same clock
-    (their cues hold them), the whole gesture a moment later (AUDIO_AHEAD) so that the
-    first sound can be placed on time; an interruption silences them.
-
-    At full speed a run of bytes due one byte-time apart goes in one write, which the
-    wire spaces as planned (``bursts``), and the player wakes RUN_SPIN before each;
-    slower, each byte is written on its own, SPIN after waking."""
-    runs = speed == 1
-    events = bursts(compiled, links) if runs else \
-        [(t, k, bytes([b])) for t, k, b in schedule(compiled, links)]
-    spin = RUN_SPIN if runs else SPIN
+         progress: Callable[[float], None] | None = None, speaker: Any = None,
+         horizon: float = HORIZON) -> float:
+    """Send each board's stream as one continuous run (``pace``): every byte at its
+    place on the link's byte grid, CANCEL between commands, written ``horizon`` ahead
+    of the wire, so the UART's clock times the bytes. Returns the worst lateness in
+    seconds (a command that started late because the computer slept past the
+    horizon). With a ``speaker`` (``audio.Speaker``), the gesture's sounds play from
+    the same clock (their cues hold them), the whole gesture a moment later
+    (AUDIO_AHEAD) so that the first sound can be placed on time; an interruption
+    silences them."""
     sounds = compiled.sounds if speaker is not None else ()
     start = now() + (AUDIO_AHEAD if sounds else 0.0)
+    pacers = runs(compiled, links, start, speed, horizon)
     for cue in sounds:
         speaker.play(cue.sound, start + cue.start)
     try:
-        return _send(compiled, links, events, start, speed, now, sleep, spin, progress)
+        wait_until(start, links, now, sleep)
+        shown = -1.0
+        while any(p.pending() for p in pacers):
+            t = now()
+            for pacer in pacers:
+                pacer.pump(t)
+            for link in links:
+                drain(link.port)  # the board answers filler with WAIT; a pulled cable shows
+            if progress is not None and (t - start) * speed - shown >= 0.1:
+                shown = (t - start) * speed
+                progress(min(shown, compiled.duration))
+            t = now()
+            wake = min(p.next_wake(t) for p in pacers)
+            # a run's first byte goes when it is due (spin for it); the rest are timed
+            # by the wire, and the player only tops the ports up
+            starting = any(p.next_wake(t) == wake and not p.busy(t) for p in pacers)
+            wait_until(wake, links, now, sleep, SPIN if starting else 0.0)
+        wait_until(start + compiled.duration / speed, links, now, sleep)
     except BaseException:
         if sounds:
             speaker.stop()
         raise
-
-
-def _send(compiled: Compiled, links: Sequence[Link], events, start: float, speed: float,
-          now: Clock, sleep: Sleep, spin: float,
-          progress: Callable[[float], None] | None) -> float:
-    """``play``'s loop: each byte at its time from ``start``; the worst lateness."""
-    worst, shown = 0.0, -1.0
-    for t, k, data in events:
-        due = start + t / speed
-        wait_until(due, links, now, sleep, spin)
-        links[k].port.write(data)
-        worst = max(worst, now() - due)
-        if progress is not None and t - shown >= 0.1:
-            progress(t)
-            shown = t
-    wait_until(start + compiled.duration / speed, links, now, sleep)
     if progress is not None:
         progress(compiled.duration)
-    return worst
+    return max((p.late for p in pacers), default=0.0)
+
+
+def runs(compiled: Compiled, links: Sequence[Link], start: float, speed: float = 1.0,
+         horizon: float = HORIZON) -> list[Pacer]:
+    """A pacer for each link, holding its board's stream from clock time ``start``."""
+    by_board = {s.board: s for s in compiled.streams}
+    pacers = []
+    for link in links:
+        stream = by_board.get(link.board)
+        pacer = Pacer(link.port, stream.byte_time if stream else 0.0, horizon)
+        if stream is not None:
+            times = stream.times.tolist()
+            for first, stop in commands(stream.data):
+                pacer.add(start + times[first] / speed, stream.data[first:stop])
+        pacers.append(pacer)
+    return pacers
 
 
 def cancel_all(links: Sequence[Link]) -> None:
-    """Send CANCEL everywhere we still can: no half command is left pending."""
+    """Send CANCEL everywhere we still can, at once: what the ports still hold of a
+    stream is dropped first (``pace.discard_output``), and no half command is left
+    pending."""
     _send_all(links, CANCEL_PENDING)
 
 
 def relax_all(links: Sequence[Link]) -> None:
     """Every board we can reach stops driving its servos (they go limp) until its next
     command: ``protocol.RELAX_BOARD`` (CANCEL RELAX CANCEL, which the original firmware
-    reads as a servo it does not have, and ignores)."""
+    reads as a servo it does not have, and ignores), at once: what the ports still hold
+    is dropped first."""
     _send_all(links, RELAX_BOARD)
 
 
 def _send_all(links: Sequence[Link], data: bytes) -> None:
     for link in links:
         with contextlib.suppress(OSError):  # a dead link cannot be reached; go on
+            discard_output(link.port)
             link.port.write(data)

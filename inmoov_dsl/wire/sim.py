@@ -27,6 +27,9 @@ from .stored import BOOT_QUIET, DEBOUNCE, StoredSet, catalog_reply
 from .stored_play import Playback
 
 TX_BUFFER = 64  #: bytes the firmware's serial port holds: a catalog cut short still sends them
+#: s; what the host side of a UART holds beyond its computer's buffer (the chip's FIFO,
+#: a USB adapter's): a pty's reader takes bytes only this far ahead of the wire
+UART_AHEAD = 0.005
 
 
 @dataclass
@@ -84,13 +87,30 @@ class VirtualBoard:
         if self.stored is not None:
             self.core.restore(self.stored)
 
-    def write(self, data: bytes, now: float) -> None:
-        """The host sends ``data`` at ``now``; each byte arrives a byte-time later."""
+    def write(self, data: bytes, now: float) -> list[float]:
+        """The host sends ``data`` at ``now``: each byte starts on the wire when the one
+        before has gone, and arrives a byte-time later. Returns when each starts."""
         self.advance(now)
+        starts = []
         for b in data:
-            arrival = max(now, self._wire_free) + self.tau
-            self._wire_free = arrival
-            self._inbox.append((arrival, b))
+            starts.append(max(now, self._wire_free))
+            self._wire_free = starts[-1] + self.tau
+            self._inbox.append((self._wire_free, b))
+        return starts
+
+    def discard(self, now: float) -> int:
+        """The host drops what it has written and the wire has not begun to send by
+        ``now`` (a port's output buffer reset); returns how many bytes."""
+        self.advance(now)
+        kept = deque((t, b) for t, b in self._inbox if t - self.tau <= now)
+        dropped = len(self._inbox) - len(kept)
+        self._inbox = kept
+        self._wire_free = kept[-1][0] if kept else min(self._wire_free, now)
+        return dropped
+
+    def sending_until(self) -> float:
+        """When the last byte written so far has arrived."""
+        return self._wire_free
 
     def read(self, now: float) -> bytes:
         """Everything the board has sent by ``now``."""
@@ -248,3 +268,18 @@ class VirtualBoard:
     def positions(self) -> dict[int, int]:
         """Servo ID -> the value the board last wrote (its DUMP values)."""
         return {s.id: v for s, v in zip(self.core.servos, self.core.values, strict=True)}
+
+
+def room(board: VirtualBoard, now: float, ahead: float = UART_AHEAD) -> int:
+    """How many bytes ``board``'s link takes from its computer at ``now``: the host's
+    UART holds ``ahead`` s of bytes not yet on the wire (at least one)."""
+    fifo = max(1, round(ahead / board.tau))
+    queued = max(0.0, board.sending_until() - now) / board.tau
+    return max(0, fifo - math.ceil(queued - 1e-9))
+
+
+def room_at(board: VirtualBoard, now: float, ahead: float = UART_AHEAD) -> float:
+    """When ``board``'s link next takes a byte from its computer (``now`` if it can)."""
+    if room(board, now, ahead):
+        return now
+    return board.sending_until() - (max(1, round(ahead / board.tau)) - 1) * board.tau + 1e-6

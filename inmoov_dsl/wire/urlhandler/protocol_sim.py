@@ -225,12 +225,15 @@ class Serial(SerialBase):
         self.board.read(clock.now())
 
     def reset_output_buffer(self) -> None:
-        """Nothing waits to be sent: writes reach the link at once."""
+        """Drop what was written and is not yet on the wire (as a UART's buffer is
+        flushed): the bytes whose transmission has not begun."""
         self._check()
+        self.board.discard(clock.now())
 
     def flush(self) -> None:
-        """Nothing waits to be sent: writes reach the link at once."""
+        """Wait until what was written has been sent (as ``tcdrain``)."""
         self._check()
+        clock.sleep(max(0.0, self.board.sending_until() - clock.now()))
 
     def _check(self) -> None:
         if not self.is_open:

@@ -1,0 +1,117 @@
+"""gestsim's side of the pseudo-terminal (an edge): the bytes a program writes reach
+the virtual board as a UART takes them, the board's replies go back, and the board
+resets as the program raises DTR."""
+
+from __future__ import annotations
+
+import os
+import select
+from collections.abc import Callable
+from typing import TextIO
+
+from .. import clock
+from ..wire.glove import VirtualGlove
+from ..wire.sim import DtrLine, VirtualBoard, room_at
+from ..wire.sim import room as uart_room
+
+
+class Pty:
+    """The board's side of the pseudo-terminal: bytes in, replies out, resets as the
+    program on the other side raises DTR."""
+
+    def __init__(self, master: int, boot: float, glove: list[tuple[float, bytes]] | None,
+                 views: list, log: TextIO | None,
+                 new_board: Callable[[float], VirtualBoard]):
+        self.master, self.boot, self.glove, self.views, self.log = master, boot, glove, views, log
+        self.new_board = new_board
+        self.board: VirtualBoard | VirtualGlove | None = None
+        self.line = DtrLine()  # no program has the port open yet
+
+    def serve(self) -> None:
+        """The board on the desk, drawn; then forever: wait up to 5 ms for bytes (while
+        the UART has room for them: what it has no room for stays in the computer's
+        buffer, where the program may still discard it), then let the board read and
+        answer."""
+        self.start(clock.now())
+        poller = select.poll()
+        poller.register(self.master, select.POLLIN)
+        while True:
+            now = clock.now()
+            full = self._room_at(now) - now
+            if full > 0:
+                clock.sleep(min(full, 0.005))
+                flags = 0
+            else:
+                flags = dict(poller.poll(5)).get(self.master, 0)
+            self.tick(flags, clock.now())
+
+    def _room_at(self, now: float) -> float:
+        """When the board's UART takes the next byte from the pty."""
+        board = self.board
+        return room_at(board, now) if isinstance(board, VirtualBoard) else now
+
+    def start(self, now: float) -> None:
+        """A board is powered before any program opens its port: it is there, in its
+        rest pose, and drawn at once (the first open resets it, as DTR rises). A glove
+        starts its gesture when the port opens."""
+        if self.glove is None:
+            self.board = self.new_board(now + self.boot)
+            self._draw(now)
+
+    def tick(self, flags: int, now: float) -> None:
+        """One turn: read what came, notice a close or an open, let the board answer."""
+        data = b""
+        board = self.board
+        room = uart_room(board, now) if isinstance(board, VirtualBoard) else 4096
+        if flags & select.POLLIN and room:  # first: the last bytes may come with a hang-up
+            try:
+                data = os.read(self.master, room)
+            except OSError:  # EIO: the other side has closed
+                data = b""
+        if flags & select.POLLHUP and not data and not (flags & select.POLLIN and not room):
+            self.line.closed()  # the bytes already on the wire still arrive
+            if self.board is not None:
+                self.board.read(now)
+                self._draw(now)
+            clock.sleep(0.01)
+            return
+        if not self.line.is_open:  # a program opened the port: if DTR rises, a reset
+            self._opened(now)
+        self.line.hupcl = _hupcl(self.master)
+        if data:
+            starts = self.board.write(data, now)
+            if self.log is not None:
+                self.log.write("".join(f"{t:.6f} {b}\n" for t, b in zip(starts or
+                                       [now] * len(data), data, strict=True)))
+                self.log.flush()
+        out = self.board.read(now)
+        if out:
+            try:
+                os.write(self.master, out)
+            except OSError:  # the other side closed meanwhile
+                self.line.closed()
+        self._draw(now)
+
+    def _opened(self, now: float) -> None:
+        rose = self.line.opened()
+        if self.glove is not None:
+            self.board = VirtualGlove(self.glove, now + self.boot)
+        elif self.board is None:
+            self.board = self.new_board(now + self.boot)
+        elif rose:
+            self.board.reset(now, self.boot)
+
+    def _draw(self, now: float) -> None:
+        for view in self.views:
+            view.draw(self.board, now)
+
+
+def _hupcl(master: int) -> bool:
+    """Does the program that has the pty open leave HUPCL set (DTR drops when it
+    closes)? A pty's settings are the ones the program set on its side."""
+    import termios  # POSIX only, as gestsim is
+
+    try:
+        return bool(termios.tcgetattr(master)[2] & termios.HUPCL)
+    except termios.error:
+        return True

@@ -1,0 +1,145 @@
+"""What the drive loop sends, and what the boards hold (an edge: it writes to ports).
+
+Each link's bytes go out as a continuous run timed by the wire (``wire.pace``),
+written HORIZON ahead; a take-over or a stop drops what is queued and not yet on
+the wire. The ``Mirror`` reads each byte when it is due to arrive, so it holds what the
+boards hold.
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Sequence
+
+from .. import protocol
+from ..profiles.data import Profile
+from ..wire.board import BoardCore
+from ..wire.pace import Pacer, commands
+from ..wire.player import SPIN, Link
+from .session import Segment
+
+
+class Mirror:
+    """What each board holds, from the bytes sent to it (the board's own rules)."""
+
+    def __init__(self, profile: Profile, boards: Sequence[int]):
+        by_id = {b.id: b for b in profile.boards}
+        self.cores = [BoardCore.from_profile(profile, by_id[board]) for board in boards]
+        where = {}
+        for k, core in enumerate(self.cores):
+            for j, servo in enumerate(core.servos):
+                where[servo.id] = (k, j)
+        self._where = [where[s.id] for s in profile.servos]
+        self._by_id = {s.id: where[s.id] for s in profile.servos}
+
+    def set(self, pose: list[int]) -> None:
+        """The boards hold ``pose`` (the profile's servo order)."""
+        for (k, j), v in zip(self._where, pose, strict=True):
+            self.cores[k].values[j] = v
+
+    def feed(self, k: int, byte: int) -> None:
+        """Board ``k`` reads ``byte``."""
+        self.cores[k].feed(byte)
+
+    def put(self, servo_id: int, value: int) -> bool:
+        """Servo ``servo_id`` holds ``value`` (a pair heard on a stream); False if the
+        profile has no such servo."""
+        if servo_id not in self._by_id:
+            return False
+        k, j = self._by_id[servo_id]
+        self.cores[k].values[j] = value
+        return True
+
+    def held(self) -> list[int]:
+        """What the boards hold, in the profile's servo order."""
+        return [self.cores[k].values[j] for k, j in self._where]
+
+
+class Outbox:
+    """The links' runs, and the bytes on their way that the Mirror has yet to read."""
+
+    def __init__(self, links: Sequence[Link], profile: Profile):
+        self.links = list(links)
+        self.mirror = Mirror(profile, [link.board for link in links])
+        taus = {b.id: protocol.byte_time(b.baud) for b in profile.boards}
+        self.pacers = [Pacer(link.port, taus[link.board]) for link in links]
+        #: (clock time, link, byte) not yet arrived: the Mirror reads them when due
+        self.events: list[tuple[float, int, int]] = []
+
+    def sending(self) -> bool:
+        """Are bytes still to be written or to arrive?"""
+        return bool(self.events) or any(p.pending() for p in self.pacers)
+
+    def wake(self, t: float) -> float:
+        """When a link needs topping up (a run's first byte: a moment before it is
+        due) or the next byte arrives; ``inf`` if nothing is on its way."""
+        wakes = [p.next_wake(t) - (0.0 if p.busy(t) else SPIN) for p in self.pacers]
+        return min(wakes + [self.events[0][0] if self.events else float("inf")])
+
+    def add(self, segment: Segment) -> None:
+        """Send ``segment``'s streams after what is on its way."""
+        by_board = {link.board: k for k, link in enumerate(self.links)}
+        events = sorted((segment.origin + t, by_board[s.board], b) for s in segment.streams
+                        for t, b in zip(s.times.tolist(), s.data, strict=True))
+        self.events = sorted(self.events + events)
+        for k, pacer in enumerate(self.pacers):
+            mine = [(t, b) for t, j, b in events if j == k]
+            data = bytes(b for _, b in mine)
+            for first, stop in commands(data):
+                pacer.add(mine[first][0], data[first:stop])
+
+    def signal(self, t: float, data: bytes) -> None:
+        """Send ``data`` (RELAX) to every board at once."""
+        for k, pacer in enumerate(self.pacers):
+            pacer.add(t, data)
+            pacer.pump(t)
+            for byte in data:
+                self.mirror.feed(k, byte)
+
+    def reach(self) -> float:
+        """How far ahead of the clock bytes may have been written (s)."""
+        return max((p.horizon + p.tau for p in self.pacers), default=0.0)
+
+    def held(self, t: float) -> list[int]:
+        """What the boards hold once the bytes that may already be written by ``t``
+        have arrived (a stop or a take-over now makes it so: ``discard``)."""
+        mirror = copy.deepcopy(self.mirror)
+        for due, k, byte in self.events:
+            if due > t + self.reach():
+                break
+            mirror.feed(k, byte)
+        return mirror.held()
+
+    def discard(self, t: float, resync: bool = True) -> None:
+        """Nothing more of what was sent goes out: the runs stop and the ports drop what
+        they hold. What may have gone already (written up to ``reach`` ahead of ``t``)
+        may or may not arrive, so with ``resync`` each board is sent CANCEL and those
+        values again: it then holds what ``held`` said, and so does the Mirror."""
+        self.events = [e for e in self.events if e[0] <= t + self.reach()]
+        self._mirror(t)  # what has arrived; the rest of self.events may arrive
+        again: list[dict[int, int]] = [{} for _ in self.links]
+        for _, k, byte in self.events:
+            write, _ = self.mirror.cores[k].feed(byte)
+            if write is not None:
+                again[k][write.id] = write.value
+        self.events = []
+        for k, pacer in enumerate(self.pacers):
+            pacer.discard()
+            if resync:
+                pacer.add(t, protocol.frame(again[k].items()))
+                pacer.pump(t)
+
+    def send(self, t: float) -> None:
+        """Top the links up, and mirror what has arrived by ``t``."""
+        for pacer in self.pacers:
+            pacer.pump(t)
+        self._mirror(t)
+
+    def _mirror(self, t: float) -> None:
+        events = self.events
+        n = 0
+        while n < len(events) and events[n][0] <= t:
+            _, k, byte = events[n]
+            self.mirror.feed(k, byte)
+            n += 1
+        del events[:n]
