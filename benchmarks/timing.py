@@ -1,131 +1,63 @@
-"""How close to its schedule does a stream reach the board? Play a library gesture
-repeated to about a minute, through a real pseudo-terminal opened with pyserial, to a
-separate process that timestamps every byte as it arrives, on an idle machine and with
-one core, then both, kept busy by other processes; beside it, the same stream written one byte at a
-time on the same clock, and (idle only) sent the way the original script did, sleeping
-after each byte.
+"""How close to its schedule does a stream reach the board? gestplay plays a library
+gesture repeated to about a minute through a real pseudo-terminal, opened with
+pyserial, to gestsim, whose UART takes bytes from the pty as a real one does (5 ms
+ahead of the wire) and logs when each byte starts on the wire; on an idle machine, then
+with one core and with both cores kept busy by other processes; three runs each.
 
-    python benchmarks/timing.py [--gesture count] [--seconds 60]
+    python benchmarks/timing.py [--gesture count] [--seconds 60] [--runs 3]
 
-Errors are arrival time minus planned time, less their median (the pty's constant
-latency, and the clocks' different origins, are not counted against any sender; a late
-first byte would shift every other one if they were counted from it). A pty has no baud
-rate, so the wire is modelled at the receiver: a byte reaches the board when it has
-arrived and the byte before it has been on the wire for a byte-time (what a UART does
-with a write of several bytes). "As written" is measured in the sender, when each write
-returned (the wire modelled likewise), which tells a late sender from a late receiver.
-The relative sender sleeps exactly the planned gap after each byte: the most generous
-version of "a fixed sleep after each byte". POSIX only (pseudo-terminals).
+The player sends the stream as one continuous run (CANCEL between commands, 10 ms
+ahead of the wire: wire/pace.py). The error of a byte of the stream (the filler is not
+counted) is when it reached the board minus its planned time, both from the run's
+first byte; less the median, as before, though it is 0 here. gestsim stands in for the
+board's hardware: it runs at real-time priority (SCHED_FIFO) where the system allows,
+so that the load delays the sender, not the wire. POSIX only (pseudo-terminals).
 """
 
 from __future__ import annotations
 
 import argparse
-import json
+import contextlib
 import math
 import os
-import select
 import subprocess
 import sys
+import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 
 from inmoov_dsl import compile_source, load_library
-from inmoov_dsl.wire.player import Link, play, schedule, wait_until
+from inmoov_dsl.protocol import Signal
+from inmoov_dsl.wire.player import Link, play, wait_ready
 from inmoov_dsl.wire.ports import open_port
 
 
-def receive() -> None:
-    """The timestamping end: prints its pty path, then for each line on stdin prints
-    the (time, byte) pairs received since the last one, as JSON."""
-    import tty
-
-    master, slave = os.openpty()
-    tty.setraw(slave)
-    print(os.ttyname(slave), flush=True)
-    stamps: list[tuple[float, int]] = []
-    poller = select.poll()
-    poller.register(master, select.POLLIN)
-    poller.register(sys.stdin.fileno(), select.POLLIN)
-    while True:
-        for fd, _ in poller.poll():
-            now = time.monotonic()
-            if fd == master:
-                stamps += [(now, b) for b in os.read(master, 4096)]
-            elif sys.stdin.readline():
-                print(json.dumps(stamps), flush=True)
-                stamps = []
-            else:
-                return
+def arrivals(log: Path, skip: int, data: bytes, tau: float) -> np.ndarray:
+    """When each byte of ``data`` reached the board, from the log's lines after
+    ``skip``: the run's first byte is the stream's CANCEL, every other byte of the
+    stream is a pair's (no 255), and the 255s between them are filler."""
+    rows = [line.split() for line in log.read_text().splitlines()[skip:]]
+    got = [(float(t) + tau, int(b)) for t, b in rows]
+    first = next(k for k, (_, b) in enumerate(got) if b == Signal.CANCEL)
+    real = [got[first]] + [g for g in got[first + 1:] if g[1] != Signal.CANCEL]
+    assert bytes(b for _, b in real[:len(data)]) == data, "bytes lost or changed"
+    return np.array([t for t, _ in real[:len(data)]])
 
 
-def relative_sleeps(port, times: np.ndarray, data: bytes) -> None:
-    """How the original script sent: write a byte, sleep, write the next."""
-    gaps = np.diff(times, append=times[-1])
-    for byte, gap in zip(data, gaps.tolist(), strict=True):
-        port.write(bytes([byte]))
-        time.sleep(gap)
-
-
-class Stamped:
-    """A port that also notes when each write returned (the sender's own view)."""
-
-    def __init__(self, port):
-        self.port, self.sent = port, []
-
-    def write(self, data: bytes) -> int:
-        n = self.port.write(data)
-        self.sent += [(time.monotonic(), b) for b in data]
-        return n
-
-    def read(self, size: int = 1) -> bytes:
-        return self.port.read(size)
-
-
-def on_the_wire(stamps: list, tau: float) -> list:
-    """When each byte reaches the board: not before it arrived, and a byte-time after
-    the byte before it (a UART's pace; the pty delivers a write at once)."""
-    out, free = [], -math.inf
-    for t, b in stamps:
-        free = max(t, free + tau)
-        out.append((free, b))
-    return out
-
-
-def per_byte(compiled, link) -> None:
-    """gestplay's clock, one write per byte (as it played before writes were runs)."""
-    events = schedule(compiled, [link])
-    start = time.perf_counter()
-    for t, _, byte in events:
-        wait_until(start + t, [link], time.perf_counter, time.sleep)
-        link.port.write(bytes([byte]))
-
-
-def errors(stamps: list, times: np.ndarray, data: bytes) -> np.ndarray:
-    arrived = np.array([t for t, _ in stamps])
-    assert bytes(b for _, b in stamps) == data, "bytes lost or changed on the way"
-    late = arrived - times
-    return late - np.median(late)
-
-
-def summary(name: str, e: np.ndarray, sent: np.ndarray, times: np.ndarray) -> str:
+def summary(e: np.ndarray, times: np.ndarray) -> tuple[float, float, float, float]:
+    """p50, p99, max of |error| (ms), drift (ms per minute)."""
     ms = np.abs(e) * 1000
-    slope = np.polyfit(times, e, 1)[0] * 60 * 1000  # ms per minute
-    tail = e[times > times[-1] - 5].mean() * 1000
-    own = np.abs(sent) * 1000
-    return (f"| {name} | {np.percentile(ms, 50):.3f} | {np.percentile(ms, 99):.3f} | "
-            f"{ms.max():.3f} | {np.percentile(own, 99):.3f} / {own.max():.3f} | "
-            f"{tail:+.2f} | {slope:+.2f} |")
+    slope = np.polyfit(times, e, 1)[0] * 60 * 1000
+    return np.percentile(ms, 50), np.percentile(ms, 99), ms.max(), slope
 
 
 def main() -> None:
-    if sys.argv[1:2] == ["--receive"]:
-        receive()
-        return
     ap = argparse.ArgumentParser()
     ap.add_argument("--gesture", default="count")
     ap.add_argument("--seconds", type=float, default=60.0)
+    ap.add_argument("--runs", type=int, default=3)
     ap.add_argument("--busy", type=int, nargs="+", choices=(0, 1, 2), default=[0, 1, 2],
                     help="cores kept busy by other processes, for each run (default 0 1 2)")
     args = ap.parse_args()
@@ -135,46 +67,53 @@ def main() -> None:
     compiled = compile_source(f'use "{path.name}"\nbench:\n    repeat {times_over}: '
                               f"{args.gesture}\n")
     stream = compiled.stream()
-    receiver = subprocess.Popen([sys.executable, __file__, "--receive"], text=True,
-                                stdin=subprocess.PIPE, stdout=subprocess.PIPE)
-    device = receiver.stdout.readline().strip()
-    port = open_port(device, stream.baud)
-    print(f"{args.gesture} x{times_over}: {compiled.duration:.1f} s, {len(stream.data):,} "
-          f"bytes, through {device} ({sys.platform}, Python {sys.version.split()[0]})\n")
-    print("| machine | sender | p50 ms | p99 ms | max ms | as written: p99 / max ms "
-          "| error over the last 5 s, ms | drift, ms per minute |")
-    print("|---|---|---:|---:|---:|---:|---:|---:|")
-    senders = [
-        ("gestplay (runs of bytes in one write)",
-         lambda p: play(compiled, [Link(181, p, device)])),
-        ("gestplay's clock, one write per byte", lambda p: per_byte(compiled,
-                                                                    Link(181, p, device))),
-        ("sleep after each byte", lambda p: relative_sleeps(p, stream.times, stream.data)),
-    ]
-    loads = (("idle", 0), ("one core busy", 1), ("both cores busy", 2))
-    for machine, busy in (loads[k] for k in args.busy):
-        hogs = [subprocess.Popen([sys.executable, "-c", "while True: pass"])
-                for _ in range(busy)]
+    tau = stream.byte_time
+    with tempfile.TemporaryDirectory() as tmp:
+        log = Path(tmp) / "received.log"
+        env = dict(os.environ, INMOOV_DSL_STATE=tmp)
+        board = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim", "--quiet",
+                                  "--boot", "0", "--log", str(log)], env=env, text=True,
+                                 stdout=subprocess.PIPE, stderr=subprocess.DEVNULL)
+        device = board.stdout.readline().strip()
+        realtime = "yes"
         try:
-            for name, send in senders[:2] if hogs else senders:
-                stamped = Stamped(port)
-                send(stamped)
-                time.sleep(0.2)
-                receiver.stdin.write("\n")
-                receiver.stdin.flush()
-                stamps = on_the_wire(json.loads(receiver.stdout.readline()),
-                                     stream.byte_time)
-                row = summary(name, errors(stamps, stream.times, stream.data),
-                              errors(on_the_wire(stamped.sent, stream.byte_time),
-                                     stream.times, stream.data), stream.times)
-                print(f"| {machine} {row}", flush=True)
+            os.sched_setscheduler(board.pid, os.SCHED_FIFO, os.sched_param(10))
+        except (AttributeError, PermissionError, OSError):
+            realtime = "no (not allowed here)"
+        port = open_port(device, stream.baud)
+        assert wait_ready(port), "gestsim did not answer"
+        print(f"{args.gesture} x{times_over}: {compiled.duration:.1f} s, {len(stream.data):,} "
+              f"bytes of stream, through {device} to gestsim (real-time priority: "
+              f"{realtime}; {sys.platform}, Python {sys.version.split()[0]})\n")
+        print("| machine | run | p50 ms | p99 ms | max ms | drift, ms per minute "
+              "| worst lateness gestplay reports, ms |")
+        print("|---|---:|---:|---:|---:|---:|---:|")
+        loads = (("idle", 0), ("one core busy", 1), ("both cores busy", 2))
+        try:
+            for machine, busy in (loads[k] for k in args.busy):
+                hogs = [subprocess.Popen([sys.executable, "-c", "while True: pass"])
+                        for _ in range(busy)]
+                try:
+                    for run in range(1, args.runs + 1):
+                        time.sleep(0.3)
+                        skip = len(log.read_text().splitlines())
+                        late = play(compiled, [Link(181, port, device)])
+                        time.sleep(0.3)
+                        arrived = arrivals(log, skip, stream.data, tau)
+                        late_ms = (arrived - arrived[0]) - (stream.times - stream.times[0])
+                        e = late_ms - np.median(late_ms)
+                        p50, p99, worst, drift = summary(e, stream.times)
+                        print(f"| {machine} | {run} | {p50:.3f} | {p99:.3f} | {worst:.3f} | "
+                              f"{drift:+.2f} | {late * 1000:.3f} |", flush=True)
+                finally:
+                    for hog in hogs:
+                        hog.kill()
+                        hog.wait()
         finally:
-            for hog in hogs:
-                hog.kill()
-                hog.wait()
-    port.close()
-    receiver.stdin.close()
-    receiver.wait()
+            port.close()
+            board.kill()
+            with contextlib.suppress(subprocess.TimeoutExpired):
+                board.wait(5)
 
 
 if __name__ == "__main__":

@@ -20,7 +20,7 @@ from inmoov_dsl.protocol import POSE_SETTLE
 from inmoov_dsl.wire.board import BoardCore
 from inmoov_dsl.wire.player import ask_dump, wait_ready
 from inmoov_dsl.wire.ports import leave_dtr_up, open_port
-from inmoov_dsl.wire.sim import VirtualBoard
+from inmoov_dsl.wire.sim import VirtualBoard, settled
 
 POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
 REST = [0, 0, 0, 0, 0, 0]
@@ -73,7 +73,7 @@ def test_a_new_board_and_one_without_a_stored_pose_start_at_rest():
 def test_a_board_that_settles_after_its_port_closed_has_stored_that_pose():
     b = board()
     b.write(bytes([255, 1, 90]), 0.0)
-    assert b.settled() == [0, 90, 0, 0, 0, 0]
+    assert settled(b) == [0, 90, 0, 0, 0, 0]
     assert b.stored is None and b.core.values == REST  # the board itself has not moved on
 
 

@@ -32,12 +32,14 @@
  *                        of the sketch) changes, S seconds after ready
  *       --flash SYMBOL K B   the image's flash byte K after SYMBOL is B (a table of the
  *                        image changed without building it again)
- *   simboard FIRMWARE.elf --pty [--baud B] [--eeprom FILE]
+ *   simboard FIRMWARE.elf --pty [--baud B] [--eeprom FILE] [--log LOG]
  *       Serves the board on a pseudo-terminal in real time and prints its path. Like an
  *       Uno or a Nano, the board resets when a program opening the port raises DTR: at
  *       the first open, and at any open after a close that dropped DTR (the closing
  *       program left HUPCL set; a program that clears it leaves DTR up). FILE is written
- *       whenever the EEPROM changes.
+ *       whenever the EEPROM changes. The UART takes bytes from the pty only 5 ms ahead of
+ *       the wire (UART_AHEAD); LOG gets "<seconds> <byte>" for each byte when it starts
+ *       on the wire (CLOCK_MONOTONIC, the clock of Python's time.monotonic).
  *
  * Bytes the board reads are counted by the sketch (inmoov_rx_count), read from RAM.
  */
@@ -103,6 +105,7 @@ static uint8_t *eeprom;      /* simavr's own bytes */
 static uint16_t eeprom_size;
 static uint8_t shadow[4096]; /* what they were at the last look */
 static const char *eeprom_path;
+static FILE *byte_log; /* --log: every byte from the pty, when it starts on the wire */
 static long eeprom_writes, cut_after = -1;
 static avr_cycle_count_t cut_at;
 static struct {
@@ -562,6 +565,11 @@ static int serve(void) {
     }
     drop_dtr = hupcl(master);
     for (ssize_t k = 0; k < n; k++) {
+      if (byte_log) {
+        avr_cycle_count_t at = now < wire_free ? wire_free : now;
+        fprintf(byte_log, "%.6f %d\n", start + (double)(at - origin) / F_CPU, buf[k]);
+        fflush(byte_log);
+      }
       if (send_byte(buf[k], now) < 0) return 1;
     }
     if (run_until(now) < 0) return 1;
@@ -585,6 +593,12 @@ int main(int argc, char **argv) {
       run_on = atof(argv[++i]);
     else if (strcmp(argv[i], "--eeprom") == 0 && more)
       eeprom_path = argv[++i];
+    else if (strcmp(argv[i], "--log") == 0 && more) {
+      if (!(byte_log = fopen(argv[++i], "w"))) {
+        perror("simboard: --log");
+        return 2;
+      }
+    }
     else if (strcmp(argv[i], "--cut") == 0 && more)
       cut_after = atol(argv[++i]);
     else if (strcmp(argv[i], "--wait") == 0 && more)
@@ -615,7 +629,7 @@ int main(int argc, char **argv) {
     fprintf(stderr, "usage: simboard FIRMWARE.elf [--baud B] [--run-on S] [--eeprom FILE] "
                     "[--cut N] [--pulses] [--wait S] [--button PIN [--press PIN S H]...] "
                     "[--watch SYMBOL] [--flash SYMBOL K B] < timed\n"
-                    "       simboard FIRMWARE.elf --pty [--baud B] [--eeprom FILE]\n");
+                    "       simboard FIRMWARE.elf --pty [--baud B] [--eeprom FILE] [--log LOG]\n");
     return 2;
   }
   elf_firmware_t fw;

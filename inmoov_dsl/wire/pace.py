@@ -89,7 +89,7 @@ class Pacer:
         self.port, self.tau, self.horizon = port, tau, horizon
         self.epoch: float | None = None  #: clock time of the run's place 0
         self._run = bytearray()  # the run's bytes from place self._base
-        self._real = bytearray()  # 1 where _run holds a command's byte, 0 for FILL
+        self._real = bytearray()  # 0: FILL; 1: a command's first byte; 2: the rest of it
         self._base = 0  # the place of _run[0]
         self.written = 0  #: places of the run given to the port (or left out)
         self._free = -math.inf  # when the wire has sent everything written
@@ -114,7 +114,12 @@ class Pacer:
         at = place(t - self.epoch, self.end, self.tau)
         gap = at - self.end
         self._run += bytes([FILL]) * gap + command
-        self._real += bytes(gap) + b"\x01" * len(command)
+        self._real += bytes(gap) + (b"\x01" + b"\x02" * (len(command) - 1) if command else b"")
+
+    def shift(self, dt: float) -> None:
+        """The run starts ``dt`` s later (it was laid out from clock time 0)."""
+        if self.epoch is not None:
+            self.epoch += dt
 
     def pump(self, now: float) -> None:
         """Write what the wire will need until ``now + horizon``."""
@@ -128,12 +133,15 @@ class Pacer:
                 not self._real[self.written - self._base]:
             self.written += 1  # filler the wire had no time for
             due += self.tau
-        if self.written < self.end and self._real[self.written - self._base]:
-            self.late = max(self.late, start - due)
         ahead = math.ceil((now + self.horizon - start) / self.tau)
         target = min(self.end, self.written + max(0, ahead))
+        while target < self.end and self._real[target - self._base] == 2:
+            target += 1  # a command goes whole: its bytes back to back on the wire
         if target > self.written:
-            self.port.write(bytes(self._run[self.written - self._base:target - self._base]))
+            chunk = slice(self.written - self._base, target - self._base)
+            if any(self._real[chunk]):  # its commands start this much after their places
+                self.late = max(self.late, start - due)
+            self.port.write(bytes(self._run[chunk]))
             self._free = start + (target - self.written) * self.tau
             self.written = target
         drop = self.written - self._base

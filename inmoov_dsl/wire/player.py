@@ -127,8 +127,10 @@ def play(compiled: Compiled, links: Sequence[Link], speed: float = 1.0,
     (AUDIO_AHEAD) so that the first sound can be placed on time; an interruption
     silences them."""
     sounds = compiled.sounds if speaker is not None else ()
-    start = now() + (AUDIO_AHEAD if sounds else 0.0)
-    pacers = runs(compiled, links, start, speed, horizon)
+    pacers = runs(compiled, links, 0.0, speed, horizon)
+    start = now() + (AUDIO_AHEAD if sounds else 0.0)  # once the runs are laid out
+    for pacer in pacers:
+        pacer.shift(start)
     for cue in sounds:
         speaker.play(cue.sound, start + cue.start)
     try:

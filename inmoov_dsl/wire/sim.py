@@ -252,23 +252,24 @@ class VirtualBoard:
             self._outbox.append((ready, b))
         return self._out_free
 
-    def settled(self) -> list[int] | None:
-        """The pose this board will have stored once what is on the wire has arrived and
-        settled (None: never any): what it starts from at its next reset. The board
-        itself does not move on."""
-        log, self.log = self.log, []
-        try:
-            twin = copy.deepcopy(self)
-        finally:
-            self.log = log
-        twin._triggers = False  # a gesture playing ends; no other starts by itself
-        twin.advance(math.inf)
-        return twin.stored
-
     def positions(self) -> dict[int, int]:
         """Servo ID -> the value the board last wrote (its DUMP values)."""
         return {s.id: v for s, v in zip(self.core.servos, self.core.values, strict=True)}
 
+
+
+def settled(board: VirtualBoard) -> list[int] | None:
+    """The pose ``board`` will have stored once what is on the wire has arrived and
+    settled (None: never any): what it starts from at its next reset. The board itself
+    does not move on."""
+    log, board.log = board.log, []
+    try:
+        twin = copy.deepcopy(board)
+    finally:
+        board.log = log
+    twin._triggers = False  # a gesture playing ends; no other starts by itself
+    twin.advance(math.inf)
+    return twin.stored
 
 def room(board: VirtualBoard, now: float, ahead: float = UART_AHEAD) -> int:
     """How many bytes ``board``'s link takes from its computer at ``now``: the host's

@@ -19,7 +19,7 @@ from ...profiles.profile import builtin_profiles, find_profile
 from ...protocol import MAX_VALUE
 from ...resources import private_file, private_state_dir
 from ..board import BoardCore
-from ..sim import VirtualBoard
+from ..sim import VirtualBoard, settled
 
 MAX_FILE = 4096  #: bytes; a board's memory is far smaller
 
@@ -61,7 +61,7 @@ def recall(profile: Profile, core: BoardCore) -> list[int] | None:
 def keep(profile: Profile, board: VirtualBoard) -> None:
     """Keep the pose ``board`` will have stored (``VirtualBoard.settled``); a board that
     never stored one (a ``fresh`` one) leaves no memory."""
-    pose = board.settled()
+    pose = settled(board)
     path = _file(profile, board.core.board_id)
     if path is None:
         return

@@ -1,0 +1,168 @@
+"""Timing set by the wire's clock, proven on the firmware image in simavr: the library
+sent as one continuous run (CANCEL between commands, as gestplay sends it) against the
+same streams sent bare; the board's input at 9600, 57600 and 115200 baud; a Ctrl-C in
+the middle of demo, on gestsim's pty and on the image's."""
+
+import dataclasses
+import signal
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+import pytest
+from boardmodel import read_stream
+from conftest import WHOLE_ROBOT
+from test_firmware import LIBRARY, boards, build, simboard, simulate  # noqa: F401
+from toolchain import need
+
+from inmoov_dsl.cli import gestc
+from inmoov_dsl.compiling.compiled import to_timed
+from inmoov_dsl.compiling.compiler import compile_program
+from inmoov_dsl.language.load import load
+from inmoov_dsl.profiles.profile import load_profile
+from inmoov_dsl.protocol import Signal, pairs
+from inmoov_dsl.wire.pace import HORIZON, padded
+
+RHAND = load_profile("rhand")
+HAND = sorted(n for n, e in LIBRARY.items() if e.path.name not in WHOLE_ROBOT)
+SAME_PULSE = 10.0  # us
+
+
+def at_baud(profile, baud):
+    """``profile`` with every board's link at ``baud``."""
+    return dataclasses.replace(profile, boards=tuple(dataclasses.replace(b, baud=baud)
+                                                     for b in profile.boards))
+
+
+def run_of(stream) -> str:
+    """``stream`` as gestplay sends it: one continuous run, a byte every byte-time."""
+    tau = stream.byte_time
+    return "".join(f"{k * tau:.6f} {b}\n"
+                   for k, b in enumerate(padded(stream.times, stream.data, tau)))
+
+
+def test_the_library_sent_as_one_run_ends_and_pulses_as_sent_bare(simboard, build,  # noqa: F811
+                                                                  tmp_path):
+    """Every hand gesture of the library, from a new EEPROM, then 1.5 s still: the
+    run and the bare stream end in the same DUMP, the image reads every byte of both,
+    every pulse on every pin starts and lasts within 10 us of the bare run's, and the
+    EEPROM is written alike (one record when a gesture ends; demo's parts hold a
+    second each, six)."""
+    elf = build / "servo_rhand.elf"
+
+    def one(name):
+        compiled, _ = compile_program(load(str(LIBRARY[name].path)), name, RHAND)
+        stream = compiled.stream()
+        out = []
+        for kind, timed in (("bare", to_timed(stream)), ("run", run_of(stream))):
+            out.append(simulate(simboard, elf, timed, "--pulses", "--run-on", "1.5",
+                                "--eeprom", tmp_path / f"{name}-{kind}.eep"))
+        return name, stream, *out
+
+    records = {}
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        for name, stream, bare, run in pool.map(one, HAND):
+            ran = padded(stream.times, stream.data, stream.byte_time)
+            assert run["read"] == run["sent"] == len(ran) + 1, name  # the DUMP too
+            assert bare["read"] == bare["sent"] == len(stream.data) + 1, name
+            assert run["dump"] == bare["dump"], name
+            assert len(run["pulses"]) == len(bare["pulses"]), name
+            a, b = np.array(run["pulses"]), np.array(bare["pulses"])
+            assert np.array_equal(a[:, 0], b[:, 0]), name  # the same pins, in turn
+            assert np.max(np.abs(a[:, 1] - b[:, 1])) * 1e6 <= SAME_PULSE, name
+            assert np.max(np.abs(a[:, 2] - b[:, 2])) <= SAME_PULSE, name
+            assert [e[1:] for e in run["eeprom"]] == [e[1:] for e in bare["eeprom"]], name
+            assert all(abs(x[0] - y[0]) < 0.002 for x, y in zip(run["eeprom"], bare["eeprom"],
+                                                                strict=True)), name
+            records[name] = len(run["eeprom"])
+    assert sorted(records) == HAND and "peace" in HAND  # every hand gesture (29)
+    size = records["peace"]  # one record of a pose
+    assert size > 0 and {n: r // size for n, r in records.items() if r != size} == \
+        {"demo": 6}
+
+
+@pytest.fixture(scope="module")
+def image_at(build, tmp_path_factory):  # noqa: F811
+    """servo_rhand built for a link at ``baud`` (9600: the suite's own build)."""
+    made = {9600: build / "servo_rhand.elf"}
+
+    def at(baud):
+        if baud not in made:
+            need("make", "avr-gcc", "avr-g++")
+            book = tmp_path_factory.mktemp(f"rhand-{baud}")
+            assert gestc.main(["firmware", "rhand", "--baud", str(baud), "-o", str(book)]) == 0
+            done = subprocess.run(["make", "-C", str(book), "-j2", "servo_rhand"],
+                                  capture_output=True, text=True, timeout=600)
+            assert done.returncode == 0, done.stdout + done.stderr
+            made[baud] = book / "build" / "servo_rhand.elf"
+        return made[baud]
+    return at
+
+
+@pytest.mark.parametrize("baud", [9600, 57600, 115200])
+def test_a_continuous_run_never_overflows_the_boards_input(simboard, image_at, baud):  # noqa: F811
+    """wave as one run at the link's full rate: the image reads every byte (its 64-byte
+    buffer never overflows), answers the filler with WAIT, and ends where wave does."""
+    profile = at_baud(RHAND, baud)
+    compiled, _ = compile_program(load(str(LIBRARY["wave"].path)), "wave", profile)
+    stream = compiled.stream()
+    ran = padded(stream.times, stream.data, stream.byte_time)
+    result = simulate(simboard, image_at(baud), run_of(stream), baud=baud)
+    assert result["read"] == result["sent"] == len(ran) + 1
+    assert result["dump"] == (181, dict(zip(range(6), compiled.final, strict=True)))
+    waits = sum(1 for _, b in result["out"] if b == Signal.WAIT)
+    assert waits > len(ran) // 4  # the board kept up: nothing left to read, again and again
+
+
+# -- Ctrl-C in the middle of demo ------------------------------------------------------------
+@pytest.fixture(params=["gestsim", "simavr"])
+def board_pty(request, tmp_path):
+    """A board on a pty that logs when each byte starts on the wire: gestsim, or the
+    firmware image in simavr."""
+    log = tmp_path / "received.log"
+    if request.param == "gestsim":
+        argv = [sys.executable, "-m", "inmoov_dsl.cli.gestsim", "--quiet", "--boot", "0.2",
+                "--log", str(log)]
+    else:
+        harness = request.getfixturevalue("simboard")
+        elf = request.getfixturevalue("build") / "servo_rhand.elf"
+        argv = [str(harness), str(elf), "--pty", "--log", str(log)]
+    proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    path = proc.stdout.readline().strip()
+    assert path.startswith("/dev/"), proc.stderr.read()
+    yield path, log
+    proc.kill()
+    proc.wait()
+
+
+def received(log):
+    rows = [line.split() for line in log.read_text().splitlines()]
+    return [float(t) for t, _ in rows], [int(b) for _, b in rows]
+
+
+def test_ctrl_c_in_demo_reaches_the_board_within_20_ms(board_pty):
+    """The player drops what the port holds and sends CANCEL; what the pty's other end
+    had already taken (as a USB adapter's chip would) still goes first: at most the
+    horizon. The CANCEL reaches the board within 20 ms of the signal."""
+    path, log = board_pty
+    player = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "demo",
+                               "--port", path], stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and b" 1\n" not in log.read_bytes():
+        time.sleep(0.05)  # the first pair's ID (the thumb) is on the wire
+    time.sleep(2.0)
+    signalled = time.monotonic()
+    player.send_signal(signal.SIGINT)
+    _, err = player.communicate(timeout=10)
+    assert player.returncode == 130, err
+    time.sleep(0.1)
+    times, data = received(log)
+    tau = 1 / 960
+    after = [(t, b) for t, b in zip(times, data, strict=True) if t > signalled]
+    assert after and after[-1][1] == Signal.CANCEL
+    assert after[-1][0] + tau - signalled <= 0.020
+    assert len(after) <= round(HORIZON / tau) + 2
+    demo = compile_program(load(str(LIBRARY["demo"].path)), "demo", RHAND)[0].stream()
+    assert 0 < len(read_stream(times, data, 9600)) < len(pairs(demo.data))  # mid-gesture
