@@ -413,41 +413,6 @@ def assert_pins(pins, expected: dict[int, int], which="last", periods=True):
 HAND = sorted(n for n, e in LIBRARY.items() if e.path.name not in WHOLE_ROBOT)
 
 
-def test_library_streams_play_on_the_firmware_image(simboard, build):
-    """Every hand gesture of the library, fed at its planned times at 9600 baud: the
-    board ends in the gesture's final pose and reads every byte (none lost), and every
-    pulse on every pin, from the first, is the width the original firmware gives a value
-    the board was sent (the Python board decodes which)."""
-    ids = [s.id for s in RHAND.servos]
-    pin_of = {s.id: s.pin for s in RHAND.servos}
-
-    def one(name):
-        compiled, _ = compile_program(load(str(LIBRARY[name].path)), name, RHAND)
-        result = simulate(simboard, build / "servo_rhand.elf", to_timed(compiled.stream()),
-                          "--pulses")
-        return name, compiled, result
-
-    played = []
-    with ThreadPoolExecutor(max_workers=2) as pool:
-        for name, compiled, result in pool.map(one, HAND):
-            played.append(name)
-            final = dict(zip(ids, compiled.final, strict=True))
-            assert result["dump"] == (181, final), name
-            assert result["read"] == result["sent"] == len(compiled.stream().data) + 1, name
-            assert_pins(result["pins"], pulses_of(final))  # what each servo is told
-            # and the first pulse was the rest pose: no pin pulsed before it had a value
-            assert_pins(result["pins"], pulses_of(dict.fromkeys(ids, 0)), "first")
-            core = BoardCore.from_profile(RHAND, RHAND.boards[0])
-            widths = {pin: {width} for pin, width in pulses_of(REST).items()}
-            for byte in compiled.stream().data:
-                write, _ = core.feed(byte)
-                if write:
-                    widths[pin_of[write.id]].add(RHAND_PINS[pin_of[write.id]].pulse(write.value))
-            for pin, _, us in result["pulses"]:
-                assert min(abs(us - w) for w in widths[pin]) <= JITTER, (name, pin, us)
-    assert played == HAND and "peace" in played  # every hand gesture of the library
-
-
 def test_the_firmware_answers_like_the_virtual_board(simboard, build):
     """The same stream into the image and into the Python board: the same replies."""
     rhand = load_profile("rhand")

@@ -2,12 +2,16 @@
 started, finished or stopped; ``after`` queues, ``loop`` repeats, a stop holds the hand
 where it is and a relax lets it go. No real time passes (the repl tests' timeline)."""
 
+import itertools
+
+import pytest
 from test_repl import RHAND, ClockedPort, Timeline
 
 from inmoov_dsl.live.drive import Drive, Note, library_program
 from inmoov_dsl.live.orders import Control, Order
 from inmoov_dsl.protocol import Signal
 from inmoov_dsl.wire.board import BoardCore
+from inmoov_dsl.wire.pace import HORIZON
 from inmoov_dsl.wire.player import Link
 from inmoov_dsl.wire.sim import VirtualBoard
 
@@ -64,10 +68,38 @@ def test_a_stop_holds_the_hand_where_it_is_and_empties_the_queue():
                                (0.1, Order("index 0", "b", after=True)),
                                (0.5, Control("stop", "s"))])
     assert told == [("started", "a"), ("stopped", "a"), ("stopped", "b"), ("stop", "s")]
-    stopped_at = next(t for t, data in sent if data == bytes([Signal.CANCEL]) and t >= 0.5)
-    assert all(t <= stopped_at for t, _ in sent)  # nothing sent after the CANCEL
+    # the stop: CANCEL, then the values that may not have arrived, in one write
+    stopped_at, stop = next((t, data) for t, data in sent if t >= 0.5)
+    assert stopped_at == 0.5 and stop[0] == Signal.CANCEL and Signal.CANCEL not in stop[1:]
+    assert all(t <= stopped_at for t, _ in sent)  # nothing sent after it
     held = index_values(board)[-1]
     assert 0 < held < 180  # where it was: neither the target nor back
+
+
+@pytest.mark.parametrize("discards", [True, False])
+@pytest.mark.parametrize("stop", [0.7 + k * 0.0037 for k in range(6)])
+def test_after_a_stop_the_board_holds_what_the_drive_says(discards, stop):
+    """The port drops what it holds (or, like a USB adapter's chip, cannot): either way
+    the stop's CANCEL arrives within the horizon, the board then holds the pose the
+    drive loop reports, and a take-over before it never made a servo jump."""
+    timeline = Timeline([(0.0, Order("index 180 over 1s", "a")),
+                         (0.3, Order("index 20, middle 150 over 1s", "b")),
+                         (stop, Control("stop", "s"))])
+    board = VirtualBoard(BoardCore.from_profile(RHAND, RHAND.boards[0]), 9600)
+    port = ClockedPort(board, timeline, discards)
+    loop = Drive([Link(181, port, "timeline")], RHAND, {}, PROGRAM, lambda note: None,
+                 now=timeline.now, sleep=timeline.sleep)
+    loop.run(timeline.next_line)
+    board.advance(timeline.t + 1)
+    assert board.positions() == {s.id: v for s, v in zip(RHAND.servos, loop.mirror.held(),
+                                                         strict=True)}
+    last = max(t for t, _ in board.log)
+    # nothing of the moves after the stop: what the port kept, then CANCEL and the
+    # values that may not have arrived (one pair a servo at most)
+    assert last <= stop + HORIZON + (2 + 2 * len(RHAND.servos)) / 960
+    for servo in ("index", "middle"):
+        values = [w.value for _, w in board.log if w.id == RHAND.servos[RHAND.index(servo)].id]
+        assert max(abs(b - a) for a, b in itertools.pairwise(values)) <= 8  # no jump
 
 
 def test_a_relax_lets_the_servos_go_until_the_next_request():

@@ -51,14 +51,19 @@ class Timeline:
 
 
 class ClockedPort:
-    """The virtual board as a port on the timeline's clock."""
+    """The virtual board as a port on the timeline's clock; ``discards``: it drops
+    what it holds unsent when asked (False: a USB adapter that keeps it)."""
 
-    def __init__(self, board: VirtualBoard, timeline: Timeline):
-        self.board, self.timeline = board, timeline
+    def __init__(self, board: VirtualBoard, timeline: Timeline, discards: bool = True):
+        self.board, self.timeline, self.discards = board, timeline, discards
 
     def write(self, data: bytes) -> int:
         self.board.write(data, self.timeline.t)
         return len(data)
+
+    def reset_output_buffer(self) -> None:
+        if self.discards:
+            self.board.discard(self.timeline.t)
 
     def read(self, size: int = 1) -> bytes:
         return self.board.read(self.timeline.t)[:size]
@@ -84,9 +89,10 @@ def test_the_repl_takes_over_on_the_board_without_a_jump():
     vmax = RHAND.servos[RHAND.index("index")].max_velocity
     gaps = np.diff([t for t, _ in index])
     assert np.all(np.diff(values) <= vmax * np.maximum(gaps, 0.02) + 1)  # no jump
-    # around the takeover (0.3 s) the finger keeps moving: every frame a new value
+    # around the takeover (0.3 s) the finger keeps moving: every frame a new value (the
+    # take-over sends once more the value that may not have arrived: the same value)
     around = [v for t, v in index if 0.2 < t < 0.5]
-    assert len(around) >= 12 and len(set(around)) == len(around)
+    assert len(around) >= 12 and len(set(around)) >= len(around) - 1
     # before the takeover the first move was on its way to 90, not yet there
     before = [v for t, v in index if t < 0.3]
     assert 0 < before[-1] < 90

@@ -14,7 +14,18 @@ import numpy as np
 import pytest
 from boardmodel import read_stream
 from conftest import WHOLE_ROBOT
-from test_firmware import LIBRARY, boards, build, simboard, simulate  # noqa: F401
+from test_firmware import (  # noqa: F401
+    JITTER,
+    LIBRARY,
+    REST,
+    RHAND_PINS,
+    assert_pins,
+    boards,
+    build,
+    pulses_of,
+    simboard,
+    simulate,
+)
 from toolchain import need
 
 from inmoov_dsl.cli import gestc
@@ -23,6 +34,7 @@ from inmoov_dsl.compiling.compiler import compile_program
 from inmoov_dsl.language.load import load
 from inmoov_dsl.profiles.profile import load_profile
 from inmoov_dsl.protocol import Signal, pairs
+from inmoov_dsl.wire.board import BoardCore
 from inmoov_dsl.wire.pace import HORIZON, padded
 
 RHAND = load_profile("rhand")
@@ -45,28 +57,47 @@ def run_of(stream) -> str:
 
 def test_the_library_sent_as_one_run_ends_and_pulses_as_sent_bare(simboard, build,  # noqa: F811
                                                                   tmp_path):
-    """Every hand gesture of the library, from a new EEPROM, then 1.5 s still: the
-    run and the bare stream end in the same DUMP, the image reads every byte of both,
-    every pulse on every pin starts and lasts within 10 us of the bare run's, and the
-    EEPROM is written alike (one record when a gesture ends; demo's parts hold a
-    second each, six)."""
+    """Every hand gesture of the library, from a new EEPROM, then 1.1 s still. Sent bare
+    at its planned times at 9600 baud: the board ends in the gesture's final pose and
+    reads every byte, and every pulse on every pin, from the first, is the width the
+    original firmware gives a value the board was sent (the Python board decodes which).
+    Sent as one run (gestplay's way): the same DUMP, every byte read, every pulse within
+    10 us of the bare run's (start and width), the EEPROM written alike (one record when
+    a gesture ends; demo's parts hold a second each: six)."""
     elf = build / "servo_rhand.elf"
+    ids = [s.id for s in RHAND.servos]
+    pin_of = {s.id: s.pin for s in RHAND.servos}
 
     def one(name):
         compiled, _ = compile_program(load(str(LIBRARY[name].path)), name, RHAND)
         stream = compiled.stream()
         out = []
         for kind, timed in (("bare", to_timed(stream)), ("run", run_of(stream))):
-            out.append(simulate(simboard, elf, timed, "--pulses", "--run-on", "1.5",
+            out.append(simulate(simboard, elf, timed, "--pulses", "--run-on", "1.1",
                                 "--eeprom", tmp_path / f"{name}-{kind}.eep"))
-        return name, stream, *out
+        return name, compiled, *out
 
     records = {}
     with ThreadPoolExecutor(max_workers=2) as pool:
-        for name, stream, bare, run in pool.map(one, HAND):
+        for name, compiled, bare, run in pool.map(one, HAND):
+            stream = compiled.stream()
+            final = dict(zip(ids, compiled.final, strict=True))
+            assert bare["dump"] == (181, final), name
+            assert bare["read"] == bare["sent"] == len(stream.data) + 1, name
+            assert_pins(bare["pins"], pulses_of(final))  # what each servo is told
+            # and the first pulse was the rest pose: no pin pulsed before it had a value
+            assert_pins(bare["pins"], pulses_of(dict.fromkeys(ids, 0)), "first")
+            core = BoardCore.from_profile(RHAND, RHAND.boards[0])
+            widths = {pin: {width} for pin, width in pulses_of(REST).items()}
+            for byte in stream.data:
+                write, _ = core.feed(byte)
+                if write:
+                    widths[pin_of[write.id]].add(RHAND_PINS[pin_of[write.id]].pulse(write.value))
+            for pin, _, us in bare["pulses"]:
+                assert min(abs(us - w) for w in widths[pin]) <= JITTER, (name, pin, us)
+            # the same gesture as one run
             ran = padded(stream.times, stream.data, stream.byte_time)
             assert run["read"] == run["sent"] == len(ran) + 1, name  # the DUMP too
-            assert bare["read"] == bare["sent"] == len(stream.data) + 1, name
             assert run["dump"] == bare["dump"], name
             assert len(run["pulses"]) == len(bare["pulses"]), name
             a, b = np.array(run["pulses"]), np.array(bare["pulses"])
@@ -78,7 +109,7 @@ def test_the_library_sent_as_one_run_ends_and_pulses_as_sent_bare(simboard, buil
                                                                 strict=True)), name
             records[name] = len(run["eeprom"])
     assert sorted(records) == HAND and "peace" in HAND  # every hand gesture (29)
-    size = records["peace"]  # one record of a pose
+    size = records["peace"]  # the bytes of one record
     assert size > 0 and {n: r // size for n, r in records.items() if r != size} == \
         {"demo": 6}
 

@@ -13,6 +13,7 @@ from collections.abc import Sequence
 
 from .. import protocol
 from ..profiles.data import Profile
+from ..protocol import PAIR_BYTES
 from ..wire.board import BoardCore
 from ..wire.pace import Pacer, commands
 from ..wire.player import SPIN, Link
@@ -50,6 +51,11 @@ class Mirror:
         self.cores[k].values[j] = value
         return True
 
+    def value(self, servo_id: int) -> int:
+        """What servo ``servo_id`` holds."""
+        k, j = self._by_id[servo_id]
+        return self.cores[k].values[j]
+
     def held(self) -> list[int]:
         """What the boards hold, in the profile's servo order."""
         return [self.cores[k].values[j] for k, j in self._where]
@@ -63,8 +69,10 @@ class Outbox:
         self.mirror = Mirror(profile, [link.board for link in links])
         taus = {b.id: protocol.byte_time(b.baud) for b in profile.boards}
         self.pacers = [Pacer(link.port, taus[link.board]) for link in links]
-        #: (clock time, link, byte) not yet arrived: the Mirror reads them when due
-        self.events: list[tuple[float, int, int]] = []
+        #: (clock time, link, byte, the servo ID of a pair's value byte or None), in
+        #: time order: not yet arrived, the Mirror reads them when due
+        self.events: list[tuple[float, int, int, int | None]] = []
+        self._recent: list[tuple[float, int, int]] = []  # (time, link, servo ID) read
 
     def sending(self) -> bool:
         """Are bytes still to be written or to arrive?"""
@@ -79,14 +87,16 @@ class Outbox:
     def add(self, segment: Segment) -> None:
         """Send ``segment``'s streams after what is on its way."""
         by_board = {link.board: k for k, link in enumerate(self.links)}
-        events = sorted((segment.origin + t, by_board[s.board], b) for s in segment.streams
-                        for t, b in zip(s.times.tolist(), s.data, strict=True))
-        self.events = sorted(self.events + events)
-        for k, pacer in enumerate(self.pacers):
-            mine = [(t, b) for t, j, b in events if j == k]
-            data = bytes(b for _, b in mine)
+        events = []
+        for stream in segment.streams:
+            k, times, data = by_board[stream.board], stream.times.tolist(), stream.data
             for first, stop in commands(data):
-                pacer.add(mine[first][0], data[first:stop])
+                self.pacers[k].add(segment.origin + times[first], data[first:stop])
+                for i in range(first, stop):
+                    pair = stop - first == PAIR_BYTES and i > first
+                    events.append((segment.origin + times[i], k, data[i],
+                                   data[first] if pair else None))
+        self.events = sorted(self.events + events, key=lambda e: (e[0], e[1]))
 
     def signal(self, t: float, data: bytes) -> None:
         """Send ``data`` (RELAX) to every board at once."""
@@ -97,14 +107,15 @@ class Outbox:
                 self.mirror.feed(k, byte)
 
     def reach(self) -> float:
-        """How far ahead of the clock bytes may have been written (s)."""
+        """How far from the clock a byte's arrival is uncertain (s): a run is written
+        up to its horizon ahead, placed on its grid, and may run late."""
         return max((p.horizon + p.tau for p in self.pacers), default=0.0)
 
     def held(self, t: float) -> list[int]:
         """What the boards hold once the bytes that may already be written by ``t``
         have arrived (a stop or a take-over now makes it so: ``discard``)."""
         mirror = copy.deepcopy(self.mirror)
-        for due, k, byte in self.events:
+        for due, k, byte, _ in self.events:
             if due > t + self.reach():
                 break
             mirror.feed(k, byte)
@@ -112,21 +123,19 @@ class Outbox:
 
     def discard(self, t: float, resync: bool = True) -> None:
         """Nothing more of what was sent goes out: the runs stop and the ports drop what
-        they hold. What may have gone already (written up to ``reach`` ahead of ``t``)
-        may or may not arrive, so with ``resync`` each board is sent CANCEL and those
-        values again: it then holds what ``held`` said, and so does the Mirror."""
-        self.events = [e for e in self.events if e[0] <= t + self.reach()]
-        self._mirror(t)  # what has arrived; the rest of self.events may arrive
+        they hold. The values due within ``reach`` of ``t`` may or may not arrive, so
+        with ``resync`` each board is sent CANCEL and those values again (a value sent
+        twice changes nothing): it then holds what ``held`` said, as the Mirror does."""
+        self._mirror(t + self.reach())
         again: list[dict[int, int]] = [{} for _ in self.links]
-        for _, k, byte in self.events:
-            write, _ = self.mirror.cores[k].feed(byte)
-            if write is not None:
-                again[k][write.id] = write.value
-        self.events = []
+        for due, k, servo in self._recent:
+            if due > t - self.reach():
+                again[k][servo] = self.mirror.value(servo)
+        self.events, self._recent = [], []
         for k, pacer in enumerate(self.pacers):
             pacer.discard()
             if resync:
-                pacer.add(t, protocol.frame(again[k].items()))
+                pacer.add(t, protocol.frame(sorted(again[k].items())))
                 pacer.pump(t)
 
     def send(self, t: float) -> None:
@@ -136,10 +145,17 @@ class Outbox:
         self._mirror(t)
 
     def _mirror(self, t: float) -> None:
+        """The Mirror reads what is due by ``t``; the pairs read within ``reach`` of
+        it are remembered (a stop sends them again)."""
         events = self.events
         n = 0
         while n < len(events) and events[n][0] <= t:
-            _, k, byte = events[n]
+            due, k, byte, servo = events[n]
             self.mirror.feed(k, byte)
+            if servo is not None:
+                self._recent.append((due, k, servo))
             n += 1
         del events[:n]
+        old = t - 2 * self.reach()
+        if self._recent and self._recent[0][0] < old:
+            self._recent = [r for r in self._recent if r[0] >= old]

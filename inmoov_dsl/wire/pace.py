@@ -107,8 +107,8 @@ class Pacer:
     def add(self, t: float, command: bytes) -> None:
         """``command`` (a CANCEL, a pair, a signal) is due at clock time ``t``: at the
         grid point nearest ``t``, after what is already placed."""
-        if self.epoch is None:
-            self.epoch, self._base, self.written = t, 0, 0
+        if self.epoch is None:  # a new run: after what the wire may still be sending
+            self.epoch, self._base, self.written = max(t, self._free), 0, 0
             self._run.clear()
             self._real.clear()
         at = place(t - self.epoch, self.end, self.tau)
@@ -166,12 +166,14 @@ class Pacer:
 
     def discard(self) -> None:
         """Stop the run at once: drop what is not yet written and what the port still
-        holds (``discard_output``)."""
+        holds (``discard_output``). What a port keeps (a USB adapter's chip) cannot be
+        known, so the wire's account stays as it was: the next run is placed after it
+        (at most the horizon later), and its bytes are written at once, so they reach
+        the board then or sooner, never behind bytes the account does not know of."""
         self.epoch = None
         self._run.clear()
         self._real.clear()
         self._base = self.written = 0
-        self._free = -math.inf
         discard_output(self.port)
 
 
