@@ -11,7 +11,7 @@ from inmoov_dsl.live.drive import Drive, Note, library_program
 from inmoov_dsl.live.orders import Control, Order
 from inmoov_dsl.protocol import Signal
 from inmoov_dsl.wire.board import BoardCore
-from inmoov_dsl.wire.pace import HORIZON
+from inmoov_dsl.wire.pace import LIVE_HORIZON
 from inmoov_dsl.wire.player import Link
 from inmoov_dsl.wire.sim import VirtualBoard
 
@@ -96,7 +96,7 @@ def test_after_a_stop_the_board_holds_what_the_drive_says(discards, stop):
     last = max(t for t, _ in board.log)
     # nothing of the moves after the stop: what the port kept, then CANCEL and the
     # values that may not have arrived (one pair a servo at most)
-    assert last <= stop + HORIZON + (2 + 2 * len(RHAND.servos)) / 960
+    assert last <= stop + LIVE_HORIZON + (2 + 2 * len(RHAND.servos)) / 960
     for servo in ("index", "middle"):
         values = [w.value for _, w in board.log if w.id == RHAND.servos[RHAND.index(servo)].id]
         assert max(abs(b - a) for a, b in itertools.pairwise(values)) <= 8  # no jump

@@ -5,7 +5,7 @@ node, the service): it waits for a request only until the links need topping up,
 request starts within a few milliseconds; a request is a typed line of .gest text or
 steps already resolved (a trajectory's points), and each takes over the running move
 without a jump (``live.Session``). Each link's bytes go out as a continuous run timed
-by the wire (``wire.pace``), written HORIZON ahead; a take-over or a stop drops
+by the wire (``wire.pace``), written LIVE_HORIZON ahead; a take-over or a stop drops
 what is queued and not yet on the wire. A ``Mirror`` keeps what each board holds as
 its bytes arrive. What happens is told to the front end as ``Note``s.
 """
@@ -184,7 +184,7 @@ class Drive:
     def _begin(self, segment: Segment, aside: bool) -> None:
         """Send ``segment`` from now on; tell what began, and its warnings (``aside``:
         of a queued step, told while the front end waits)."""
-        if not aside:  # it takes over: what is queued for the wire is dropped
+        if not aside and self.out.sending():  # it takes over: what is queued is dropped
             self.out.discard(self.now())
         self.out.add(segment)
         self.moving = True

@@ -1,7 +1,7 @@
 """What the drive loop sends, and what the boards hold (an edge: it writes to ports).
 
 Each link's bytes go out as a continuous run timed by the wire (``wire.pace``),
-written HORIZON ahead; a take-over or a stop drops what is queued and not yet on
+written LIVE_HORIZON ahead; a take-over or a stop drops what is queued and not yet on
 the wire. The ``Mirror`` reads each byte when it is due to arrive, so it holds what the
 boards hold.
 """
@@ -15,7 +15,7 @@ from .. import protocol
 from ..profiles.data import Profile
 from ..protocol import PAIR_BYTES
 from ..wire.board import BoardCore
-from ..wire.pace import Pacer, commands
+from ..wire.pace import LIVE_HORIZON, Pacer, commands
 from ..wire.player import SPIN, Link
 from .session import Segment
 
@@ -68,7 +68,7 @@ class Outbox:
         self.links = list(links)
         self.mirror = Mirror(profile, [link.board for link in links])
         taus = {b.id: protocol.byte_time(b.baud) for b in profile.boards}
-        self.pacers = [Pacer(link.port, taus[link.board]) for link in links]
+        self.pacers = [Pacer(link.port, taus[link.board], LIVE_HORIZON) for link in links]
         #: (clock time, link, byte, the servo ID of a pair's value byte or None), in
         #: time order: not yet arrived, the Mirror reads them when due
         self.events: list[tuple[float, int, int, int | None]] = []

@@ -9,15 +9,17 @@ writes the run a short ``HORIZON`` ahead of the wire, so the player may wake lat
 up to that much without any byte arriving late; should the wire run dry (the computer
 stalled longer), the pacer leaves out filler until the run is on schedule again.
 
-Why the horizon is 10 ms: the pacer tops the port up every ``WAKE`` (3 ms), and on a
-two-core machine kept busy by other programs the player slept past its time by 3.5 to
-7.6 ms at the 99th percentile (benchmarks/timing.py, 2026-11-24; 11.6 ms at worst), so
-10 ms keeps the port from running dry but for the rarest stalls, which cost a late
-byte, never a broken command. And it bounds what a stop cannot take back: a stop or a
-take-over first drops what the port holds (``discard_output``), but a USB adapter's
-chip, and a pseudo-terminal's other end, keep what they have taken, at most the
-horizon; so a CANCEL reaches the board within half a servo frame of the stop, and a
-new live request (the repl, the ROS node, the service) takes over within one.
+Why the horizon is 15 ms when a gesture plays: the pacer tops the port up every
+``WAKE`` (3 ms), and on a two-core machine kept busy by other programs the player
+slept past its time by up to 11.6 ms (benchmarks/timing.py, 2026-11-24), now and then
+longer; a horizon of 10 ms ran dry in one run of three there (docs/benchmarks.md), 15 ms
+in none. A longer stall costs a late byte, never a broken command. And the horizon
+bounds what a stop cannot take back: a stop first drops what the port holds
+(``discard_output``), but a USB adapter's chip, and a pseudo-terminal's other end, keep
+what they have taken, at most the horizon; so a CANCEL still reaches the board within
+a servo frame (20 ms) of Ctrl-C. Live control (the repl, the ROS node, the service)
+writes ``LIVE_HORIZON`` (10 ms) ahead: a take-over goes out behind at most that much,
+so a new request takes over within half a frame, and a stall there costs a late byte.
 
 Filler never goes inside a command: a pair's value follows its ID at once.
 """
@@ -31,7 +33,8 @@ from collections.abc import Sequence
 from ..protocol import MAX_VALUE, PAIR_BYTES, Signal
 
 FILL = Signal.CANCEL  #: what fills the gaps: a board waiting for a servo ID drops it
-HORIZON = 0.010  #: s; how far ahead of the wire a stream is written (see above)
+HORIZON = 0.015  #: s; how far ahead of the wire a gesture is written (see above)
+LIVE_HORIZON = 0.010  #: s; the same for live control
 WAKE = 0.003  #: s; how often the pacer tops the port up
 
 
