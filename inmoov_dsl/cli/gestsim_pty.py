@@ -4,6 +4,7 @@ resets as the program raises DTR."""
 
 from __future__ import annotations
 
+import gc
 import os
 import select
 from collections.abc import Callable
@@ -26,24 +27,26 @@ class Pty:
         self.new_board = new_board
         self.board: VirtualBoard | VirtualGlove | None = None
         self.line = DtrLine()  # no program has the port open yet
+        self._left = False  # the last read filled the UART: bytes may wait in the pty
+        self._turn = 0.0  # when the last turn was
 
     def serve(self) -> None:
         """The board on the desk, drawn; then forever: wait up to 5 ms for bytes (while
         the UART has room for them: what it has no room for stays in the computer's
         buffer, where the program may still discard it), then let the board read and
         answer."""
+        gc.freeze()  # what is loaded stays: the collector's pauses stay short
         self.start(clock.now())
         poller = select.poll()
         poller.register(self.master, select.POLLIN)
         while True:
             now = clock.now()
             full = self._room_at(now) - now
-            if full > 0:
+            if full > 0:  # the UART is full: the pty is not looked at
                 clock.sleep(min(full, 0.005))
-                flags = 0
+                self.tick(0, clock.now(), looked=False)
             else:
-                flags = dict(poller.poll(5)).get(self.master, 0)
-            self.tick(flags, clock.now())
+                self.tick(dict(poller.poll(5)).get(self.master, 0), clock.now())
 
     def _room_at(self, now: float) -> float:
         """When the board's UART takes the next byte from the pty."""
@@ -58,8 +61,9 @@ class Pty:
             self.board = self.new_board(now + self.boot)
             self._draw(now)
 
-    def tick(self, flags: int, now: float) -> None:
-        """One turn: read what came, notice a close or an open, let the board answer."""
+    def tick(self, flags: int, now: float, looked: bool = True) -> None:
+        """One turn: read what came (``looked``: the pty was polled), notice a close or
+        an open, let the board answer."""
         data = b""
         board = self.board
         room = uart_room(board, now) if isinstance(board, VirtualBoard) else 4096
@@ -70,6 +74,7 @@ class Pty:
                 data = b""
         if flags & select.POLLHUP and not data and not (flags & select.POLLIN and not room):
             self.line.closed()  # the bytes already on the wire still arrive
+            self._left = False
             if self.board is not None:
                 self.board.read(now)
                 self._draw(now)
@@ -79,11 +84,16 @@ class Pty:
             self._opened(now)
         self.line.hupcl = _hupcl(self.master)
         if data:
-            starts = self.board.write(data, now)
+            # bytes left in the pty at the last turn have waited since then: the UART
+            # took each as soon as it had room, however late this turn came round
+            starts = self.board.write(data, self._turn if self._left else now)
             if self.log is not None:
                 self.log.write("".join(f"{t:.6f} {b}\n" for t, b in zip(starts or
                                        [now] * len(data), data, strict=True)))
                 self.log.flush()
+        if looked:  # bytes are left in the pty if the read took all the UART had room for
+            self._left = bool(data) and len(data) == room
+        self._turn = now
         out = self.board.read(now)
         if out:
             try:
@@ -93,6 +103,7 @@ class Pty:
         self._draw(now)
 
     def _opened(self, now: float) -> None:
+        self._left = False
         rose = self.line.opened()
         if self.glove is not None:
             self.board = VirtualGlove(self.glove, now + self.boot)
