@@ -186,7 +186,7 @@ class Drive:
         of a queued step, told while the front end waits)."""
         if not aside and self.out.sending():  # it takes over: what is queued is dropped
             self.out.discard(self.now())
-        self.out.add(segment)
+        self.out.add(segment.origin, segment.streams)
         self.moving = True
         if self.speaker is not None:
             for start, speech in segment.plan.sounds:

@@ -8,16 +8,15 @@ boards hold.
 
 from __future__ import annotations
 
-import copy
 from collections.abc import Sequence
 
 from .. import protocol
+from ..compiling.compiled import Stream
 from ..profiles.data import Profile
 from ..protocol import PAIR_BYTES
 from ..wire.board import BoardCore
 from ..wire.pace import LIVE_HORIZON, Pacer, commands
 from ..wire.player import SPIN, Link
-from .session import Segment
 
 
 class Mirror:
@@ -32,6 +31,7 @@ class Mirror:
                 where[servo.id] = (k, j)
         self._where = [where[s.id] for s in profile.servos]
         self._by_id = {s.id: where[s.id] for s in profile.servos}
+        self._order = {s.id: i for i, s in enumerate(profile.servos)}
 
     def set(self, pose: list[int]) -> None:
         """The boards hold ``pose`` (the profile's servo order)."""
@@ -56,9 +56,14 @@ class Mirror:
         k, j = self._by_id[servo_id]
         return self.cores[k].values[j]
 
-    def held(self) -> list[int]:
-        """What the boards hold, in the profile's servo order."""
-        return [self.cores[k].values[j] for k, j in self._where]
+    def held(self, then: dict[int, int] | None = None) -> list[int]:
+        """What the boards hold, in the profile's servo order (``then``: once these
+        servo IDs hold these values too)."""
+        held = [self.cores[k].values[j] for k, j in self._where]
+        for servo, value in (then or {}).items():
+            if servo in self._order:
+                held[self._order[servo]] = value
+        return held
 
 
 class Outbox:
@@ -84,17 +89,18 @@ class Outbox:
         wakes = [p.next_wake(t) - (0.0 if p.busy(t) else SPIN) for p in self.pacers]
         return min(wakes + [self.events[0][0] if self.events else float("inf")])
 
-    def add(self, segment: Segment) -> None:
-        """Send ``segment``'s streams after what is on its way."""
+    def add(self, origin: float, streams: Sequence[Stream]) -> None:
+        """Send ``streams`` (their times from clock time ``origin``) after what is on
+        its way."""
         by_board = {link.board: k for k, link in enumerate(self.links)}
         events = []
-        for stream in segment.streams:
+        for stream in streams:
             k, times, data = by_board[stream.board], stream.times.tolist(), stream.data
             for first, stop in commands(data):
-                self.pacers[k].add(segment.origin + times[first], data[first:stop])
+                self.pacers[k].add(origin + times[first], data[first:stop])
                 for i in range(first, stop):
                     pair = stop - first == PAIR_BYTES and i > first
-                    events.append((segment.origin + times[i], k, data[i],
+                    events.append((origin + times[i], k, data[i],
                                    data[first] if pair else None))
         self.events = sorted(self.events + events, key=lambda e: (e[0], e[1]))
 
@@ -114,12 +120,13 @@ class Outbox:
     def held(self, t: float) -> list[int]:
         """What the boards hold once the bytes that may already be written by ``t``
         have arrived (a stop or a take-over now makes it so: ``discard``)."""
-        mirror = copy.deepcopy(self.mirror)
-        for due, k, byte, _ in self.events:
+        values = {}
+        for due, _, byte, servo in self.events:
             if due > t + self.reach():
                 break
-            mirror.feed(k, byte)
-        return mirror.held()
+            if servo is not None:
+                values[servo] = byte
+        return self.mirror.held(values)
 
     def discard(self, t: float, resync: bool = True) -> None:
         """Nothing more of what was sent goes out: the runs stop and the ports drop what
