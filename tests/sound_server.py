@@ -11,23 +11,15 @@ import time
 from pathlib import Path
 
 import pytest
+from toolchain import require
 
 SINK = "speaker"
-
-
-def need(what: str, found: bool, install: str) -> None:
-    if found:
-        return
-    message = f"needs {what} ({install})"
-    if os.environ.get("CI") == "true":
-        pytest.fail(f"CI: {message}")
-    pytest.skip(message)
 
 
 def need_sounddevice() -> None:
     import importlib.util
 
-    need("sounddevice", importlib.util.find_spec("sounddevice") is not None,
+    require("sounddevice", importlib.util.find_spec("sounddevice") is not None,
          "pip install sounddevice; apt-get install libportaudio2")
 
 
@@ -43,7 +35,7 @@ def rescan() -> None:
 def sound_server(tmp_path, monkeypatch):
     """A PulseAudio server with a null sink, for this test: its socket's address."""
     exe = shutil.which("pulseaudio")
-    need("pulseaudio", exe is not None, "apt-get install pulseaudio")
+    require("pulseaudio", exe is not None, "apt-get install pulseaudio")
     need_sounddevice()
     home = tmp_path / "pulse"
     home.mkdir()
@@ -66,7 +58,7 @@ def sound_server(tmp_path, monkeypatch):
     try:
         rescan()
     except OSError as exc:
-        need("PortAudio", False, f"apt-get install libportaudio2 ({exc})")
+        require("PortAudio", False, f"apt-get install libportaudio2 ({exc})")
     yield address
     proc.terminate()
     try:

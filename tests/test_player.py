@@ -22,7 +22,7 @@ from inmoov_dsl.profiles.profile import load_profile
 from inmoov_dsl.protocol import pairs
 from inmoov_dsl.wire import link as wire_link
 from inmoov_dsl.wire.pace import HORIZON, WAKE, padded
-from inmoov_dsl.wire.player import Link, play, schedule, wait_ready
+from inmoov_dsl.wire.player import Link, play, wait_ready
 from inmoov_dsl.wire.ports import open_port
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -120,14 +120,18 @@ def test_a_stalled_player_leaves_out_filler_and_never_splits_a_pair():
     assert len(sent) < len(padded(stream.times, stream.data, stream.byte_time))
 
 
-def test_two_boards_are_merged_on_one_clock():
+def test_two_boards_run_on_one_clock():
     compiled, _ = compile_program(load("t.gest", "g: r_index 90, l_index 45 over 0.5s"), "g",
                                   str(TWO))
-    links = [Link(181, None), Link(183, None)]
-    events = schedule(compiled, links)
-    assert [t for t, _, _ in events] == sorted(t for t, _, _ in events)
-    assert {k for _, k, _ in events} == {0, 1}
-    assert sum(1 for *_, b in events) == sum(len(s.data) for s in compiled.streams)
+    clock = FakeClock()
+    ports = {181: FakePort(clock), 183: FakePort(clock)}
+    play(compiled, [Link(board, port) for board, port in ports.items()], now=clock.now,
+         sleep=clock.sleep)
+    for stream in compiled.streams:  # each board its own run, both from the same moment
+        sent = ports[stream.board].sent
+        assert bytes(b for _, b in sent) == padded(stream.times, stream.data,
+                                                   stream.byte_time)
+    assert ports[181].sent[0][0] == ports[183].sent[0][0]
 
 
 class NoisyBoard:

@@ -15,7 +15,8 @@ import time
 import numpy as np
 import pytest
 from sound_server import sound_server  # noqa: F401 (a fixture)
-from test_web import Lines, need
+from test_web import Lines
+from toolchain import require
 
 from inmoov_dsl.service import core, guard
 
@@ -27,7 +28,7 @@ def need_service_libraries() -> None:
         import aiohttp  # noqa: F401
         import websockets  # noqa: F401
     except ImportError:
-        need("aiohttp and websockets", False, "pip install 'inmoov-dsl[serve]' websockets")
+        require("aiohttp and websockets", False, "pip install 'inmoov-dsl[serve]' websockets")
 
 
 class Service:
@@ -123,7 +124,7 @@ def dump(port: str) -> dict:
 # -- with curl and the board itself -------------------------------------------------------
 def test_curl_plays_a_gesture_and_the_board_holds_what_the_service_says():
     if shutil.which("curl") is None:
-        need("curl", False, "apt-get install curl")
+        require("curl", False, "apt-get install curl")
     with serving() as service, service.events() as ws:
         status, answer = service.curl("--json", '{"gesture": "peace"}', f"{service.url}"
                                       "/api/play")
@@ -475,7 +476,7 @@ def test_the_service_speaks_on_its_computer(sound_server, tmp_path):  # noqa: F8
     import shutil as which
 
     if which.which("espeak-ng") is None:
-        need("espeak-ng", False, "apt-get install espeak-ng")
+        require("espeak-ng", False, "apt-get install espeak-ng")
     with serving("--profile", "inmoov") as service, service.events() as ws:
         status, answer, _ = service.call("POST", "/api/play",
                                          {"steps": 'say "hello.wav"'})

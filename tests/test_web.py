@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from toolchain import require
 
 from inmoov_dsl.cli import gestsim
 
@@ -41,27 +42,17 @@ BROWSER_FLAGS = ("--headless", "--no-sandbox", "--use-angle=swiftshader",
                  "--host-resolver-rules=MAP * ~NOTFOUND, EXCLUDE 127.0.0.1")
 
 
-def need(what: str, found: bool, install: str) -> None:
-    """Skip (fail under CI=true) when ``what`` is missing."""
-    if found:
-        return
-    message = f"needs {what} ({install})"
-    if os.environ.get("CI") == "true":
-        pytest.fail(f"CI: {message}")
-    pytest.skip(message)
-
-
 def need_viser() -> None:
     try:
         import viser  # noqa: F401
         import yourdfpy  # noqa: F401
     except ImportError:
-        need("viser and yourdfpy", False, "pip install 'inmoov-dsl[web]'")
+        require("viser and yourdfpy", False, "pip install 'inmoov-dsl[web]'")
 
 
 def chromium() -> str:
     found = next((path for name in CHROMIUM if (path := shutil.which(name))), None)
-    need("chromium", found is not None, "apt-get install chromium")
+    require("chromium", found is not None, "apt-get install chromium")
     return found
 
 

@@ -130,6 +130,13 @@ def parse_args(ap: argparse.ArgumentParser, argv: list[str] | None) -> argparse.
     return ap.parse_args(argv)
 
 
+def add_ports(p: argparse.ArgumentParser, what: str = "the board's port", more: str = "") -> None:
+    """``--port PORT`` (required; again with BOARD=PORT for each board of a profile with
+    several): ``what`` a port is, ``more`` said after."""
+    p.add_argument("--port", action="append", required=True, metavar="PORT",
+                   help=f"{what}; BOARD=PORT for each board of a profile with several{more}")
+
+
 def add_blind(p: argparse.ArgumentParser) -> None:
     """``--blind``: play on a link where no board answers."""
     p.add_argument("--blind", action="store_true",

@@ -27,7 +27,7 @@ from typing import Protocol
 import serial
 
 from ..cli import hand
-from ..cli.common import EXIT_OK, add_blind, add_lib, add_version, number
+from ..cli.common import EXIT_OK, add_blind, add_lib, add_ports, add_version, number
 from ..decode import RECORDER, Pair, Reader
 from ..errors import Diagnostic, GestError
 from ..language.library import library_dirs
@@ -188,9 +188,7 @@ def parser() -> argparse.ArgumentParser:
         description="The hand as a ROS node: joint states on /joint_states, gestures "
         "from /inmoov/gesture and /inmoov/trajectory, what it does on /inmoov/status "
         "(docs/ros.md).")
-    p.add_argument("--port", action="append", default=[], required=True,
-                   help="as for gestplay: COM3, /dev/ttyACM0, sim:// (a virtual board); "
-                   "BOARD=PORT for each board of a profile with several")
+    add_ports(p, "as for gestplay: COM3, /dev/ttyACM0, sim:// (a virtual board)")
     p.add_argument("-p", "--profile", default="rhand", help="robot profile (default rhand)")
     p.add_argument("--listen", action="store_true",
                    help="only read the port's protocol stream (a glove's mirror) into the "

@@ -10,7 +10,6 @@ so tests can drive the player as a timeline.
 from __future__ import annotations
 
 import contextlib
-import heapq
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
@@ -85,15 +84,6 @@ def ask_dump(port: Port, board: int, now: Clock = clock.now, sleep: Sleep = cloc
             return found[1]
         sleep(0.005)
     return None
-
-
-def schedule(compiled: Compiled, links: Sequence[Link]) -> list[tuple[float, int, int]]:
-    """Every byte of every board, in time order: (seconds, link index, byte)."""
-    by_board = {link.board: k for k, link in enumerate(links)}
-    streams = [[(t, by_board[s.board], b) for t, b in zip(s.times.tolist(), s.data,
-                                                            strict=True)]
-               for s in compiled.streams if s.board in by_board]
-    return list(heapq.merge(*streams))
 
 
 def wait_until(deadline: float, links: Sequence[Link], now: Clock, sleep: Sleep,

@@ -271,16 +271,20 @@ def settled(board: VirtualBoard) -> list[int] | None:
     twin.advance(math.inf)
     return twin.stored
 
+def _fifo(board: VirtualBoard, ahead: float) -> int:
+    """How many bytes ``ahead`` s of ``board``'s wire holds (at least one)."""
+    return max(1, round(ahead / board.tau))
+
+
 def room(board: VirtualBoard, now: float, ahead: float = UART_AHEAD) -> int:
     """How many bytes ``board``'s link takes from its computer at ``now``: the host's
     UART holds ``ahead`` s of bytes not yet on the wire (at least one)."""
-    fifo = max(1, round(ahead / board.tau))
     queued = max(0.0, board.sending_until() - now) / board.tau
-    return max(0, fifo - math.ceil(queued - 1e-9))
+    return max(0, _fifo(board, ahead) - math.ceil(queued - 1e-9))
 
 
 def room_at(board: VirtualBoard, now: float, ahead: float = UART_AHEAD) -> float:
     """When ``board``'s link next takes a byte from its computer (``now`` if it can)."""
     if room(board, now, ahead):
         return now
-    return board.sending_until() - (max(1, round(ahead / board.tau)) - 1) * board.tau + 1e-6
+    return board.sending_until() - (_fifo(board, ahead) - 1) * board.tau + 1e-6

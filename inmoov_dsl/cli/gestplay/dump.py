@@ -9,7 +9,7 @@ from ...profiles.data import Board, Profile
 from ...profiles.profile import load_profile
 from ...wire.link import every_board, named_boards, open_board, parse_ports
 from ...wire.player import ask_dump, wait_ready
-from ..common import EXIT_OK
+from ..common import EXIT_OK, add_ports
 
 
 def run(args: argparse.Namespace) -> int:
@@ -46,8 +46,6 @@ def _dump(name: str, port, profile: Profile, boards: tuple[Board, ...]) -> None:
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestplay dump --port PORT``."""
     p = sub.add_parser("dump", help="the boards' IDs and every servo's value")
-    p.add_argument("--port", action="append", required=True, metavar="PORT",
-                   help="the board's port; BOARD=PORT for each board of a profile with "
-                   "several (a bare sim:// is every board)")
+    add_ports(p, more=" (a bare sim:// is every board)")
     p.add_argument("-p", "--profile", help="to name the servos (default rhand)")
     p.set_defaults(func=run)

@@ -7,7 +7,7 @@ import argparse
 from ...profiles.profile import load_profile
 from ...wire.player import drain, relax_all
 from .. import hand
-from ..common import EXIT_OK, add_blind
+from ..common import EXIT_OK, add_blind, add_ports
 
 PROG = "gestplay"
 
@@ -28,9 +28,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestplay relax --port PORT``."""
     p = sub.add_parser("relax", help="the servos stop holding (they go limp) until the "
                        "next command")
-    p.add_argument("--port", action="append", required=True, metavar="PORT",
-                   help="the board's port; BOARD=PORT for each board of a profile with "
-                   "several")
+    add_ports(p)
     p.add_argument("-p", "--profile", help="robot profile (default rhand)")
     add_blind(p)
     p.set_defaults(func=run)

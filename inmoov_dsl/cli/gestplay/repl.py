@@ -26,7 +26,7 @@ from ...profiles.data import Profile
 from ...profiles.profile import load_profile
 from ...wire.player import Link
 from .. import hand
-from ..common import EXIT_ERROR, EXIT_OK, add_blind, add_lib, report
+from ..common import EXIT_ERROR, EXIT_OK, add_blind, add_lib, add_ports, report
 from . import sounds
 
 PROG = "gestplay repl"
@@ -218,8 +218,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestplay repl --port PORT``."""
     p = sub.add_parser("repl", help="type .gest steps, the hand does them at once",
                        description=HELP, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--port", action="append", default=[], required=True,
-                   help="as for playing; BOARD=PORT for each board of a profile with several")
+    add_ports(p, "as for playing")
     p.add_argument("-p", "--profile", help="robot profile (default rhand)")
     p.add_argument("--audio", metavar="DEVICE", help="hear what 'say' steps say: 'default' "
                    "(the default output), a device's name or number; without it the mouth "

@@ -16,7 +16,7 @@ from ...live.drive import Drive, library_program
 from ...profiles.profile import load_profile
 from ...wire.player import Link
 from .. import hand
-from ..common import EXIT_OK, add_blind, add_lib
+from ..common import EXIT_OK, add_blind, add_lib, add_ports
 from . import sounds
 
 PROG = "gestplay serve"
@@ -142,8 +142,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("serve", help="the hand as a local service (HTTP, WebSocket, a page)",
                        description="Open the boards and serve a JSON API, an events "
                        "WebSocket and a page on 127.0.0.1 (docs/service.md).")
-    p.add_argument("--port", action="append", default=[], required=True,
-                   help="as for playing; BOARD=PORT for each board of a profile with several")
+    add_ports(p, "as for playing")
     p.add_argument("-p", "--profile", help="robot profile (default rhand)")
     p.add_argument("--http", default=DEFAULT_HTTP, metavar="HOST:PORT",
                    help=f"where to listen (default {DEFAULT_HTTP}: this computer only; "

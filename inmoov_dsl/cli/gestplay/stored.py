@@ -15,7 +15,7 @@ from ...protocol import CANCEL_PENDING, CATALOG, PLAY, Signal, byte_time
 from ...wire.player import Link, ask_dump, drain
 from ...wire.stored import Catalog, find_catalog
 from .. import hand
-from ..common import EXIT_OK, add_blind
+from ..common import EXIT_OK, add_blind, add_ports
 
 PROG = "gestplay"
 QUIET = 0.5  #: s without a byte that ends the wait for a catalog
@@ -139,9 +139,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestplay stored --port PORT``."""
     p = sub.add_parser("stored", help="the gestures a board keeps in its flash (gestc "
                        "upload --store), and what starts each")
-    p.add_argument("--port", action="append", required=True, metavar="PORT",
-                   help="the board's port; BOARD=PORT for each board of a profile with "
-                   "several")
+    add_ports(p)
     p.add_argument("-p", "--profile", help="robot profile (default rhand)")
     add_blind(p)
     p.set_defaults(func=run)

@@ -13,7 +13,7 @@ from ...live.teach import HELP, Teach
 from ...profiles.profile import load_profile
 from ...wire.player import Link, play
 from .. import hand
-from ..common import EXIT_OK, add_blind, gesture_name, report, send_value, status_line
+from ..common import EXIT_OK, add_blind, add_ports, gesture_name, report, send_value, status_line
 from ..keys import key_reader
 
 PROG = "gestplay teach"
@@ -80,8 +80,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("teach", help="pose the hand from the keyboard and save the poses "
                        "as a gesture", description=HELP,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--port", action="append", default=[], required=True,
-                   help="as for playing; BOARD=PORT for each board of a profile with several")
+    add_ports(p, "as for playing")
     p.add_argument("-o", "--output", help="the .gest file 's' writes (default NAME.gest)")
     p.add_argument("--name", help="the gesture's name (default: the file's name, or taught)")
     p.add_argument("-p", "--profile", help="robot profile (default rhand)")
