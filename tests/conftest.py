@@ -10,13 +10,20 @@ from inmoov_dsl import load_profile  # noqa: E402
 from inmoov_dsl.profiles.profile import parse_profile  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
-#: the library's files of whole-robot gestures (they need the inmoov profile)
-WHOLE_ROBOT = ("body.gest", "talk.gest")
 
 
 def library_profile(path: Path) -> str:
-    """The profile a library file's gestures play on."""
-    return "inmoov" if path.name in WHOLE_ROBOT else "rhand"
+    """The profile a library file's gestures play on: its robot line's, else rhand."""
+    from inmoov_dsl.compiling.robot import DEFAULT
+    from inmoov_dsl.language.parse import parse
+
+    line = parse(path.read_text(encoding="utf-8"), str(path)).robot
+    return line.name if line is not None else DEFAULT
+
+
+#: the library's files of whole-robot gestures (their robot line names another profile)
+WHOLE_ROBOT = tuple(p.name for p in sorted((ROOT / "gestures").glob("*.gest"))
+                    if library_profile(p) != "rhand")
 
 
 def early(profile, baud: int) -> float:

@@ -26,11 +26,10 @@ def blocks(lang):
 def test_gest_examples_compile(doc, source):
     program = load(str(doc.with_suffix(".gest")), source)
     assert program.own, "an example should define a gesture"
-    profile = re.search(r"#.*--profile (\w+)", source)  # an example for another robot
-    for name in program.own:
-        compiled = compile_source(source, gesture=name, file=str(doc),
-                                  profile=profile[1] if profile else "rhand")
+    for name in program.own:  # for the robot its first line names, else rhand
+        compiled = compile_source(source, gesture=name, file=str(doc))
         assert compiled.streams[0].data[0] == 255
+    assert "--profile" not in source, "an example names its robot with a robot line"
 
 
 class _NoteAsserts(ast.NodeTransformer):

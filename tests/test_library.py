@@ -139,10 +139,13 @@ def test_whole_robot_gestures_compile_to_one_stream_per_board(name):
                                                        strict=True))
 
 
-def test_a_body_gesture_on_a_hand_names_the_profile_it_needs():
+def test_a_body_gesture_on_a_hand_names_the_robot_it_is_for():
     with pytest.raises(GestError) as info:
         compiled_for("hello", "rhand")
-    assert info.value.first.hint == "'r_omoplate' is in profile 'inmoov': add --profile inmoov"
+    first = info.value.first
+    assert (first.pos.file, first.pos.line) == (str(LIBRARY["hello"].path), 3)
+    assert first.message.startswith("this file is for robot 'inmoov', and profile 'rhand' "
+                                    "has no r_wrist, r_thumb,")
 
 
 def test_hand_gestures_play_on_the_robots_right_hand():
@@ -236,9 +239,12 @@ def test_the_first_place_that_defines_a_name_wins(tmp_path, capsys):
     builtin = LIBRARY["peace"].path
     assert find_gesture("peace", None, library_dirs([tmp_path])) == (str(mine), "peace")
     assert gestc.main(["list", "--lib", str(tmp_path)]) == 0
-    lines = capsys.readouterr().out.splitlines()
-    assert f"peace\t{mine}\trhand  (shadows {builtin})" in lines
+    out, err = capsys.readouterr()
+    lines = out.splitlines()
+    assert f"peace\t{mine}\trhand" in lines
     assert f"count\t{LIBRARY['count'].path}\trhand" in lines
+    assert {len(line.split("\t")) for line in lines} == {3}  # machine-readable columns
+    assert err == f"gestc: note: 'peace' of {mine} shadows the one in {builtin}\n"
     assert gestc.main(["list", "--long", "--lib", str(tmp_path)]) == 0
     peace = next(line for line in capsys.readouterr().out.splitlines()
                  if line.startswith("peace "))
@@ -310,14 +316,17 @@ def test_the_repl_knows_the_first_definition_of_each_name(tmp_path):
 
 
 @pytest.mark.parametrize("argv", [["gestc", "show", "hello"],
+                                  ["gestc", "check", str(ROOT / "gestures" / "talk.gest")],
                                   ["gestplay", "hello", "--dry-run"],
                                   ["gestplay", "hello", "--port", "sim://"]])
-def test_every_command_names_the_profile_a_body_gesture_needs(argv, capsys):
+def test_every_command_plays_a_body_gesture_on_the_robot_its_file_names(argv, capsys):
     tool = gestc if argv[0] == "gestc" else gestplay
-    assert tool.main(argv[1:]) == 1
+    assert tool.main(argv[1:]) == 0, capsys.readouterr().err
+    assert tool.main([*argv[1:], "--profile", "rhand"]) == 1
     err = capsys.readouterr().err
-    assert "error: unknown servo or group 'r_omoplate'" in err
-    assert err.endswith("  hint: 'r_omoplate' is in profile 'inmoov': add --profile inmoov\n")
+    assert "error: this file is for robot 'inmoov', and profile 'rhand' has no " in err
+    assert err.endswith("  hint: play it on 'inmoov', or on a profile with all of its "
+                        "servos and groups\n")
 
 
 def test_the_repl_names_the_profile_a_servo_is_in(rhand):
@@ -326,7 +335,8 @@ def test_the_repl_names_the_profile_a_servo_is_in(rhand):
 
     with pytest.raises(GestError) as info:
         line_steps("rothead 90", library_program(None), rhand)
-    assert info.value.first.hint == "'rothead' is in profile 'inmoov': add --profile inmoov"
+    assert info.value.first.hint == ("'rothead' is in profile 'inmoov': a file for that "
+                                     "robot starts with the line  robot inmoov")
 
 
 @pytest.mark.parametrize("target", ["peace.gest", "peace", str(ROOT / "gestures" / "peace")])

@@ -13,6 +13,7 @@ from ..language.library import find_gesture, library_dirs
 from ..language.load import load
 from ..language.program import Program
 from ..profiles.data import Profile
+from ..compiling.robot import profile_for
 from ..profiles.profile import load_profile
 from .common import report
 
@@ -32,7 +33,7 @@ def load_target(name: str, gesture: str | None, profile: str | None,
                 lib: Sequence[str] | None, prog: str, compiled: bool = False,
                 side: str | None = None) -> Target:
     """Find ``name`` (a .gest file, or a gesture on the search path: ``lib``, then the
-    library), load it for ``profile`` (default rhand) and pick ``gesture`` of it
+    library), load it for ``profile`` (default: the file's robot line, else rhand) and pick ``gesture`` of it
     (``pick_gesture``); what is noticed on the way is ``prog``'s warning. With
     ``compiled``, a .gestc file is read instead, for its profile (default the one it
     was compiled for, and checked against it); played on a ``side``, refused."""
@@ -41,8 +42,8 @@ def load_target(name: str, gesture: str | None, profile: str | None,
     dirs = library_dirs(lib or [])
     path, picked = find_gesture(name, gesture, dirs, lambda d: report([d], prog))
     program = load(path, search=dirs)
-    loaded = load_profile(profile or "rhand")
-    return Target(loaded, pick_gesture(program, picked), program=program)
+    return Target(profile_for(program, profile), pick_gesture(program, picked),
+                  program=program)
 
 
 def _compiled(name: str, profile: str | None, side: str | None) -> Target:

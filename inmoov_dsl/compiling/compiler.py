@@ -12,12 +12,12 @@ from ..language import snippet
 from ..language.load import load
 from ..language.program import Program
 from ..profiles.data import Profile
-from ..profiles.profile import load_profile
 from .actions import Action
 from .compiled import Compiled, Cue, StepSummary
 from .encode import encode
 from .plan import Plan, Planner
 from .resolve import resolver
+from .robot import profile_for
 from .speech import Speech
 
 
@@ -32,11 +32,6 @@ def source_digests(program: Program) -> tuple[tuple[str, str], ...]:
         if path not in program.digests:
             program.digests[path] = _sha256(text)
     return tuple((p, program.digests[p]) for p in program.texts)
-
-
-def as_profile(profile: str | Profile) -> Profile:
-    """``profile`` itself, or the profile of that name or path, loaded."""
-    return profile if isinstance(profile, Profile) else load_profile(profile)
 
 
 def pick_gesture(program: Program, name: str | None) -> str:
@@ -103,12 +98,13 @@ def plan_gesture(program: Program, gesture: str, profile: Profile, start: Start 
 
 
 def compile_program(program: Program, gesture: str | None = None,
-                    profile: str | Profile = "rhand", start: Start = None,
+                    profile: str | Profile | None = None, start: Start = None,
                     strict: bool = False, side: str | None = None,
                     actions: Sequence[Action] | None = None) -> tuple[Compiled, Plan]:
     """Compile one gesture of a loaded program (on ``side`` of the robot, when given;
-    ``actions``: its actions, already resolved); also return its plan (for reports)."""
-    prof = as_profile(profile)
+    ``actions``: its actions, already resolved); also return its plan (for reports).
+    ``profile``: a name, a path or a Profile; None is the program's robot (``robot``)."""
+    prof = profile_for(program, profile)
     name = pick_gesture(program, gesture)
     plan = plan_gesture(program, name, prof, start, strict, side, actions)
     streams = encode(plan)
@@ -142,7 +138,8 @@ def cue(start: float, speech: Speech) -> Cue:
                round(sound.duration, 9), sound)
 
 
-def compile_source(text: str, gesture: str | None = None, profile: str | Profile = "rhand",
+def compile_source(text: str, gesture: str | None = None,
+                   profile: str | Profile | None = None,
                    start: Start = None, strict: bool = False,
                    file: str = "<string>") -> Compiled:
     """Compile .gest source text. ``use`` imports resolve against the library."""
@@ -150,7 +147,7 @@ def compile_source(text: str, gesture: str | None = None, profile: str | Profile
 
 
 def compile_file(path: str | os.PathLike, gesture: str | None = None,
-                 profile: str | Profile = "rhand", start: Start = None,
+                 profile: str | Profile | None = None, start: Start = None,
                  strict: bool = False) -> Compiled:
     """Compile one gesture of a .gest file."""
     return compile_program(load(str(path)), gesture, profile, start, strict)[0]

@@ -70,7 +70,8 @@ class NameTable:
         Every command that resolves a name words it here."""
         others = [p for p in self.elsewhere(name) if p != self.profile.name]
         if others:
-            return f"'{name}' is in profile '{others[0]}': add --profile {others[0]}"
+            return (f"'{name}' is in profile '{others[0]}': a file for that robot starts "
+                    f"with the line  robot {others[0]}")
         found = self.in_library(name) if self.in_library else None
         if found is not None:
             return (f"'{name}' is a library gesture, defined in {found}: add the line  "

@@ -15,7 +15,7 @@ from ..language import syntax as ast
 from ..language.program import Program
 from ..profiles.data import Profile
 from ..profiles.profile import profiles_with
-from . import saying, sides
+from . import robot, saying, sides
 from .actions import Action, Frame
 from .names import ANYTHING, Entity, Gesture, Group, NameTable, Pose, Servo, call_chain
 from .speech import Speech
@@ -132,6 +132,7 @@ class Resolver(_Targets):
         played on ``side`` ("left" or "right", ``sides.py``) when given (``label``: what
         errors call the gesture, when not its name)."""
         node = self.program.gestures[name]
+        robot.check(self.program, self.profile, node.name.pos.file)
         out: list[Action] = []
         self._spans = {}
         self._heights[name] = self._expand(node.steps, Frame((name,), name), out)
@@ -194,6 +195,8 @@ class Resolver(_Targets):
         if callee in at.chain:
             cycle = " -> ".join([*at.chain[at.chain.index(callee):], callee])
             self.fail(f"gesture '{callee}' calls itself: {cycle}", step.pos)
+        robot.check(self.program, self.profile,
+                    self.program.gestures[callee].name.pos.file, step.pos)
         if callee in self._heights:
             self._nest(step, at.depth + 1 + self._heights[callee])
         side = step.side.text if step.side else None

@@ -18,7 +18,7 @@ def speech(step: ast.Say, program: Program, profile: Profile) -> Speech:
     if voice is None:
         raise GestError(program.sources.error(
             f"profile '{profile.name}' has no [voice]: no mouth moves with 'say'", step.pos,
-            "play it on a robot whose profile names its mouth in [voice] (--profile inmoov)"))
+            "play it on a robot whose profile names its mouth in [voice] (robot inmoov)"))
     if program.hear is None:
         raise GestError(program.sources.error("this program cannot hear sounds", step.pos))
     try:

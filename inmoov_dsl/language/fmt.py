@@ -127,6 +127,9 @@ def _move(step: ast.Move | ast.Say) -> str:
 
 
 def _item(item: ast.Item) -> _Node:
+    if isinstance(item, ast.Robot):
+        return _Node(item.pos.line, f'robot "{item.name}"' if item.is_file else
+                     f"robot {item.name}")
     if isinstance(item, ast.Use):
         return _Node(item.pos.line, f'use "{item.path}"')
     if isinstance(item, ast.GroupDef):

@@ -176,10 +176,12 @@ def find_gesture(target: str, gesture: str | None, dirs: Sequence[Path] | None =
                  warn: Callable[[Diagnostic], None] | None = None
                  ) -> tuple[str, str | None]:
     """What a command line names: a .gest file (and ``gesture`` in it), or a library
-    gesture (its file, and that gesture). Library files that do not parse go to ``warn``,
-    unless the gesture asked for is in one of them: then its error is the answer."""
+    gesture (its file, and that gesture). ``NAME`` is the file ``NAME.gest`` here when
+    there is one (and no file ``NAME``), before the library's gesture of that name.
+    Library files that do not parse go to ``warn``, unless the gesture asked for is in
+    one of them: then its error is the answer."""
     if os.path.exists(target) or target.endswith(".gest") or os.sep in target \
-            or "/" in target:
+            or "/" in target or os.path.isfile(target + ".gest"):
         return file_meant(target, dirs), gesture
     library = scan(dirs)
     if target in library.entries:

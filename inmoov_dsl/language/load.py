@@ -95,13 +95,18 @@ class _Loader:
         self.seen.add(_key(file))
         program.sources.add(file, source)
         program.texts[file] = source
-        for item in parse(source, file).items:
+        module = parse(source, file)
+        if module.robot is not None:
+            program.robots[file] = module.robot
+        for item in module.items:
             match item:
                 case ast.Use():
                     found, text = _find_import(item, file, self.search, self.read,
                                                program.sources)
                     if _key(found) not in self.seen:
                         self.visit(found, text, False)
+                case ast.Robot():
+                    pass
                 case _ if self._defines(item, file):
                     self._add(item, is_root)
 

@@ -139,10 +139,26 @@ class _ToAst(Transformer):
         return Pos(self.file, tok.line, tok.column, max(1, len(str(tok))))
 
     def start(self, *items):
+        for item in items[1:]:
+            if isinstance(item, ast.Robot):
+                raise SyntaxProblem("a file names its robot once, on its first line",
+                                    pos_span(item.pos), "move the robot line to the top of "
+                                    "the file, above its gestures" if not isinstance(
+                                        items[0], ast.Robot) else "keep one robot line")
         return ast.Module(self.file, tuple(items))
 
     def _name(self, tok: Token) -> ast.Name:
         return ast.Name(str(tok), self._pos(tok))
+
+    def robot_stmt(self, name: Token):
+        if name.type == "STRING":
+            path = str(name)[1:-1]
+            if not path.endswith(".toml"):
+                raise SyntaxProblem(f"a robot is a profile's name or a .toml file, not "
+                                    f"'{shown(path)}'", tok_span(name),
+                                    'robot inmoov, or robot "my_hand.toml"')
+            return ast.Robot(path, self._pos(name), is_file=True)
+        return ast.Robot(str(name), self._pos(name))
 
     def use_stmt(self, path: Token):
         return ast.Use(path[1:-1], self._pos(path))

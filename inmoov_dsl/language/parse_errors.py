@@ -19,6 +19,7 @@ Span = tuple[int, int, int]  #: line, column (from 1) and width of what is wrong
 
 _WORDS = {
     "NAME": "a name",
+    "ROBOT_NAME": "a robot's profile (rhand, inmoov)",
     "NUMBER": "a number",
     "UNIT": "a unit (s or ms)",
     "STRING": 'a file name in quotes ("other.gest")',
@@ -104,7 +105,8 @@ def _explain(exc: UnexpectedInput, text: str) -> tuple[str, str | None, int]:
     if isinstance(exc, UnexpectedCharacters):
         char = text[exc.pos_in_stream]
         quoted = f"'{char}'" if char.isprintable() else f"U+{ord(char):04X}"
-        return f"unexpected character {quoted}", _file_name(text, exc.pos_in_stream), 1
+        hint = _file_name(text, exc.pos_in_stream) or _CHAR_HINTS.get(char)
+        return f"unexpected character {quoted}", hint, 1
     if isinstance(exc, UnexpectedToken):
         tok = exc.token
         expected = sorted(exc.accepts or exc.expected)
@@ -112,7 +114,7 @@ def _explain(exc: UnexpectedInput, text: str) -> tuple[str, str | None, int]:
         layout = tok.type in ("_NL", "_INDENT", "_DEDENT", "$END")
         width = 1 if layout else max(1, len(str(tok)))
         hint = _misspelt(tok, set(expected)) or _step_keyword(text, exc.line) or \
-            _hint(tok, set(expected))
+            _hint(tok, set(expected)) or _colon(tok, set(expected), text, exc.line)
         wanted = _or([_WORDS.get(e, f"'{e.lower()}'") for e in expected if e in _WORDS or
                       e.isupper()])
         return f"unexpected {found}; expected {wanted}", hint, width
@@ -146,6 +148,7 @@ def _hint(tok: Token, expected: set[str]) -> str | None:
         return "separate the servos of a step with ',': index 90, middle 90"
     if "COLON" in expected and tok.type in ("NAME", "NUMBER"):
         return "a gesture starts with its name and ':', as in  peace: index 180"
+
     if expected == {"NUMBER"}:
         return "durations are written 0.4s or 400ms"
     if expected == {"_INDENT"}:
@@ -155,6 +158,25 @@ def _hint(tok: Token, expected: set[str]) -> str | None:
     return None
 
 
+def _colon(tok: Token, expected: set[str], text: str, line: int) -> str | None:
+    """A hint when a line ends where its name wants a ':' (``peace`` with its steps
+    below, ``group pair``)."""
+    if expected != {"COLON"} or tok.type != "_NL":
+        return None
+    lines = text.split("\n")
+    first = lines[line - 1].split()[0] if 1 <= line <= len(lines) and lines[line - 1].split() \
+        else ""
+    return {"group": "end the group's name with ':', then its servos: group pair: index, "
+                     "middle",
+            "pose": "end the pose's name with ':', then its targets: pose open: fingers 0",
+            "repeat": "end 'repeat N' with ':', then the steps it repeats"}.get(
+        first, "end the gesture's name with ':', then its steps after it or on the lines "
+               "below, indented")
+
+
+_CHAR_HINTS = {
+    "=": "a servo and its value are separated by a space: index 90",
+}
 _FILE_NAME = r"([A-Za-z_][\w-]*)\.gest\b"  # patterns compiled when a mistake needs them
 
 

@@ -22,6 +22,8 @@ class Program:
     poses: dict[str, ast.PoseDef] = field(default_factory=dict)
     groups: dict[str, ast.GroupDef] = field(default_factory=dict)
     own: list[str] = field(default_factory=list)  #: gestures defined in the root file
+    #: file -> its robot line (files without one are not here)
+    robots: dict[str, ast.Robot] = field(default_factory=dict)
     #: the library file (its name) that defines a gesture, pose or group, or None; the
     #: loader knows the search path (``load.in_library``), and an error's hint asks
     in_library: Callable[[str], str | None] | None = field(default=None, repr=False,

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from ..errors import Pos
 
 #: the language's keywords: never a gesture, pose, group or servo name
-KEYWORDS = frozenset({"use", "group", "pose", "wait", "hold", "repeat", "over", "stagger",
+KEYWORDS = frozenset({"robot", "use", "group", "pose", "wait", "hold", "repeat", "over", "stagger",
                       "through", "left", "right", "say"})
 
 
@@ -96,6 +96,16 @@ Step = Move | Wait | Repeat | Together | Say
 
 
 @dataclass(frozen=True)
+class Robot:
+    """``robot inmoov`` or ``robot "my_hand.toml"``: the robot (its profile) the file's
+    gestures are written for; a file has at most one, before anything else."""
+
+    name: str  #: a built-in profile's name, or a .toml file's path as written
+    pos: Pos  #: the name (or the string, quotes included)
+    is_file: bool = False  #: given as a quoted .toml path (relative to the file)
+
+
+@dataclass(frozen=True)
 class Use:
     """``use "other.gest"``: the file's definitions are imported."""
 
@@ -127,7 +137,7 @@ class GestureDef:
     steps: tuple[Step, ...]
 
 
-Item = Use | GroupDef | PoseDef | GestureDef
+Item = Robot | Use | GroupDef | PoseDef | GestureDef
 
 
 @dataclass(frozen=True)
@@ -136,3 +146,9 @@ class Module:
 
     file: str
     items: tuple[Item, ...]
+
+    @property
+    def robot(self) -> Robot | None:
+        """The file's robot line, if it has one."""
+        first = self.items[0] if self.items else None
+        return first if isinstance(first, Robot) else None

@@ -177,7 +177,8 @@ def line_steps(line: str, program: Program, profile: Profile, file: str = LINE,
         gesture = next(item for item in module.items if isinstance(item, GestureDef))
         typed = Program(file, sources, program.texts, {**program.gestures, _NAME: gesture},
                         program.poses, program.groups, [_NAME],
-                        in_library=program.in_library, hear=program.hear)
+                        in_library=program.in_library, hear=program.hear,
+                        robots=program.robots)
         actions = Resolver(typed, profile).gesture(_NAME, side, line.strip()[:40])
     back = functools.partial(snippet.shift, text=line, file=file, prefix=_PREFIX,
                              line=number)

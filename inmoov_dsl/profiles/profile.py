@@ -48,6 +48,15 @@ def profiles_with(name: str) -> list[str]:
     return found
 
 
+def profile_arg(profile: Profile) -> str:
+    """What ``--profile`` takes to load ``profile`` again: a built-in's name, else its
+    file's path."""
+    builtin = profiles_dir() / f"{profile.name}.toml"
+    if profile.path and os.path.realpath(profile.path) == os.path.realpath(builtin):
+        return profile.name
+    return profile.path or profile.name
+
+
 def find_profile(name_or_path: str) -> Path:
     """A profile file from a built-in name (``rhand``) or a path."""
     path = Path(name_or_path)

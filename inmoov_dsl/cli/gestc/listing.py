@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from ...errors import GestError
@@ -15,7 +16,8 @@ from .target import PROG
 
 
 def run(args: argparse.Namespace) -> int:
-    """``NAME<TAB>FILE<TAB>PROFILE`` per gesture, or with -l a table."""
+    """``NAME<TAB>FILE<TAB>PROFILE`` per gesture (a gesture further down the search path
+    that one shadows: a note on stderr), or with -l a table."""
     dirs = library_dirs(args.lib)
     library = scan(dirs)
     report(library.warnings(), PROG)
@@ -23,12 +25,17 @@ def run(args: argparse.Namespace) -> int:
     needs = profiles_needed(entries, dirs)
     width = max((len(e.name) for e in entries), default=0)
     for e in entries:
-        shadows = "".join(f"  (shadows {p})" for p in e.shadows)
         if args.long:
+            shadows = "".join(f"  (shadows {p})" for p in e.shadows)
             print(f"{e.name:<{width}}  {e.description or '-'}  ({e.path.name}:{e.line}, "
                   f"for {needs[e.name]}){shadows}")
         else:
-            print(f"{e.name}\t{e.path}\t{needs[e.name]}{shadows}")
+            print(f"{e.name}\t{e.path}\t{needs[e.name]}")
+    if not args.long:  # the columns stay three: what is shadowed is a note of its own
+        for e in entries:
+            for path in e.shadows:
+                print(f"{PROG}: note: '{e.name}' of {e.path} shadows the one in {path}",
+                      file=sys.stderr)
     return EXIT_OK
 
 

@@ -13,6 +13,7 @@ from ...firmware.store import FIRMWARE_FLASH, FLASH_MAX, Request, parse_pin, sto
 from ...firmware.store import stored_set as make_set
 from ...language.library import find_gesture, library_dirs, scan_library
 from ...language.load import load
+from ...language.program import Program
 from ...profiles.data import Board, Profile
 from ...wire.stored import DEFAULT_IDLE_AFTER, StoredSet
 from ..common import number, report
@@ -24,8 +25,10 @@ def add_store_options(p: argparse.ArgumentParser, what: str = "the image") -> No
     """The options that choose the gestures a board stores, and what starts them."""
     p.add_argument("--store", action="append", default=[], metavar="GESTURE,...",
                    help=f"store these gestures in {what}'s flash, numbered 0, 1, ... in this "
-                   "order (library names or .gest files; 'all': every library gesture "
-                   "for the board); the board plays them itself")
+                   "order (library names, .gest files: all of a file's gestures, "
+                   "FILE.gest:NAME: one of them; 'all': every library gesture for the "
+                   "board); the board plays them itself; every option names a stored "
+                   "gesture the same way")
     p.add_argument("--on-boot", metavar="GESTURE", help="play it at power-up (stored too)")
     p.add_argument("--button", action="append", default=[], metavar="PIN=GESTURE",
                    help="a push button from PIN (D8, A0...) to ground plays GESTURE "
@@ -65,25 +68,85 @@ def stored_sets(args: argparse.Namespace, profile: Profile, board: Board, prog: 
         return {}
     asked = request(args)
     dirs = library_dirs(args.lib)
-    names = []
-    for name in asked.every:
-        names += _all(profile, board, dirs) if name == ALL else [name]
+    found = _Found(dirs, prog)
+    for ref in asked.names:  # --store's files first: the other options name their gestures
+        if ref != ALL:
+            found.add(ref, store=True)
+    for ref in asked.every:
+        if ref == ALL:
+            for name in _all(profile, board, dirs):
+                found.add(name, store=True)
+        else:
+            found.add(ref)
     gestures = []
-    for name in dict.fromkeys(names):
-        path, picked = find_gesture(name, None, dirs, lambda d: report([d], prog))
-        program = load(path, search=dirs)
-        compiled, _ = compile_program(program, pick_gesture(program, picked), profile)
+    for path, name in found.order:
+        compiled, _ = compile_program(found.programs[path], name, profile)
         report(compiled.warnings, prog)
         gestures.append(stored_gesture(compiled, profile, board))
-    named = {name: g.name for name, g in zip(dict.fromkeys(names), gestures, strict=True)}
-    asked = Request(tuple(named.values()), named.get(asked.boot), named.get(asked.idle),
-                    asked.idle_after, tuple((p, named[g]) for p, g in asked.buttons))
+    named = {ref: found.refs[ref][0][1] for ref in found.refs}
+    asked = Request(tuple(name for _, name in found.order), named.get(asked.boot),
+                    named.get(asked.idle), asked.idle_after,
+                    tuple((p, named[g]) for p, g in asked.buttons))
     flash = make_set(gestures, asked, profile, board)
     size = len(flash.to_bytes())
     print(f"{prog}: board {board.id} stores {len(gestures)} gesture"
           f"{'s' if len(gestures) != 1 else ''} in {size:,} bytes of flash (with the "
           f"firmware about {size + FIRMWARE_FLASH:,} of {FLASH_MAX:,})", file=sys.stderr)
     return {board.id: flash}
+
+
+class _Found:
+    """The gestures the options name, each option's words read the same way: a gesture's
+    name (one of the files given to --store, else the library's), a .gest file (every
+    gesture it defines, for --store; its only one, or the one named like it, elsewhere)
+    or FILE.gest:NAME (that gesture of the file)."""
+
+    def __init__(self, dirs, prog: str):
+        self.dirs, self.prog = dirs, prog
+        self.programs: dict[str, Program] = {}  #: path -> its program
+        self.refs: dict[str, list[tuple[str, str]]] = {}  #: words -> (path, gesture)
+        self.order: list[tuple[str, str]] = []  #: what is stored, numbered in this order
+
+    def add(self, ref: str, store: bool = False) -> None:
+        """Store what ``ref`` names (``store``: all the gestures of a file)."""
+        if ref not in self.refs:
+            self.refs[ref] = self._resolve(ref, store)
+        for path, name in self.refs[ref]:
+            clash = next((p for p, n in self.order if n == name and p != path), None)
+            if clash is not None:
+                raise GestError(Diagnostic(
+                    "error", f"two gestures named '{name}' to store: in {clash} and {path}",
+                    hint="a board names its gestures: rename one"))
+            if (path, name) not in self.order:
+                self.order.append((path, name))
+
+    def _resolve(self, ref: str, store: bool) -> list[tuple[str, str]]:
+        file, sep, name = ref.rpartition(":")
+        if sep and file.endswith(".gest"):
+            program = self._load(find_gesture(file, None, self.dirs, self._warn)[0])
+            return [(program.root, pick_gesture(program, name))]
+        for path, program in self.programs.items():  # a gesture of a file given to --store
+            if ref in program.own:
+                return [(path, ref)]
+        path, picked = find_gesture(ref, None, self.dirs, self._warn)
+        program = self._load(path)
+        if store and picked is None and len(program.own) > 1:
+            return [(path, name) for name in program.own]
+        try:
+            return [(path, pick_gesture(program, picked))]
+        except GestError as exc:
+            first = exc.first
+            raise GestError(Diagnostic("error", first.message, hint=f"name one: {ref}:"
+                                       f"{program.own[0]}, or store them all: --store "
+                                       f"{ref}")) from None
+
+    def _load(self, path: str) -> Program:
+        if path not in self.programs:
+            self.programs[path] = load(path, search=self.dirs)
+        return self.programs[path]
+
+    def _warn(self, diagnostic: Diagnostic) -> None:
+        report([diagnostic], self.prog)
 
 
 def _all(profile: Profile, board: Board, dirs) -> list[str]:

@@ -27,8 +27,9 @@ def add_arguments(p: argparse.ArgumentParser, target: bool = True) -> None:
         p.add_argument("--from", dest="start", metavar="POSE",
                        help="start pose: a pose name or targets such as 'fingers 90' "
                        "(default: the profile's rest pose)")
-    p.add_argument("-p", "--profile", default="rhand",
-                   help="robot profile: a built-in name or a .toml path (default rhand)")
+    p.add_argument("-p", "--profile",
+                   help="robot profile: a built-in name or a .toml path (default: the "
+                   "file's robot line, else rhand)")
     p.add_argument("--strict", action="store_true",
                    help="treat warnings as errors: a stretched move, and a link that "
                    "cannot send every value the plan needs (coverage below 100%%)")

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import itertools
 import os
+import shlex
 import sys
 from collections.abc import Callable
 
@@ -14,6 +15,8 @@ from ...compiling.compiler import compile_program
 from ...compiling.resolve import resolver
 from ...errors import Diagnostic, GestError
 from ...model.posebars import bar_lines
+from ...profiles.data import Profile
+from ...profiles.profile import profile_arg
 from ...profiles.tables import SIDES
 from ...wire.player import play
 from .. import hand
@@ -79,15 +82,17 @@ def run(args: argparse.Namespace) -> int:
         with hand.opened(PROG, target.profile, args.port, args.blind, boards=boards) as on:
             pose = play_on(on, target, args.loop, args.speed, audio)
             if all(link.name.startswith("sim://") for link in on.links):
-                show_virtual(on, boards, pose, args.target)
+                show_virtual(on, boards, pose)
+                print(f"to watch it move: {watch(args, on.profile, boards)}",
+                      file=sys.stderr)
     finally:
         audio.close()
     return EXIT_OK
 
 
-def show_virtual(on: hand.Hand, boards: set[int], pose: dict[str, int], name: str) -> None:
+def show_virtual(on: hand.Hand, boards: set[int], pose: dict[str, int]) -> None:
     """What the virtual hand holds now (a board's bars, as gestsim draws them), for
-    each board the gesture drove, and where to watch it move."""
+    each board the gesture drove."""
     for board in on.profile.boards:
         link = next((k for k in on.links if k.board == board.id), None)
         if board.id not in boards or link is None:
@@ -95,10 +100,32 @@ def show_virtual(on: hand.Hand, boards: set[int], pose: dict[str, int], name: st
         held = [(n, pose.get(n, on.pose.get(n, 0))) for n in board.servos]
         print(f"{link.name} now holds (board {board.id}, {board.name}):", file=sys.stderr)
         print("\n".join(bar_lines(held)), file=sys.stderr)
-    watch = ("run 'gestsim --view' (or 'gestsim --web': in 3-D, in a browser) in another "
-             f"terminal, then 'gestplay {name} --port' the port it prints"
-             if os.name == "posix" else f"'gestc preview {name} -o {name}.gif' draws it")
-    print(f"to watch it move: {watch}", file=sys.stderr)
+
+
+def watch(args: argparse.Namespace, profile: Profile, boards: set[int]) -> str:
+    """Where to watch the gesture move: the commands that run a virtual board of each
+    board it drives (gestsim) and play it there, each as it runs (POSIX: gestsim serves
+    a pseudo-terminal), or the one that draws it."""
+    name = args.target
+    again = ["--profile", args.profile] if args.profile else []  # else the file's robot
+    again += ["--hand", args.hand] if args.hand else []
+    if os.name != "posix":
+        return f"'{shlex.join(['gestc', 'preview', name, *again, '-o', f'{name}.gif'])}' " \
+            "draws it"
+    sim = ["gestsim", "--view"]
+    if profile.name != "rhand" or profile_arg(profile) != "rhand":
+        sim += ["--profile", profile_arg(profile)]
+    ids = sorted(boards)
+    if len(ids) == 1:
+        if ids[0] != profile.boards[0].id:
+            sim += ["--board", str(ids[0])]
+        return (f"run '{shlex.join(sim)}' (or --web: in 3-D, in a browser) in another "
+                f"terminal, then '{shlex.join(['gestplay', name, *again])} --port PTY' with "
+                "the PTY it prints")
+    ports = " ".join(f"--port {b}=PTY{b}" for b in ids)
+    return (f"run '{shlex.join(sim)} --board {ids[0]}' in a terminal of its own, and the "
+            f"same with --board {', '.join(str(b) for b in ids[1:])}; then "
+            f"'{shlex.join(['gestplay', name, *again])} {ports}' with the PTY each prints")
 
 
 def dry_run(compiled: Compiled, speed: float) -> int:
