@@ -121,6 +121,11 @@ class SourceMap:
 MAX_SUGGESTED = 64  #: characters; longer names get no 'did you mean'
 
 
+def counted(n: int, noun: str) -> str:
+    """``n`` and its noun, as a message says it: ``1 byte``, ``1,029 bytes``."""
+    return f"{n:,} {noun}{'' if n == 1 else 's'}"
+
+
 def did_you_mean(name: str, known: Iterable[str]) -> str | None:
     """A 'did you mean' hint for a misspelt name, or None when nothing is close.
     Names longer than MAX_SUGGESTED are not compared (difflib is quadratic in length)."""

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from enum import IntEnum
 
 
@@ -80,6 +80,14 @@ def pairs(data: bytes) -> list[tuple[int, int]]:
     every second one after it are IDs, each followed by its value (a last ID without
     its value is left out)."""
     return list(zip(data[1::2], data[2::2], strict=False))
+
+
+def timed_pairs(times: Sequence[float], data: bytes) -> list[tuple[float, int, int]]:
+    """(time its value byte goes out, servo ID, value) of each pair of the bytes
+    ``frame`` made, each byte sent at its time in ``times``: the board has the whole
+    command a byte-time after that time."""
+    return [(float(t), sid, value) for (sid, value), t in
+            zip(pairs(data), list(times[2::2]), strict=False)]
 
 
 def frame_fault(data: bytes) -> tuple[int, str] | None:

@@ -34,6 +34,32 @@ def early(profile, baud: int) -> float:
     return max(s.max_velocity for s in profile.servos) * protocol.byte_time(baud) + 1e-9
 
 
+class VirtualClock:
+    """A clock that moves only when slept on: logic runs on it the same on a loaded
+    machine as on an idle one."""
+
+    def __init__(self, t: float = 100.0):
+        self.t = t
+
+    def now(self) -> float:
+        return self.t
+
+    def sleep(self, seconds: float) -> None:
+        self.t += max(seconds, 1e-6)
+
+
+@pytest.fixture
+def virtual_clock(monkeypatch):
+    """Every tool's clock (``inmoov_dsl.clock``: the player, the drive loop, sim://) on a
+    VirtualClock for this test."""
+    from inmoov_dsl import clock
+
+    virtual = VirtualClock()
+    monkeypatch.setattr(clock, "now", virtual.now)
+    monkeypatch.setattr(clock, "sleep", virtual.sleep)
+    return virtual
+
+
 @pytest.fixture(autouse=True)
 def _fresh_virtual_boards(tmp_path_factory, monkeypatch):
     """Each test finds new virtual boards on the desk (sim:// keeps a board's state for

@@ -86,3 +86,48 @@ def test_the_readme_shows_what_the_card_really_does(tmp_path, capsys):
     final = compile_source(card.read_text()).final
     assert dict(zip(("index", "middle"), final[2:4], strict=True)) == {"index": 180,
                                                                        "middle": 180}
+
+
+def _slug(heading: str) -> str:
+    """A heading's anchor as GitHub makes it."""
+    text = re.sub(r"[^\w\- ]", "", heading.strip().lower())
+    return text.replace(" ", "-")
+
+
+def _anchors(path: Path) -> set[str]:
+    text = re.sub(r"```.*?```", "", path.read_text(), flags=re.S)
+    return {_slug(m[1]) for m in re.finditer(r"^#+ (.*)$", text, re.M)}
+
+
+@pytest.mark.parametrize("doc", DOCS, ids=lambda d: d.name)
+def test_the_docs_links_lead_somewhere(doc):
+    """Every link to a file of the repository reaches it, and its anchor a heading; the
+    docs stand on their own (nothing outside the repository is named as a source)."""
+    text = doc.read_text()
+    for target in re.findall(r"\]\(([^)\s]+)\)", text):
+        if re.match(r"[a-z]+:", target):
+            continue  # a web address
+        file, _, anchor = target.partition("#")
+        path = (doc.parent / file).resolve() if file else doc
+        assert path.exists(), f"{doc.name}: {target} is not in the repository"
+        if anchor:
+            assert anchor in _anchors(path), f"{doc.name}: {target} names no heading"
+    assert "facts.md" not in text and "../shared" not in text
+
+
+def test_the_readme_counts_the_library():
+    from inmoov_dsl.language.library import scan
+
+    count = len(scan([ROOT / "gestures"]).entries)
+    said = re.search(r"the library: (\d+) gestures", (ROOT / "README.md").read_text())
+    assert int(said[1]) == count
+
+
+def test_the_language_reference_lists_every_keyword():
+    from inmoov_dsl.language.syntax import KEYWORDS
+
+    text = (ROOT / "docs" / "language.md").read_text()
+    listed = re.search(r"The keywords \(([^)]*)\)", text)[1]
+    assert set(re.findall(r"`(\w+)`", listed)) == KEYWORDS
+    names = re.search(r"Keywords cannot be names:\s*`([^`]*)`", text)[1]
+    assert set(names.split()) == KEYWORDS

@@ -13,15 +13,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 from boardmodel import final_values, read_stream
+from conftest import VirtualClock
+from stopping import PROMPT, after_signal, received, stop_mid_gesture, wait_for
 
 from inmoov_dsl import clock, compile_file, load_library
 from inmoov_dsl.cli import gestplay, hand
 from inmoov_dsl.compiling.compiler import compile_program
 from inmoov_dsl.language.load import load
 from inmoov_dsl.profiles.profile import load_profile
-from inmoov_dsl.protocol import pairs
+from inmoov_dsl.protocol import pairs, timed_pairs
 from inmoov_dsl.wire import link as wire_link
-from inmoov_dsl.wire.pace import HORIZON, WAKE, padded
+from inmoov_dsl.wire.pace import WAKE, padded
 from inmoov_dsl.wire.player import Link, play, wait_ready
 from inmoov_dsl.wire.ports import open_port
 
@@ -30,15 +32,7 @@ TWO = ROOT / "tests" / "data" / "two.toml"
 POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
 
 
-class FakeClock:
-    def __init__(self):
-        self.t = 100.0
-
-    def now(self):
-        return self.t
-
-    def sleep(self, seconds):
-        self.t += max(seconds, 1e-6)
+FakeClock = VirtualClock
 
 
 class FakePort:
@@ -172,7 +166,7 @@ def sim_links(url="sim://?boot=0.05", board=181):
     return Link(board, port, url)
 
 
-def test_play_to_the_virtual_board_in_process():
+def test_play_to_the_virtual_board_in_process(virtual_clock):
     link = sim_links()
     board = link.port.board
     hand.board_pose([link], load_profile("rhand"))
@@ -182,14 +176,15 @@ def test_play_to_the_virtual_board_in_process():
     link.port.close()
     board.advance(clock.now())
     assert board.positions() == dict(enumerate(compiled.final))
-    # each write happened when the plan said its pair arrives (a byte-time after its
-    # last byte left), give or take the host's scheduling
-    # and never early; how late depends on how busy the machine is, so the bound is
-    # one a loaded machine meets (benchmarks/timing.py measures it)
+    # on the virtual clock each write happens when the plan says its pair arrives (a
+    # byte-time after its value left), on the link's byte grid: at most a byte-time
+    # early; how late a real computer is, is benchmarks/timing.py's figure
+    stream = compiled.stream()
+    tau = stream.byte_time
     arrivals = [t - start for t, _ in board.log]
-    planned = [t + 1 / 960 for t in compiled.stream().times.tolist()[2::2]]
+    planned = [t + tau for t, _, _ in timed_pairs(stream.times, stream.data)]
     late = sorted(a - p for a, p in zip(arrivals, planned, strict=True))
-    assert late[0] > -0.002 and late[len(late) // 2] < 0.02 and late[-1] < 0.25
+    assert -tau - 1e-6 <= late[0] and late[-1] <= 1e-6
 
 
 def test_the_gesture_is_planned_from_the_pose_the_board_reports():
@@ -208,7 +203,7 @@ def test_the_gesture_is_planned_from_the_pose_the_board_reports():
     link.port.close()
 
 
-def test_two_boards_in_lockstep():
+def test_two_boards_in_lockstep(virtual_clock):
     compiled, _ = compile_program(load("t.gest", "g: r_index 90, l_index 45 over 0.5s"), "g",
                                   str(TWO))
     links = [sim_links(f"sim://{TWO}?board=181&boot=0", 181),
@@ -302,7 +297,8 @@ class SilentPort:
 
 
 @pytest.mark.parametrize("tool", [[], ["repl"], ["teach"], ["relax"]])
-def test_no_board_is_an_error_before_any_gesture_byte(capsys, monkeypatch, tool):
+def test_no_board_is_an_error_before_any_gesture_byte(capsys, monkeypatch, tool,
+                                                      virtual_clock):
     port = SilentPort()
     monkeypatch.setattr(wire_link, "open_port", lambda name, baud: port)
     code, _, err = run(capsys, *(tool or ["peace"]), "--port", "COM7")
@@ -327,7 +323,9 @@ def test_one_port_is_enough_for_a_gesture_on_one_board_of_many(capsys, monkeypat
     assert err.splitlines()[-1].startswith("played peace: 0.70 s")
 
 
-def test_blind_plays_on_a_link_that_cannot_answer(capsys, monkeypatch):
+def test_blind_plays_on_a_link_that_cannot_answer(capsys, monkeypatch, virtual_clock):
+    """On the virtual clock: the bytes are the stream's run exactly, however busy the
+    machine (on the real one a stall longer than the horizon leaves filler out)."""
     port = SilentPort()
     monkeypatch.setattr(wire_link, "open_port", lambda name, baud: port)
     code, _, err = run(capsys, "peace", "--port", "COM7", "--blind")
@@ -410,11 +408,6 @@ def test_a_windows_port_name_elsewhere_says_what_names_are_used_here(capsys):
 
 
 # -- real processes over a real pseudo-terminal ------------------------------------------
-def received(log):
-    rows = [line.split() for line in log.read_text().splitlines()]
-    return [float(t) for t, _ in rows], [int(b) for _, b in rows]
-
-
 def gestplay_proc(*argv):
     return subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestplay", *argv],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
@@ -424,24 +417,27 @@ def gestplay_proc(*argv):
 def test_play_through_a_pty_with_pyserial(gestsim):
     proc, path, log = gestsim
     player = gestplay_proc("count", "--port", path)
-    _, err = player.communicate(timeout=30)
+    _, err = player.communicate(timeout=60)
     assert player.returncode == 0, err
+    # the board logs each byte as it reads it: on a busy machine, after the player ended
+    wait_for(lambda: final_values(read_stream(*received(log), 9600), {}) ==
+             {1: 0, 3: 0, 4: 0, 5: 0}, "count's last pairs at the board")  # count ends open
     times, data = received(log)
-    events = read_stream(times, data, 9600)
-    assert final_values(events, {}) == {1: 0, 3: 0, 4: 0, 5: 0}  # count ends open
     dump = data.index(253)  # CANCELs (until the board answers), then DUMP before the stream
     assert dump >= 1 and set(data[:dump]) == {255}
 
 
 @POSIX
 def test_a_pulled_cable_is_one_line_and_a_quick_exit(gestsim):
-    proc, path, _ = gestsim
+    proc, path, log = gestsim
     player = gestplay_proc("count", "--port", path)
-    time.sleep(2.0)  # the gesture is under way (5 s long)
+    wait_for(lambda: " 1\n" in log.read_text(), "the gesture under way", 60)  # 5 s long
     proc.kill()
     pulled = time.monotonic()
     _, err = player.communicate(timeout=10)
-    assert time.monotonic() - pulled < 1.0
+    # noticed within a second (the player drains its links that often); on a busy
+    # machine, a bound it meets
+    assert time.monotonic() - pulled < PROMPT + 1.0
     assert player.returncode == 1
     assert err.startswith(f"gestplay: error: lost the link (board 181 on {path}): ")
     assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
@@ -454,28 +450,16 @@ def test_a_pulled_cable_is_one_line_and_a_quick_exit(gestsim):
     (getattr(signal, "SIGHUP", None), 129, "stopped by SIGHUP"),
 ])
 def test_ctrl_c_or_a_stop_signal_sends_cancel(gestsim, signum, status, said):
-    """In the middle of demo: the CANCEL reaches the board within 20 ms of the signal.
-    The player drops what the port holds, but a pty's other end keeps what it has read,
-    as a USB adapter's chip does: at most the horizon the player writes ahead."""
-    _, path, log = gestsim
-    player = gestplay_proc("demo", "--port", path)
-    deadline = time.monotonic() + 60  # however busy the machine: once the hand moves
-    while time.monotonic() < deadline and b" 1\n" not in log.read_bytes():
-        time.sleep(0.05)  # until the first pair's ID (the thumb, 1) has arrived
-    time.sleep(1.5)
-    signalled = time.monotonic()
-    player.send_signal(signum)
-    _, err = player.communicate(timeout=10)
-    assert player.returncode == status
-    assert f"gestplay: {said}: CANCEL sent, the hand holds its pose" in err
-    assert "Traceback" not in err
-    time.sleep(0.1)
-    times, data = received(log)
-    assert data[-1] == 255
-    tau = 1 / 960
-    assert times[-1] + tau - signalled <= 0.020  # the CANCEL has arrived
-    after = sum(1 for t in times if t > signalled)  # what the pty held, then the CANCEL
-    assert after <= round(HORIZON / tau) + 2
+    """In the middle of demo: the player drops what the port holds and sends CANCEL; a
+    pty's other end keeps what it has read, as a USB adapter's chip does, so the board
+    gets at most that and the horizon the player wrote ahead, then the CANCEL."""
+    _, _, log = gestsim
+    ended, signalled, times, data = stop_mid_gesture(log, ["demo", "--port", gestsim[1]],
+                                                     signum, 1.5)
+    assert ended.returncode == status
+    assert f"gestplay: {said}: CANCEL sent, the hand holds its pose" in ended.stderr
+    assert "Traceback" not in ended.stderr
+    after_signal(times, data, signalled)
     stream = compile_file(load_library()["demo"]).stream()
     assert len(read_stream(times, data, 9600)) < len(pairs(stream.data))  # mid-move
 

@@ -107,3 +107,16 @@ def test_every_baud_a_sketch_may_use_is_usable():
                                                  (181, 180), (400, 180)])
 def test_clamp_keeps_a_value_within_0_to_max_value(value, clamped):
     assert protocol.clamp(value) == clamped
+
+
+def test_a_streams_pairs_are_read_with_their_times_in_protocol_alone():
+    """The stream's layout (CANCEL, then ID and value bytes) is read in protocol: the
+    firmware's stored form takes each pair's time from there."""
+    import inspect
+
+    from inmoov_dsl.firmware import store
+    from inmoov_dsl.protocol import frame, timed_pairs
+
+    data = frame([(2, 90), (3, 45)])
+    assert timed_pairs([0.0, 0.1, 0.2, 0.3, 0.4], data) == [(0.2, 2, 90), (0.4, 3, 45)]
+    assert "[2::2]" not in inspect.getsource(store)

@@ -99,6 +99,29 @@ def until(ws, event: str, request_id: str | None = None, timeout: float = 30) ->
             return seen
 
 
+def moved(ws, servo: str, timeout: float = 30) -> list[dict]:
+    """Events read until a pose shows ``servo`` on its way (a request under way: what a
+    test waits for, rather than a time that a busy machine may not keep)."""
+    seen = []
+    deadline = time.monotonic() + timeout
+    while not (seen and seen[-1]["event"] == "pose" and 0 < seen[-1]["servos"][servo] < 180):
+        seen.append(json.loads(ws.recv(timeout=max(0.01, deadline - time.monotonic()))))
+    return seen
+
+
+def still(service, timeout: float = 30) -> dict:
+    """The pose, once no request plays and no servo moves (polled: a stop's last bytes
+    reach the board in their time)."""
+    deadline = time.monotonic() + timeout
+    while True:
+        status, pose, _ = service.call("GET", "/api/pose")
+        assert status == 200
+        if pose["playing"] is None and not any(s["moving"] for s in pose["servos"].values()):
+            return pose
+        assert time.monotonic() < deadline, "the hand never came to rest"
+        time.sleep(0.05)
+
+
 def gone(ws) -> int:
     """The close code of an events socket, once what it was told before is read."""
     from websockets.exceptions import ConnectionClosed
@@ -212,15 +235,11 @@ def test_a_request_takes_over_after_queues_and_stop_empties_the_queue():
         _, c, _ = service.call("POST", "/api/play", {"gesture": "fist", "when": "after"})
         until(ws, "done", b["id"])
         until(ws, "started", c["id"])
-        time.sleep(0.3)
+        moved(ws, "thumb")
         _, s, _ = service.call("POST", "/api/stop")
         told = until(ws, "stopped", c["id"])
         assert not [e for e in told if e["event"] == "done" and e["id"] == c["id"]]
-        time.sleep(0.3)
-        status, pose, _ = service.call("GET", "/api/pose")
-        assert status == 200 and pose["playing"] is None
-        assert not any(s["moving"] for s in pose["servos"].values())
-        held = values(pose)
+        held = values(still(service))
         fingers = [held[f] for f in ("thumb", "index", "middle", "ring", "pinky")]
         assert any(0 < v < 180 for v in fingers)  # fist was stopped on its way
 
@@ -384,10 +403,9 @@ def test_on_the_firmware_the_board_holds_what_the_service_says(firmware_pty):  #
         until(ws, "done", a["id"], timeout=60)
         _, b, _ = service.call("POST", "/api/play", {"steps": "index 120 over 1s"})
         until(ws, "started", b["id"])
-        time.sleep(0.4)
+        moved(ws, "index")
         service.call("POST", "/api/stop")
-        time.sleep(0.3)
-        _, pose, _ = service.call("GET", "/api/pose")
+        pose = still(service)
         code, _ = service.stop()
         gone(ws)
     assert code == 143

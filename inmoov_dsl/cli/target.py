@@ -8,12 +8,12 @@ from dataclasses import dataclass
 
 from ..compiling.compiled import Compiled, check_profile
 from ..compiling.compiler import pick_gesture
+from ..compiling.robot import profile_for
 from ..errors import Diagnostic, GestError
 from ..language.library import find_gesture, library_dirs
 from ..language.load import load
 from ..language.program import Program
 from ..profiles.data import Profile
-from ..compiling.robot import profile_for
 from ..profiles.profile import load_profile
 from .common import report
 
@@ -33,8 +33,9 @@ def load_target(name: str, gesture: str | None, profile: str | None,
                 lib: Sequence[str] | None, prog: str, compiled: bool = False,
                 side: str | None = None) -> Target:
     """Find ``name`` (a .gest file, or a gesture on the search path: ``lib``, then the
-    library), load it for ``profile`` (default: the file's robot line, else rhand) and pick ``gesture`` of it
-    (``pick_gesture``); what is noticed on the way is ``prog``'s warning. With
+    library), load it for ``profile`` (default: the file's robot line, else rhand) and
+    pick ``gesture`` of it (``pick_gesture``); what is noticed on the way is ``prog``'s
+    warning. With
     ``compiled``, a .gestc file is read instead, for its profile (default the one it
     was compiled for, and checked against it); played on a ``side``, refused."""
     if compiled and name.endswith(".gestc"):

@@ -14,7 +14,7 @@ import re
 import numpy as np
 
 from .. import protocol
-from ..errors import Diagnostic, GestError, decode_utf8
+from ..errors import Diagnostic, GestError, counted, decode_utf8
 from ..resources import read_regular
 from .compiled import FORMAT, VERSION, Compiled, Cue, StepSummary, Stream
 from .jsonfields import Fields, shown, whole
@@ -133,8 +133,8 @@ class CompiledReader(Fields):
         times_list = self.field(s, "times", list, path)
         data_list = self.field(s, "bytes", list, path)
         if len(times_list) != len(data_list):
-            raise self.bad(f"board {board} has {len(times_list)} times for "
-                           f"{len(data_list)} bytes", (*path, "times"))
+            raise self.bad(f"board {board} has {counted(len(times_list), 'time')} for "
+                           f"{counted(len(data_list), 'byte')}", (*path, "times"))
         times = self.times(times_list, board, baud, (*path, "times"))
         data = self.bytes(data_list, board, (*path, "bytes"))
         return Stream(board, baud, times, data)

@@ -114,8 +114,7 @@ def stored_gesture(compiled: Compiled, profile: Profile, board: Board) -> Stored
     n, tau = len(ids), stream.byte_time
     pair = protocol.PAIR_BYTES * tau
     pairs = []
-    for (sid, value), t in zip(protocol.pairs(stream.data), stream.times[2::2].tolist(),
-                               strict=True):
+    for t, sid, value in protocol.timed_pairs(stream.times, stream.data):
         arrival, j = t + tau, ids.index(sid)
         frame = round((arrival + (n - 1 - j) * pair) / FRAME) - 1
         if abs((frame + 1) * FRAME - (n - 1 - j) * pair - arrival) > 1e-6:

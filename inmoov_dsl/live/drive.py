@@ -71,7 +71,7 @@ class Drive:
 
     def __init__(self, links: list[Link], profile: Profile, pose: dict[str, int],
                  program: Program, tell: Tell, take_over: bool = True,
-                 now: clock.Clock = clock.now, sleep: clock.Sleep = clock.sleep,
+                 now: clock.Clock | None = None, sleep: clock.Sleep | None = None,
                  file: str = LINE, speaker: Any = None):
         self.links, self.profile, self.program = links, profile, program
         self.file, self.lines = file, 0  #: typed lines are lines of ``file``; how many came
@@ -79,12 +79,12 @@ class Drive:
         self.speaker = speaker  #: where ``say`` steps are heard (``wire.audio.Speaker``)
         self.notes: list[Note] = []  #: told once the bytes due are out (``_flush``)
         self.tell: Tell = self.notes.append
-        self.now, self.sleep = now, sleep
+        self.now, self.sleep = now or clock.now, sleep or clock.sleep
         start = [pose.get(s.name, s.rest) for s in profile.servos]
         self.out = Outbox(links, profile)
         self.mirror = self.out.mirror
         self.mirror.set(start)
-        self.session = Session(profile, start, now(), program.sources)
+        self.session = Session(profile, start, self.now(), program.sources)
         self.moving = False  #: a request has moved the hand since the last "done"
         self.tracker = Tracker(lambda kind, tag: self.tell(Note(kind, id=tag)))
 

@@ -35,8 +35,8 @@ class BadRequest(Exception):
         self.message, self.hint = message, hint
 
     def json(self) -> dict[str, Any]:
-        """The answer's body."""
-        return {"error": self.message, "hint": self.hint}
+        """The answer's body (a hint only where there is one)."""
+        return {"error": self.message, **({"hint": self.hint} if self.hint else {})}
 
 
 def read_json(body: bytes) -> dict[str, Any]:
@@ -140,8 +140,9 @@ def problem(exc: GestError) -> dict[str, Any]:
 def diagnostic(d: Diagnostic) -> dict[str, Any]:
     """One diagnostic's fields."""
     where = d.pos
-    return {"severity": d.severity, "message": d.message, "hint": d.hint,
-            "line": where.line if where else None, "column": where.column if where else None,
+    return {"severity": d.severity, "message": d.message,
+            **({"hint": d.hint} if d.hint else {}), "line": where.line if where else None,
+            "column": where.column if where else None,
             "width": where.width if where else None, "source": d.source_line,
             "text": d.format()}
 

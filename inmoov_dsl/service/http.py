@@ -58,19 +58,19 @@ def _guarded(guard: Guard):
     async def middleware(request: web.Request, handler):
         refused = guard.refuse(request.method, request.headers, request.query)
         if refused is not None:
-            return _json({"error": refused[1], "hint": None}, refused[0])
+            return _json(core.BadRequest(refused[1]).json(), refused[0])
         try:
             return await handler(request)
         except web.HTTPException as exc:
             if exc.status == 413:
                 return _json(core.BadRequest(f"the body is larger than "
                                              f"{core.MAX_BODY:,} bytes").json(), 400)
-            return _json({"error": exc.reason, "hint": None}, exc.status)
+            return _json(core.BadRequest(exc.reason).json(), exc.status)
         except (ConnectionResetError, asyncio.CancelledError):
             raise
         except Exception as exc:  # noqa: BLE001 (a person gets a line, never a traceback)
             print(f"gestplay serve: error: {type(exc).__name__}: {exc}", file=sys.stderr)
-            return _json({"error": "the service could not answer this request", "hint": None},
+            return _json(core.BadRequest("the service could not answer this request").json(),
                          500)
     return middleware
 

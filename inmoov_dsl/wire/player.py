@@ -53,12 +53,13 @@ def drain(port: Port) -> bytes:
     return port.read(4096)
 
 
-def wait_ready(port: Port, now: Clock = clock.now, sleep: Sleep = clock.sleep,
+def wait_ready(port: Port, now: Clock | None = None, sleep: Sleep | None = None,
                timeout: float = READY_TIMEOUT) -> bool:
     """Wait until the board is ready: the WAIT it sends when it has booted (opening the
     port reset it) or the WAIT it answers a CANCEL with (the port kept DTR up, so it did
     not reset). A CANCEL goes out every PROBE s; a bootloader still running swallows it.
     False after ``timeout``."""
+    now, sleep = now or clock.now, sleep or clock.sleep
     deadline = now() + timeout
     probe = now()
     while now() < deadline:
@@ -71,9 +72,10 @@ def wait_ready(port: Port, now: Clock = clock.now, sleep: Sleep = clock.sleep,
     return False
 
 
-def ask_dump(port: Port, board: int, now: Clock = clock.now, sleep: Sleep = clock.sleep,
+def ask_dump(port: Port, board: int, now: Clock | None = None, sleep: Sleep | None = None,
              timeout: float = DUMP_TIMEOUT) -> dict[int, int] | None:
     """CANCEL, then DUMP: the board's servo values (ID -> value), or None if no reply."""
+    now, sleep = now or clock.now, sleep or clock.sleep
     drain(port)
     port.write(ASK_POSE)
     replies = Replies(board)
@@ -105,7 +107,7 @@ def wait_until(deadline: float, links: Sequence[Link], now: Clock, sleep: Sleep,
 
 
 def play(compiled: Compiled, links: Sequence[Link], speed: float = 1.0,
-         now: Clock = clock.now, sleep: Sleep = clock.sleep,
+         now: Clock | None = None, sleep: Sleep | None = None,
          progress: Callable[[float], None] | None = None, speaker: Any = None,
          horizon: float = HORIZON) -> float:
     """Send each board's stream as one continuous run (``pace``): every byte at its
@@ -115,7 +117,9 @@ def play(compiled: Compiled, links: Sequence[Link], speed: float = 1.0,
     horizon). With a ``speaker`` (``audio.Speaker``), the gesture's sounds play from
     the same clock (their cues hold them), the whole gesture a moment later
     (AUDIO_AHEAD) so that the first sound can be placed on time; an interruption
-    silences them."""
+    silences them. ``now`` and ``sleep``: the clock (default ``clock.now``, read when
+    called, so a test's virtual clock drives every tool)."""
+    now, sleep = now or clock.now, sleep or clock.sleep
     sounds = compiled.sounds if speaker is not None else ()
     pacers = runs(compiled, links, 0.0, speed, horizon)
     start = now() + (AUDIO_AHEAD if sounds else 0.0)  # once the runs are laid out

@@ -6,6 +6,7 @@ import argparse
 from typing import TYPE_CHECKING
 
 from ...compiling.compiled import to_json, to_timed
+from ...errors import counted
 from ..common import EXIT_OK, write_out
 from .target import add_arguments, compile_target, output_path
 
@@ -31,7 +32,7 @@ def sizes(compiled: Compiled) -> str:
     """Each board's bytes, and which boards the gesture leaves idle (sent CANCEL only):
     ``board 181: 1,029 bytes, board 186: 1,323 bytes; boards 183, 185 idle``."""
     still = [s.board for s in compiled.streams if s.idle]
-    text = ", ".join(f"board {s.board}: {len(s.data):,} byte{'' if len(s.data) == 1 else 's'}"
+    text = ", ".join(f"board {s.board}: {counted(len(s.data), 'byte')}"
                      for s in compiled.streams if s.board not in still)
     if not still:
         return text

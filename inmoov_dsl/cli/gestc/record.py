@@ -76,10 +76,11 @@ def recorded_ids(profile: Profile, glove: Glove | None) -> frozenset[int]:
 
 
 def listen(port: Listener, reader: StreamReader, seconds: float | None,
-           now: Clock = clock.now) -> None:
+           now: Clock | None = None) -> None:
     """Feed ``reader`` what comes from ``port``, each read with the time it came, for
     ``seconds`` (None: until Ctrl-C), counting on the terminal; then close the port."""
     live = sys.stderr.isatty()
+    now = now or clock.now
     start = now()
     try:
         while seconds is None or now() - start < seconds:

@@ -90,10 +90,29 @@ def link_text(r: metrics.LinkReport) -> str:
         f"  worst lag    {lag}",
         f"  max error    {r.max_error:.2f} deg (value sent vs plan at arrival)",
     ]
-    if r.coverage < 1:
-        rows.append("  the link is the bottleneck: raise the baud or split the servos "
-                    "over more boards")
+    rows += _shortfall(r)
     return "\n".join(rows)
+
+
+FULL = 0.9  #: a frame this busy has no room left for the values a plan needs
+
+
+def _shortfall(r: metrics.LinkReport) -> list[str]:
+    """What keeps coverage below 100%, and what would help: a link full in its busiest
+    frame is too slow; one with room to spare sends each value at its pair's slot in the
+    run, which at a sharp turn of a servo's plan can fall just after the frame it was
+    due in (the servo gets it a frame late: a faster link only moves the slot)."""
+    if r.coverage >= 1:
+        return []
+    missed = r.needed - r.covered
+    if r.peak_utilisation >= FULL:
+        return ["  the link is the bottleneck: its busiest frame is full; raise the baud "
+                "or split the servos over more boards"]
+    late = f"{missed:,} servo-frame{'' if missed == 1 else 's'}"
+    servo = f"the {r.worst_lag_servo}'s" if r.worst_lag_servo else "a servo's"
+    return [f"  {late} got the value a frame late: at a sharp turn of {servo} plan, "
+            "the value lands on its pair's slot just after the frame began; the link has "
+            "room to spare: nothing to change"]
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:

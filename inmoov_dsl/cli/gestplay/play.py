@@ -13,7 +13,7 @@ from ...compiling.actions import Action
 from ...compiling.compiled import Compiled, to_timed
 from ...compiling.compiler import compile_program
 from ...compiling.resolve import resolver
-from ...errors import Diagnostic, GestError
+from ...errors import Diagnostic, GestError, counted
 from ...model.posebars import bar_lines
 from ...profiles.data import Profile
 from ...profiles.profile import profile_arg
@@ -193,7 +193,7 @@ class _Run:
     def say(self, gesture: str, times: str) -> None:
         """The summary line: ``played GESTURE[ times]: seconds, bytes, lateness``."""
         times = f" {times}" if times else ""
-        print(f"played {gesture}{times}: {self.seconds:.2f} s, {self.sent:,} bytes, worst "
+        print(f"played {gesture}{times}: {self.seconds:.2f} s, {counted(self.sent, 'byte')}, worst "
               f"lateness {self.worst * 1000:.2f} ms", file=sys.stderr)
 
 

@@ -110,7 +110,7 @@ def read_lines(lines: queue.Queue) -> None:
 
 def repl(links: list[Link], profile: Profile, pose: dict[str, int],
          next_line: Callable[[float], Line], take_over: bool = True,
-         now: clock.Clock = clock.now, sleep: clock.Sleep = clock.sleep,
+         now: clock.Clock | None = None, sleep: clock.Sleep | None = None,
          dirs: list[Path] | None = None, screen: Screen | None = None,
          speaker: Any = None) -> int:
     """Run until the input ends and the hand is still. ``next_line(timeout)`` waits at
@@ -197,7 +197,7 @@ def waiting_on(lines: queue.Queue) -> Callable[[float], Line]:
 def run(args: argparse.Namespace) -> int:
     """Read steps from the terminal (or a pipe) and do them on the hand."""
     profile = load_profile(args.profile or "rhand")
-    speaker = sounds.speaker(args.audio, PROG) if args.audio else None
+    speaker = sounds.speaker(args.audio, PROG, profile) if args.audio else None
     with hand.opened(PROG, profile, args.port, args.blind) as on:
         lines: queue.Queue = queue.Queue()
         interactive = sys.stdin.isatty()

@@ -43,7 +43,7 @@ def run(args: argparse.Namespace) -> int:
         ports = [links.Resilient(link, service.board_lost) for link in on.links]
         on.links[:] = [Link(p.board, p, p.name) for p in ports]  # closed and cancelled too
         watcher = links.Watcher(ports, profile, service.requests.put)
-        speaker = sounds.speaker(args.audio, PROG)
+        speaker = sounds.speaker(args.audio, PROG, profile)
         service.drive = Drive(on.links, profile, on.pose, program, service.told,
                               speaker=speaker)
         service.make_view = lambda: _view(profile, service.drive.mirror.held())

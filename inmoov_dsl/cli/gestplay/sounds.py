@@ -10,6 +10,7 @@ from dataclasses import replace
 
 from ...compiling.compiled import Compiled
 from ...errors import Diagnostic, GestError
+from ...profiles.data import Profile
 from ...voice.hearing import hear_again
 from ...voice.wav import SoundError
 from ..common import warn
@@ -53,11 +54,12 @@ class Audio:
             self.speaker.close()
 
 
-def speaker(choice: str | None, prog: str):
+def speaker(choice: str | None, prog: str, profile: Profile):
     """Where a live front end's ``say`` is heard (the repl, the service): the default
-    output, ``--audio DEVICE``, or none (``--audio none``, or no sound library: then a
-    warning, and ``say`` moves the mouth in silence)."""
-    if choice == "none":
+    output, ``--audio DEVICE``, or none (``--audio none``; a profile without a mouth,
+    which cannot ``say``; or no sound library: then a warning, and ``say`` moves the
+    mouth in silence)."""
+    if choice == "none" or profile.voice is None:
         return None
     from ...wire.audio import Speaker
 

@@ -1,0 +1,79 @@
+"""Stopping gestplay in the middle of a gesture on a board behind a pty that logs each
+byte's start on the wire (gestsim, or the firmware image in simavr), and what the board
+got after the signal. Shared by the player's tests and the wire clock's.
+
+What these tests prove does not depend on how busy the machine is: the player's last
+byte is a CANCEL, the hand stops mid-gesture, and after the signal the board gets only
+what the port could no longer take back (the horizon written ahead, and what the pty's
+reader had taken: a UART's FIFO) and then the CANCEL. How soon the CANCEL arrives is a
+figure of the machine: benchmarks/stop.py measures it (15 ms median, 17 ms worst, idle
+or busy: docs/benchmarks.md); the tests hold a bound a loaded machine meets.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from inmoov_dsl.protocol import Signal
+from inmoov_dsl.wire.pace import HORIZON
+from inmoov_dsl.wire.sim import UART_AHEAD
+
+#: s from the signal to the CANCEL at the board that a machine with both cores busy
+#: meets (the figure itself: benchmarks/stop.py)
+PROMPT = 0.5
+SETTLE = 10.0  #: s; the longest a test waits for something the board is sure to log
+
+
+def received(log: Path) -> tuple[list[float], list[int]]:
+    """The times and bytes of the log (``<seconds> <byte>`` per line)."""
+    rows = [line.split() for line in log.read_text().splitlines() if line.strip()]
+    rows = [row for row in rows if len(row) == 2]  # a line being written: not yet
+    return [float(t) for t, _ in rows], [int(b) for _, b in rows]
+
+
+def wait_for(condition, what: str, timeout: float = SETTLE) -> None:
+    """Poll ``condition()`` until it holds (a deadline, not a sleep standing in for
+    it)."""
+    deadline = time.monotonic() + timeout
+    while not condition():
+        assert time.monotonic() < deadline, f"{what}: not within {timeout} s"
+        time.sleep(0.02)
+
+
+def stop_mid_gesture(log: Path, argv: list[str], signum: int, into: float
+                     ) -> tuple[subprocess.CompletedProcess, float, list[float], list[int]]:
+    """Play ``gestplay ARGV``, send ``signum`` ``into`` s after its first pair's ID (the
+    thumb, 1) reached the board, wait for it to end and for the board to log the CANCEL:
+    (the player's ending, when it was signalled, the log's times and bytes)."""
+    player = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestplay", *argv],
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        wait_for(lambda: " 1\n" in log.read_text(), "the first pair", 60)
+        time.sleep(into)  # the gesture is well under way (it lasts longer than this)
+        signalled = time.monotonic()
+        player.send_signal(signum)
+        out, err = player.communicate(timeout=SETTLE)
+    finally:
+        if player.poll() is None:
+            player.kill()
+            player.wait()
+    ended = subprocess.CompletedProcess(argv, player.returncode, out, err)
+    wait_for(lambda: received(log)[1][-1:] == [Signal.CANCEL], "the CANCEL at the board")
+    times, data = received(log)
+    return ended, signalled, times, data
+
+
+def after_signal(times: list[float], data: list[int], signalled: float, baud: int = 9600
+                 ) -> list[tuple[float, int]]:
+    """What reached the board after the signal. It ends in the CANCEL, within PROMPT,
+    behind no more than the port could not take back: the horizon and the reader's
+    FIFO."""
+    tau = 10 / baud
+    after = [(t, b) for t, b in zip(times, data, strict=True) if t > signalled]
+    assert after and after[-1][1] == Signal.CANCEL
+    assert after[-1][0] + tau - signalled <= PROMPT
+    assert len(after) <= round((HORIZON + UART_AHEAD) / tau) + 2
+    return after
