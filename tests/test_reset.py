@@ -12,6 +12,7 @@ from pathlib import Path
 
 import pytest
 import serial
+from stopping import received, wait_for
 from terminal import AtTerminal, listen_as_a_plain_program
 
 from inmoov_dsl import load_profile
@@ -231,9 +232,8 @@ def test_a_second_ctrl_c_relaxes_the_hand(gestsim):
     assert "CANCEL sent, the hand holds its pose (Ctrl-C again to relax it)" in out
     assert "gestplay: relaxed: the servos are limp until the next command" in out
     assert "Traceback" not in out
-    time.sleep(0.1)
-    data = [int(line.split()[1]) for line in log.read_text().splitlines()]
-    assert data[-4:] == [255, 255, 248, 255]  # CANCEL, then CANCEL RELAX CANCEL
+    # CANCEL, then CANCEL RELAX CANCEL (the board logs them as it reads them)
+    wait_for(lambda: received(log)[1][-4:] == [255, 255, 248, 255], "the relax at the board")
 
 
 @POSIX
@@ -245,8 +245,8 @@ def test_one_ctrl_c_at_a_terminal_holds_the_pose(gestsim):
     term.proc.send_signal(signal.SIGINT)
     code, out = term.finish()
     assert code == 130 and "relaxed" not in out
-    data = [int(line.split()[1]) for line in log.read_text().splitlines()]
-    assert data[-1] == 255 and 248 not in data
+    wait_for(lambda: received(log)[1][-1:] == [255], "the CANCEL at the board")
+    assert 248 not in received(log)[1]
 
 
 @pytest.mark.parametrize("url, said", [

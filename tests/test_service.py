@@ -15,6 +15,7 @@ import time
 import numpy as np
 import pytest
 from sound_server import sound_server  # noqa: F401 (a fixture)
+from stopping import received, wait_for
 from test_web import Lines
 from toolchain import require
 
@@ -329,8 +330,9 @@ def test_sigterm_mid_move_sends_cancel_to_the_board(gestsim):
         assert gone(ws) == 1001  # a client is told the service goes away
     assert code == 143 and "stopped by SIGTERM: CANCEL sent" in err
     assert err.strip().endswith("the hand holds its pose")  # and nothing after it
-    sent = [int(line.split()[1]) for line in log.read_text().splitlines()]
-    assert sent[-1] == 255 and sent.count(255) >= 2  # the gesture's CANCEL, then the stop's
+    wait_for(lambda: received(log)[1][-1:] == [255], "the stop's CANCEL at the board")
+    sent = received(log)[1]
+    assert sent.count(255) >= 2  # the gesture's CANCEL, then the stop's
 
 
 # -- the page, in a browser ---------------------------------------------------------------
