@@ -115,7 +115,7 @@ def watch(args: argparse.Namespace, profile: Profile, boards: set[int]) -> str:
     sim = ["gestsim", "--view"]
     if profile.name != "rhand" or profile_arg(profile) != "rhand":
         sim += ["--profile", profile_arg(profile)]
-    ids = sorted(boards)
+    ids = sorted(boards) or [profile.boards[0].id]  # a gesture that moves nothing
     if len(ids) == 1:
         if ids[0] != profile.boards[0].id:
             sim += ["--board", str(ids[0])]
