@@ -144,3 +144,11 @@ def test_show_says_what_keeps_coverage_below_100_percent():
     assert full.endswith("  the link is the bottleneck: its busiest frame is full; raise the "
                          "baud or split the servos over more boards")
     assert not link_text(report(covered=220)).splitlines()[-1].startswith("  1 ")
+
+
+def test_a_trigger_names_one_gesture_of_a_file_stored_whole(files, capsys):
+    assert gestc.main(["firmware", "rhand", "-o", str(files / "b"), "--store", "several.gest",
+                       "--on-boot", "several.gest"]) == 1
+    assert "several.gest defines 3 gestures" in capsys.readouterr().err
+    names, flash = stored(files, "--store", "several.gest", "--on-boot", "several.gest:point")
+    assert names == ["wave", "fist", "point"] and flash.boot == 2

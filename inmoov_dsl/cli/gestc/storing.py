@@ -69,21 +69,18 @@ def stored_sets(args: argparse.Namespace, profile: Profile, board: Board, prog: 
     asked = request(args)
     dirs = library_dirs(args.lib)
     found = _Found(dirs, prog)
-    for ref in asked.names:  # --store's files first: the other options name their gestures
-        if ref != ALL:
-            found.add(ref, store=True)
-    for ref in asked.every:
-        if ref == ALL:
-            for name in _all(profile, board, dirs):
-                found.add(name, store=True)
-        else:
+    for ref in asked.names:  # --store's first: the triggers may name their files' gestures
+        for name in _all(profile, board, dirs) if ref == ALL else [ref]:
+            found.add(name, store=True)
+    for ref in dict.fromkeys([asked.boot, asked.idle, *(g for _, g in asked.buttons)]):
+        if ref is not None:  # a trigger's gesture: stored too, after --store's
             found.add(ref)
     gestures = []
     for path, name in found.order:
         compiled, _ = compile_program(found.programs[path], name, profile)
         report(compiled.warnings, prog)
         gestures.append(stored_gesture(compiled, profile, board))
-    named = {ref: found.refs[ref][0][1] for ref in found.refs}
+    named = {ref: found.refs[ref, False][0][1] for ref, store in found.refs if not store}
     asked = Request(tuple(name for _, name in found.order), named.get(asked.boot),
                     named.get(asked.idle), asked.idle_after,
                     tuple((p, named[g]) for p, g in asked.buttons))
@@ -104,14 +101,15 @@ class _Found:
     def __init__(self, dirs, prog: str):
         self.dirs, self.prog = dirs, prog
         self.programs: dict[str, Program] = {}  #: path -> its program
-        self.refs: dict[str, list[tuple[str, str]]] = {}  #: words -> (path, gesture)
+        #: (words, for --store) -> their (path, gesture)s
+        self.refs: dict[tuple[str, bool], list[tuple[str, str]]] = {}
         self.order: list[tuple[str, str]] = []  #: what is stored, numbered in this order
 
     def add(self, ref: str, store: bool = False) -> None:
         """Store what ``ref`` names (``store``: all the gestures of a file)."""
-        if ref not in self.refs:
-            self.refs[ref] = self._resolve(ref, store)
-        for path, name in self.refs[ref]:
+        if (ref, store) not in self.refs:
+            self.refs[ref, store] = self._resolve(ref, store)
+        for path, name in self.refs[ref, store]:
             clash = next((p for p, n in self.order if n == name and p != path), None)
             if clash is not None:
                 raise GestError(Diagnostic(
