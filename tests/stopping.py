@@ -2,12 +2,12 @@
 byte's start on the wire (gestsim, or the firmware image in simavr), and what the board
 got after the signal. Shared by the player's tests and the wire clock's.
 
-What these tests prove does not depend on how busy the machine is: the player's last
-byte is a CANCEL, the hand stops mid-gesture, and after the signal the board gets only
-what the port could no longer take back (the horizon written ahead, and what the pty's
-reader had taken: a UART's FIFO) and then the CANCEL. How soon the CANCEL arrives is a
-figure of the machine: benchmarks/stop.py measures it (15 ms median, 17 ms worst, idle
-or busy: docs/benchmarks.md); the tests hold a bound a loaded machine meets.
+What these tests prove does not depend on how busy the machine is: the player ends
+with the status and the line a signal calls for, the board's last byte is a CANCEL, and
+the hand stopped mid-gesture. How soon the CANCEL arrives, and how many bytes the
+port could no longer take back, depend on when each process ran: on the player's
+virtual clock the player sends at most the horizon and then the CANCEL
+(test_player.py), and benchmarks/stop.py measures it at a real board (docs/benchmarks.md).
 """
 
 from __future__ import annotations
@@ -18,11 +18,9 @@ import time
 from pathlib import Path
 
 from inmoov_dsl.protocol import Signal
-from inmoov_dsl.wire.pace import HORIZON
-from inmoov_dsl.wire.sim import UART_AHEAD
 
-#: s from the signal to the CANCEL at the board that a machine with both cores busy
-#: meets (the figure itself: benchmarks/stop.py)
+#: s from an event to what a program does about it that a machine with both cores busy
+#: meets (the figures themselves: benchmarks/)
 PROMPT = 0.5
 SETTLE = 10.0  #: s; the longest a test waits for something the board is sure to log
 
@@ -66,14 +64,9 @@ def stop_mid_gesture(log: Path, argv: list[str], signum: int, into: float
     return ended, signalled, times, data
 
 
-def after_signal(times: list[float], data: list[int], signalled: float, baud: int = 9600
+def after_signal(times: list[float], data: list[int], signalled: float
                  ) -> list[tuple[float, int]]:
-    """What reached the board after the signal. It ends in the CANCEL, within PROMPT,
-    behind no more than the port could not take back: the horizon and the reader's
-    FIFO."""
-    tau = 10 / baud
+    """What reached the board after the signal: it ends in the CANCEL."""
     after = [(t, b) for t, b in zip(times, data, strict=True) if t > signalled]
     assert after and after[-1][1] == Signal.CANCEL
-    assert after[-1][0] + tau - signalled <= PROMPT
-    assert len(after) <= round((HORIZON + UART_AHEAD) / tau) + 2
     return after

@@ -223,7 +223,7 @@ def test_no_traceback_from_the_installed_script(tmp_path):
     ('{"format": "inmoov-dsl-compiled", "version": 1}', "missing field 'streams'"),
     ('{"format": "inmoov-dsl-compiled", "version": 1, "streams": [{"board": 181, '
      '"baud": 9600, "times": [0, 1], "bytes": [255]}]}',
-     "board 181 has 2 times for 1 bytes"),
+     "board 181 has 2 times for 1 byte"),
     ('{"format": "inmoov-dsl-compiled", "version": 1, "streams": [{"board": 181, '
      '"baud": 9600, "times": [0.5, 0.1], "bytes": [255, 1]}]}',
      "board 181: send times go backwards"),

@@ -164,7 +164,7 @@ def test_huge_numbers_and_odd_characters_are_diagnostics(source, first):
 @pytest.mark.parametrize(("source", "first", "hint"), [
     ("wait: index 90", "e.gest:1:1: error: 'wait' is a keyword and cannot name a gesture",
      "choose another name (the keywords: group, hold, left, over, pose, repeat, right, "
-     "say, stagger, through, use, wait)"),
+     "robot, say, stagger, through, use, wait)"),
     ("pose over: index 9", "e.gest:1:6: error: 'over' is a keyword and cannot name a pose",
      None),
     ("group hold: index", "e.gest:1:7: error: 'hold' is a keyword and cannot name a group",

@@ -23,8 +23,8 @@ from inmoov_dsl.language.load import load
 from inmoov_dsl.profiles.profile import load_profile
 from inmoov_dsl.protocol import pairs, timed_pairs
 from inmoov_dsl.wire import link as wire_link
-from inmoov_dsl.wire.pace import WAKE, padded
-from inmoov_dsl.wire.player import Link, play, wait_ready
+from inmoov_dsl.wire.pace import HORIZON, WAKE, padded
+from inmoov_dsl.wire.player import Link, cancel_all, play, wait_ready
 from inmoov_dsl.wire.ports import open_port
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -52,6 +52,35 @@ class FakePort:
 
     def read(self, size=1):
         return b""
+
+
+@pytest.mark.parametrize("into", [0.5, 3.0, 7.77])
+def test_ctrl_c_sends_at_most_the_horizon_then_cancel(into):
+    """On the virtual clock, Ctrl-C ``into`` s into demo: what the player had written
+    ahead (at most the horizon) still goes, then the CANCEL, within the horizon and two
+    byte-times of the signal (a stop drops what a port that can discard holds: then
+    sooner). The same at a board behind a pty: test_wireclock.py; the figure on a real
+    machine: benchmarks/stop.py."""
+    compiled = compile_file(load_library()["demo"])
+    clock = FakeClock()
+    port = FakePort(clock)
+    signalled = []
+
+    def sleep(seconds):
+        clock.sleep(seconds)
+        if not signalled and clock.t >= 100.0 + into:
+            signalled.append(clock.t)
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        play(compiled, [Link(181, port)], now=clock.now, sleep=sleep)
+    cancel_all([Link(181, port)])
+    tau = compiled.stream().byte_time
+    after = [(t, b) for t, b in port.sent if t + tau > signalled[0]]  # still on the wire
+    assert after[-1][1] == 255 and len(after) <= round(HORIZON / tau) + 2
+    assert after[-1][0] + tau - signalled[0] <= HORIZON + 2 * tau
+    events = read_stream(*zip(*port.sent, strict=True), 9600)
+    assert 0 < len(events) < len(pairs(compiled.stream().data))  # stopped mid-gesture
 
 
 @pytest.mark.parametrize("speed", [1.0, 0.5])

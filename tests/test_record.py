@@ -166,21 +166,20 @@ def test_record_a_virtual_glove_on_a_pseudo_terminal(tmp_path):
     keys, samples = (int(x) for x in re.search(r"(\d+) keyframes from (\d+) samples",
                                                 done.stderr).groups())
     assert keys < samples / 10
-    # from the first recorded pose, the replay follows the motion: within the tolerance
-    # (3) of what the glove reported, which is within its dead-band (2) and the noise of
-    # the true motion; in time, within a servo frame and a half (keyframes fall on servo
-    # frames, and arrival times jitter by a few milliseconds in real time)
+    # from the first recorded pose, the replay passes through the poses of the motion
+    # and through no others: each within the tolerance (3) of what the glove reported,
+    # which is within its dead-band (2) and the noise of the true motion. When each byte
+    # came depends on when two processes ran on a busy machine, so the poses are compared
+    # here, not their times (the times: test_late_arrivals_are_put_back_on_the_gloves_
+    # clock and the clean recordings above, on the glove's own clock)
     first_pose = out.read_text().splitlines()[2].strip()  # the step after "counted:"
     _, replay = compile_program(load(str(out)), None, RHAND, first_pose)
     motion = truth("count")
-    t = np.arange(0, min(replay.duration, motion.duration), 0.01)
-    error = 0.0
-    for i in range(1, 6):
-        shifted = np.stack([motion.tracks[i].position(t + dt)
-                            for dt in np.arange(-0.03, 0.031, 0.005)])
-        error = max(error, float(np.abs(shifted - replay.tracks[i].position(t)).min(axis=0)
-                                 .max()))
-    assert error <= 3 + 2 + 1, (error, out.read_text())
+    poses = [np.stack([plan.tracks[i].position(np.arange(0, plan.duration, 0.01))
+                       for i in range(1, 6)], axis=1) for plan in (motion, replay)]
+    far = [float(np.abs(a[:, None, :] - b[None, :, :]).max(axis=2).min(axis=1).max())
+           for a, b in (poses, poses[::-1])]
+    assert max(far) <= 3 + 2 + 1, (far, out.read_text())
 
 
 def test_nothing_recorded_is_a_clear_error(tmp_path, capsys):

@@ -95,7 +95,8 @@ def test_say_on_a_profile_without_a_mouth_is_an_error_at_the_say():
     d = info.value.first
     assert (d.message, d.pos.line, d.pos.column) == (
         "profile 'rhand' has no [voice]: no mouth moves with 'say'", 1, 4)
-    assert "--profile inmoov" in d.hint
+    assert d.hint == ("play it on a robot whose profile names its mouth in [voice] "
+                      "(robot inmoov)")
 
 
 # -- sounds -------------------------------------------------------------------------------

@@ -132,7 +132,7 @@ class Resolver(_Targets):
         played on ``side`` ("left" or "right", ``sides.py``) when given (``label``: what
         errors call the gesture, when not its name)."""
         node = self.program.gestures[name]
-        robot.check(self.program, self.profile, node.name.pos.file)
+        robot.check(self.program, self.profile, name)
         out: list[Action] = []
         self._spans = {}
         self._heights[name] = self._expand(node.steps, Frame((name,), name), out)
@@ -195,8 +195,7 @@ class Resolver(_Targets):
         if callee in at.chain:
             cycle = " -> ".join([*at.chain[at.chain.index(callee):], callee])
             self.fail(f"gesture '{callee}' calls itself: {cycle}", step.pos)
-        robot.check(self.program, self.profile,
-                    self.program.gestures[callee].name.pos.file, step.pos)
+        robot.check(self.program, self.profile, callee, step.pos)
         if callee in self._heights:
             self._nest(step, at.depth + 1 + self._heights[callee])
         side = step.side.text if step.side else None

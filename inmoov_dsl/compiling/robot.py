@@ -56,9 +56,10 @@ def profile_for(program: Program, profile: str | Profile | None = None) -> Profi
     return robot_profile(line, program) if line is not None else load_profile(DEFAULT)
 
 
-def check(program: Program, profile: Profile, file: str, at: Pos | None = None) -> None:
-    """A GestError unless ``profile`` plays the gestures of ``file`` (has every servo and
-    group of the robot its robot line names), at ``at`` (a call) or at the robot line."""
+def check(program: Program, profile: Profile, gesture: str, at: Pos | None = None) -> None:
+    """A GestError unless ``profile`` plays ``gesture``: has every servo and group of the
+    robot its file's robot line names; at ``at`` (a call) or at the robot line."""
+    file = program.gestures[gesture].name.pos.file
     line = program.robots.get(file)
     if line is None:
         return
