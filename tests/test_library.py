@@ -168,7 +168,7 @@ def test_left_hand_is_its_own_board_and_ids():
             (servo.id, servo.board, servo.calibration, servo.max_velocity)
 
 
-def test_the_whole_robot_plays_in_lockstep_on_virtual_boards():
+def test_the_whole_robot_plays_in_lockstep_on_virtual_boards(virtual_clock):
     inmoov = load_profile("inmoov")
     ports = hand.parse_ports(["sim://?boot=0"], inmoov)
     assert ports[184] == "sim://inmoov?boot=0&board=184"

@@ -23,7 +23,9 @@ from .pace import HORIZON, Pacer, commands, discard_output
 
 READY_TIMEOUT = 2.0  #: s; the longest we wait for a board to boot (its first WAIT)
 PROBE = 0.1  #: s; while waiting for a board, send it a CANCEL this often
-DUMP_TIMEOUT = 0.5  #: s; the longest we wait for a DUMP reply
+#: s; the longest we wait for a DUMP reply: a board answers within milliseconds, one in
+#: a simulator on a machine kept busy by other programs took over half a second
+DUMP_TIMEOUT = 1.0
 SPIN = 0.0005  #: s; sleep until this close to a deadline, then spin on the clock
 AUDIO_AHEAD = 0.05  #: s; a gesture with sounds starts this late: its first sound on time
 POLL = 0.2  #: s; in a long pause, look at the links this often (a pulled cable)
