@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import gc
 import math
 import signal
 import sys
@@ -73,7 +74,12 @@ def status_of(exc: KeyboardInterrupt) -> int:
 
 def run(prog: str, body: Callable[[], int]) -> int:
     """Run a command: people get messages and exit codes, never a traceback. SIGTERM
-    and SIGHUP stop it as Ctrl-C does."""
+    and SIGHUP stop it as Ctrl-C does. In a tool's own process, started with garbage
+    collection off (``cli._start``), what start-up made is frozen (never looked at
+    again, not even as the interpreter ends) and collection goes on for the command."""
+    if not gc.isenabled():
+        gc.freeze()
+        gc.enable()
     stop_on_signals()
     try:
         return body()

@@ -10,7 +10,6 @@ from collections.abc import Callable, Sequence
 from dataclasses import replace
 
 from ..resources import read_regular
-from .speak import speak
 from .wav import MAX_SECONDS, Sound, SoundError, read_wav
 
 MAX_WAV_BYTES = int(MAX_SECONDS * 48_000 * 2 * 4) + 1024  #: the largest file read
@@ -18,12 +17,19 @@ WAV_SUFFIX = ".wav"
 REQUEST = "<request>"  #: what another program sent: it names no file of this computer
 
 
+def espeak(text: str, voice: str, speed: int, pitch: int) -> bytes:
+    """``speak.speak``, imported when a text is first spoken (it starts programs)."""
+    from .speak import speak
+
+    return speak(text, voice, speed, pitch)
+
+
 class Hearing:
     """The sounds of one program's ``say`` steps; ``Speak(text, voice, speed, pitch)``
     makes WAV bytes of text."""
 
     def __init__(self, search: Sequence[str] = (),
-                 speaker: Callable[[str, str, int, int], bytes] = speak):
+                 speaker: Callable[[str, str, int, int], bytes] = espeak):
         self.search, self.speaker = list(search), speaker
         self.made: dict[tuple, Sound] = {}
 
@@ -71,7 +77,7 @@ def _read(path: str) -> bytes:
 
 
 def hear_again(said: str, file: str | None, voice: tuple[str, int, int] | None, sha256: str,
-               speaker: Callable[[str, str, int, int], bytes] = speak) -> Sound:
+               speaker: Callable[[str, str, int, int], bytes] = espeak) -> Sound:
     """The sound a compiled gesture's cue names (its WAV file, or its text spoken again):
     a SoundError if the file is not the one compiled (its SHA-256 differs)."""
     if file is not None:

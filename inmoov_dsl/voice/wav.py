@@ -5,8 +5,6 @@ the file is and what is taken."""
 from __future__ import annotations
 
 import hashlib
-import io
-import wave
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -43,6 +41,9 @@ class Sound:
 
 def read_wav(data: bytes, source: str) -> Sound:
     """The sound of WAV bytes ``data`` (``source`` names them in messages)."""
+    import io
+    import wave  # (imported when a sound is first read)
+
     if data[:4] != b"RIFF" or data[8:12] != b"WAVE":
         raise SoundError(f"'{source}' is not a WAV file", "say takes a PCM .wav file, or "
                          "text to speak: say \"Hello\"")

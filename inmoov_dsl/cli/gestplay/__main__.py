@@ -1,7 +1,9 @@
 """``python -m inmoov_dsl.cli.gestplay``."""
 
+import gc
 import sys
 
-from . import main
+gc.disable()  # as the console script starts (inmoov_dsl.cli._start)
+from . import main  # noqa: E402
 
 sys.exit(main())
