@@ -176,3 +176,18 @@ def test_the_line_to_watch_it_move_runs_as_printed(argv, capsys):
         for proc in procs:
             proc.kill()
             proc.wait()
+
+
+def test_where_there_are_no_pseudo_terminals_the_line_draws_it(tmp_path, monkeypatch):
+    """On Windows the line names gestc preview, with the options it takes."""
+    import argparse
+
+    from inmoov_dsl.cli.gestplay import play
+    from inmoov_dsl.profiles.profile import load_profile
+
+    monkeypatch.chdir(tmp_path)
+    args = argparse.Namespace(target="peace", profile="inmoov", hand="left")
+    line = play.watch(args, load_profile("inmoov"), {183}, posix=False)
+    assert line == "'gestc preview peace --profile inmoov -o peace.gif' draws it"
+    assert gestc.main(shlex.split(line.split("'")[1])[1:]) == 0
+    assert (tmp_path / "peace.gif").read_bytes()[:6] == b"GIF89a"

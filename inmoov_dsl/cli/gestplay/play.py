@@ -102,16 +102,17 @@ def show_virtual(on: hand.Hand, boards: set[int], pose: dict[str, int]) -> None:
         print("\n".join(bar_lines(held)), file=sys.stderr)
 
 
-def watch(args: argparse.Namespace, profile: Profile, boards: set[int]) -> str:
+def watch(args: argparse.Namespace, profile: Profile, boards: set[int],
+          posix: bool = os.name == "posix") -> str:
     """Where to watch the gesture move: the commands that run a virtual board of each
     board it drives (gestsim) and play it there, each as it runs (POSIX: gestsim serves
-    a pseudo-terminal), or the one that draws it."""
+    a pseudo-terminal), or elsewhere the one that draws it."""
     name = args.target
     again = ["--profile", args.profile] if args.profile else []  # else the file's robot
-    again += ["--hand", args.hand] if args.hand else []
-    if os.name != "posix":
+    if not posix:  # gestc preview draws a gesture as written: on its own side
         return f"'{shlex.join(['gestc', 'preview', name, *again, '-o', f'{name}.gif'])}' " \
             "draws it"
+    again += ["--hand", args.hand] if args.hand else []
     sim = ["gestsim", "--view"]
     if profile.name != "rhand" or profile_arg(profile) != "rhand":
         sim += ["--profile", profile_arg(profile)]
