@@ -152,3 +152,10 @@ def test_a_trigger_names_one_gesture_of_a_file_stored_whole(files, capsys):
     assert "several.gest defines 3 gestures" in capsys.readouterr().err
     names, flash = stored(files, "--store", "several.gest", "--on-boot", "several.gest:point")
     assert names == ["wave", "fist", "point"] and flash.boot == 2
+
+
+def test_a_file_without_gestures_to_store_is_one_message(files, capsys):
+    (files / "poses.gest").write_text("pose p: index 9\n")
+    assert gestc.main(["firmware", "rhand", "-o", str(files / "b"), "--store",
+                       "poses.gest"]) == 1
+    assert capsys.readouterr().err == "gestc: error: poses.gest defines no gesture\n"

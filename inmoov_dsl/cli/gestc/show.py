@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ...errors import counted
 from ..common import EXIT_OK
 from .target import add_arguments, compile_target
 
@@ -108,7 +109,7 @@ def _shortfall(r: metrics.LinkReport) -> list[str]:
     if r.peak_utilisation >= FULL:
         return ["  the link is the bottleneck: its busiest frame is full; raise the baud "
                 "or split the servos over more boards"]
-    late = f"{missed:,} servo-frame{'' if missed == 1 else 's'}"
+    late = counted(missed, "servo-frame")
     servo = f"the {r.worst_lag_servo}'s" if r.worst_lag_servo else "a servo's"
     return [f"  {late} got the value a frame late: at a sharp turn of {servo} plan, "
             "the value lands on its pair's slot just after the frame began; the link has "

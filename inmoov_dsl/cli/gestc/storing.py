@@ -133,8 +133,9 @@ class _Found:
         try:
             return [(path, pick_gesture(program, picked))]
         except GestError as exc:
-            first = exc.first
-            raise GestError(Diagnostic("error", first.message, hint=f"name one: {ref}:"
+            if len(program.own) < 2:
+                raise
+            raise GestError(Diagnostic("error", exc.first.message, hint=f"name one: {ref}:"
                                        f"{program.own[0]}, or store them all: --store "
                                        f"{ref}")) from None
 

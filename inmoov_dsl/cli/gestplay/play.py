@@ -114,7 +114,7 @@ def watch(args: argparse.Namespace, profile: Profile, boards: set[int],
             "draws it"
     again += ["--hand", args.hand] if args.hand else []
     sim = ["gestsim", "--view"]
-    if profile.name != "rhand" or profile_arg(profile) != "rhand":
+    if profile_arg(profile) != "rhand":  # gestsim's default
         sim += ["--profile", profile_arg(profile)]
     ids = sorted(boards) or [profile.boards[0].id]  # a gesture that moves nothing
     if len(ids) == 1:
