@@ -35,9 +35,9 @@ def load_target(name: str, gesture: str | None, profile: str | None,
     """Find ``name`` (a .gest file, or a gesture on the search path: ``lib``, then the
     library), load it for ``profile`` (default: the file's robot line, else rhand) and
     pick ``gesture`` of it (``pick_gesture``); what is noticed on the way is ``prog``'s
-    warning. With
-    ``compiled``, a .gestc file is read instead, for its profile (default the one it
-    was compiled for, and checked against it); played on a ``side``, refused."""
+    warning. With ``compiled``, a .gestc file is read instead, for its profile
+    (default the one it was compiled for, and checked against it); played on a
+    ``side``, refused."""
     if compiled and name.endswith(".gestc"):
         return _compiled(name, profile, side)
     dirs = library_dirs(lib or [])
