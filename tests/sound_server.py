@@ -4,10 +4,12 @@ plays in real time and can be recorded from its monitor), on a socket of the tes
 
 from __future__ import annotations
 
+import contextlib
 import os
 import shutil
 import subprocess
 import time
+from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
@@ -31,14 +33,13 @@ def rescan() -> None:
     sounddevice._initialize()
 
 
-@pytest.fixture
-def sound_server(tmp_path, monkeypatch):
-    """A PulseAudio server with a null sink, for this test: its socket's address."""
+@contextlib.contextmanager
+def null_sink(home: Path) -> Iterator[str]:
+    """A PulseAudio server with a null sink, its files in ``home``: its socket's address
+    (for ``PULSE_SERVER``), until the block ends (the benchmarks use it too)."""
     exe = shutil.which("pulseaudio")
     require("pulseaudio", exe is not None, "apt-get install pulseaudio")
-    need_sounddevice()
-    home = tmp_path / "pulse"
-    home.mkdir()
+    home.mkdir(exist_ok=True)
     config = home / "default.pa"
     config.write_text(f"load-module module-null-sink sink_name={SINK} rate=48000\n"
                       f"set-default-sink {SINK}\n"
@@ -48,20 +49,29 @@ def sound_server(tmp_path, monkeypatch):
     proc = subprocess.Popen([exe, "-n", "-F", str(config), "--exit-idle-time=-1",
                              "--daemonize=no", "--use-pid-file=no", "--disable-shm"],
                             env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    address = f"unix:{home}/native"
-    deadline = time.monotonic() + 20
-    while not Path(home, "native").exists():
-        assert proc.poll() is None, proc.stderr.read().decode()
-        assert time.monotonic() < deadline, "pulseaudio did not start in 20 s"
-        time.sleep(0.05)
-    monkeypatch.setenv("PULSE_SERVER", address)
     try:
-        rescan()
-    except OSError as exc:
-        require("PortAudio", False, f"apt-get install libportaudio2 ({exc})")
-    yield address
-    proc.terminate()
-    try:
-        proc.wait(timeout=10)
-    except subprocess.TimeoutExpired:
-        proc.kill()
+        deadline = time.monotonic() + 20
+        while not Path(home, "native").exists():
+            assert proc.poll() is None, proc.stderr.read().decode()
+            assert time.monotonic() < deadline, "pulseaudio did not start in 20 s"
+            time.sleep(0.05)
+        yield f"unix:{home}/native"
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+
+
+@pytest.fixture
+def sound_server(tmp_path, monkeypatch):
+    """A PulseAudio server with a null sink, for this test: its socket's address."""
+    need_sounddevice()
+    with null_sink(tmp_path / "pulse") as address:
+        monkeypatch.setenv("PULSE_SERVER", address)
+        try:
+            rescan()
+        except OSError as exc:
+            require("PortAudio", False, f"apt-get install libportaudio2 ({exc})")
+        yield address

@@ -1,7 +1,8 @@
 """Speaking out loud: a gesture's sounds are played from the same clock as its bytes,
-each heard within 10 ms of its planned time (measured by the sound library's own timing
-of each block, on a virtual output); without a sound library gestplay says how to get
-one, or plays in silence with --audio none."""
+each sound's first sample placed where the sound library says that block is heard (on a
+fake output, exactly; on a virtual output, heard in order and never early: how close
+to its time on a real machine is benchmarks/sound.py's figure); without a sound
+library gestplay says how to get one, or plays in silence with --audio none."""
 
 import builtins
 import wave
@@ -10,6 +11,7 @@ import numpy as np
 import pytest
 import serial
 from sound_server import sound_server  # noqa: F401 (a fixture)
+from stopping import wait_for
 
 from inmoov_dsl.cli import gestplay
 from inmoov_dsl.compiling.compiler import compile_source
@@ -29,7 +31,50 @@ def tone_wav(path, seconds=0.6, rate=44100):
         w.writeframes(x.tobytes())
 
 
-def test_each_sound_is_heard_within_10_ms_of_its_planned_time(sound_server, tmp_path):  # noqa: F811
+class FakeOutput:
+    """sounddevice's OutputStream as the Speaker uses it: it keeps the callback."""
+
+    def __init__(self, callback, **kwargs):
+        self.callback = callback
+
+    def start(self):
+        pass
+
+    def stop(self):
+        pass
+
+    def close(self):
+        pass
+
+
+def test_a_sound_starts_on_the_sample_its_planned_time_is_heard(tmp_path, monkeypatch):
+    """A block asked for at clock time 10.000 is heard 30 ms later: a sound planned for
+    10.0425 starts 12.5 ms into it, on that sample, and its start is noted as heard then."""
+    import types
+
+    import sounddevice
+
+    from inmoov_dsl.voice.wav import read_wav
+    from inmoov_dsl.wire.audio import RATE, Speaker
+
+    monkeypatch.setattr(sounddevice, "OutputStream", FakeOutput)
+    tone_wav(tmp_path / "a.wav", rate=RATE)
+    sound = read_wav((tmp_path / "a.wav").read_bytes(), "a.wav")
+    clock = {"t": 10.0}
+    speaker = Speaker(now=lambda: clock["t"])
+    speaker.play(sound, 10.0425)
+    frames = int(0.02 * RATE)
+    for block in range(3):  # blocks of 20 ms, each asked for as the one before ends
+        out = np.zeros((frames, 1), np.float32)
+        timing = types.SimpleNamespace(currentTime=5.0, outputBufferDacTime=5.030)
+        speaker.stream.callback(out, frames, timing, None)
+        if block == 0:  # heard from 10.030 to 10.050: the sound from its 600th sample
+            assert not out[:600].any() and out[601:].all()
+        clock["t"] += 0.02
+    assert speaker.heard == [(10.0425, pytest.approx(10.0425, abs=0.5 / RATE))]
+
+
+def test_each_sound_is_heard_in_order_and_never_early(sound_server, tmp_path):  # noqa: F811
     from inmoov_dsl.wire.audio import Speaker
 
     tone_wav(tmp_path / "a.wav")
@@ -44,11 +89,11 @@ def test_each_sound_is_heard_within_10_ms_of_its_planned_time(sound_server, tmp_
     try:
         assert speaker.wait_flowing(timeout=30)  # a busy machine starts the server slowly
         play(compiled, links, speaker=speaker)
+        wait_for(lambda: len(speaker.heard) == 2, "both sounds heard", 30)
     finally:
         speaker.close()
-    assert len(speaker.heard) == 2
     for planned, heard in speaker.heard:
-        assert abs(heard - planned) <= 0.010, (planned, heard)
+        assert heard >= planned - 1e-3, (planned, heard)  # never early
     assert speaker.heard[1][0] - speaker.heard[0][0] == pytest.approx(second, abs=1e-6)
 
 

@@ -173,7 +173,7 @@ class Browser:
         self.call("Page.navigate", url=url)
         self.receive(lambda m: m.get("method") == "Page.loadEventFired")
 
-    def receive(self, wanted, timeout: float = 20) -> dict:
+    def receive(self, wanted, timeout: float = 60) -> dict:  # software WebGL, busy machine
         """Read messages until ``wanted(message)``, noting the URLs the page asks for."""
         deadline = time.monotonic() + timeout
         while True:
