@@ -107,3 +107,52 @@ def test_a_relax_lets_the_servos_go_until_the_next_request():
                             (1.0, Control("relax", "r"))])
     assert told == [("started", "a"), ("finished", "a"), ("relax", "r")]
     assert board.core.relaxed
+
+
+class LatePort(ClockedPort):
+    """A board that reads ``lag`` s behind the wire (one in a simulator on a busy
+    machine: the bytes wait in the pseudo-terminal); a drop loses what it has not read."""
+
+    def __init__(self, board, timeline, lag):
+        super().__init__(board, timeline)
+        self.lag, self.waiting = lag, []
+
+    def _deliver(self):
+        now = self.timeline.t
+        while self.waiting and self.waiting[0][0] + self.lag <= now:
+            at, data = self.waiting.pop(0)
+            self.board.write(data, at + self.lag)
+
+    def write(self, data):
+        self._deliver()
+        self.waiting.append((self.timeline.t, bytes(data)))
+        return len(data)
+
+    def reset_output_buffer(self):
+        self._deliver()
+        self.waiting.clear()
+
+    def read(self, size=1):
+        self._deliver()
+        return super().read(size)
+
+
+@pytest.mark.parametrize("lag", [0.03, 0.1])
+@pytest.mark.parametrize("stops", [[0.7], [0.7, 0.705], [0.7, 0.75, 0.9]])
+def test_a_board_that_reads_late_holds_what_the_drive_says_after_any_stops(lag, stops):
+    """Whatever a stop's drop took from a board that reads late, and however many stops
+    come, each within the reach of the one before: the stop sends every servo it has
+    moved its value again, so the board ends holding the pose the drive reports."""
+    timeline = Timeline([(0.0, Order("fingers 180, wrist 180 over 2s", "a")),
+                         (0.6, Order("index 0 over 2s", "b")),
+                         *[(t, Control("stop", f"s{k}")) for k, t in enumerate(stops)]])
+    board = VirtualBoard(BoardCore.from_profile(RHAND, RHAND.boards[0]), 9600)
+    port = LatePort(board, timeline, lag)
+    loop = Drive([Link(181, port, "timeline")], RHAND, {}, PROGRAM, lambda note: None,
+                 now=timeline.now, sleep=timeline.sleep)
+    loop.run(timeline.next_line)
+    timeline.t += 1
+    port.read()
+    board.advance(timeline.t)
+    assert board.positions() == {s.id: v for s, v in zip(RHAND.servos, loop.mirror.held(),
+                                                         strict=True)}

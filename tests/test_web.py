@@ -211,6 +211,11 @@ def browser(tmp_path):
             b.close()
 
 
+#: s a page may take to draw and settle: software WebGL on a machine kept busy by other
+#: programs (idle, a few seconds: docs/simulation.md)
+SETTLE = 120
+
+
 def settled(browser: Browser, ready, timeout: float) -> np.ndarray:
     """The first screenshot that is the same as the one before it (the page has drawn
     all it had to) and for which ``ready`` holds; a failure if none comes in time."""
@@ -253,7 +258,7 @@ def see_the_hand_move(browser: Browser, path: str, url: str, tmp_path: Path) -> 
     browser.call("Emulation.setDeviceMetricsOverride", width=800, height=600,
                  deviceScaleFactor=1, mobile=False)
     browser.navigate(url)
-    rest = settled(browser, lambda shot: ivory(shot).mean() > 0.03, 30)  # the hand
+    rest = settled(browser, lambda shot: ivory(shot).mean() > 0.03, SETTLE)  # the hand
 
     player = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "fist",
                              "--port", path], capture_output=True, text=True, timeout=30)
@@ -262,7 +267,7 @@ def see_the_hand_move(browser: Browser, path: str, url: str, tmp_path: Path) -> 
     def changed(shot: np.ndarray) -> np.ndarray:
         return np.abs(shot - rest).max(axis=2) > 40
 
-    fist = settled(browser, lambda shot: changed(shot).mean() > 0.01, 20)
+    fist = settled(browser, lambda shot: changed(shot).mean() > 0.01, SETTLE)
     for name, shot in (("rest", rest), ("fist", fist)):  # to look at when it fails
         Image.fromarray(shot.astype(np.uint8)).save(tmp_path / f"{name}.png")
     moved = changed(fist)  # where the hand is, at rest or in a fist

@@ -77,7 +77,8 @@ class Outbox:
         #: (clock time, link, byte, the servo ID of a pair's value byte or None), in
         #: time order: not yet arrived, the Mirror reads them when due
         self.events: list[tuple[float, int, int, int | None]] = []
-        self._recent: list[tuple[float, int, int]] = []  # (time, link, servo ID) read
+        #: each link's servos that a pair has been sent to: a stop sends them again
+        self._touched: list[set[int]] = [set() for _ in self.links]
 
     def sending(self) -> bool:
         """Are bytes still to be written or to arrive?"""
@@ -130,15 +131,16 @@ class Outbox:
 
     def discard(self, t: float, resync: bool = True) -> None:
         """Nothing more of what was sent goes out: the runs stop and the ports drop what
-        they hold. The values due within ``reach`` of ``t`` may or may not arrive, so
-        with ``resync`` each board is sent CANCEL and those values again (a value sent
-        twice changes nothing): it then holds what ``held`` said, as the Mirror does."""
+        they hold. The values due within ``reach`` of ``t`` may or may not arrive, and a
+        board that reads late (one in a simulator on a busy machine) may lose even older
+        ones to the drop, so with ``resync`` each board is sent CANCEL and the value of
+        every servo it has been sent (a value sent twice changes nothing; at most a pair
+        a servo): it then holds what ``held`` said, as the Mirror does, however often
+        stops come."""
         self._mirror(t + self.reach())
-        again: list[dict[int, int]] = [{} for _ in self.links]
-        for due, k, servo in self._recent:
-            if due > t - self.reach():
-                again[k][servo] = self.mirror.value(servo)
-        self.events, self._recent = [], []
+        again = [{servo: self.mirror.value(servo) for servo in touched}
+                 for touched in self._touched]
+        self.events = []
         for k, pacer in enumerate(self.pacers):
             pacer.discard()
             if resync:
@@ -152,17 +154,14 @@ class Outbox:
         self._mirror(t)
 
     def _mirror(self, t: float) -> None:
-        """The Mirror reads what is due by ``t``; the pairs read within ``reach`` of
-        it are remembered (a stop sends them again)."""
+        """The Mirror reads what is due by ``t``; the servos its pairs set are
+        remembered (a stop sends their values again)."""
         events = self.events
         n = 0
         while n < len(events) and events[n][0] <= t:
-            due, k, byte, servo = events[n]
+            _, k, byte, servo = events[n]
             self.mirror.feed(k, byte)
             if servo is not None:
-                self._recent.append((due, k, servo))
+                self._touched[k].add(servo)
             n += 1
         del events[:n]
-        old = t - 2 * self.reach()
-        if self._recent and self._recent[0][0] < old:
-            self._recent = [r for r in self._recent if r[0] >= old]
