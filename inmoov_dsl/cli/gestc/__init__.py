@@ -13,7 +13,8 @@ import importlib
 import sys
 
 from ..common import add_version, parse_args, run
-from .target import PROG
+
+PROG = "gestc"  #: (the commands' modules, imported when named, are the heavy part)
 
 #: each command -> its module, in the order ``gestc --help`` lists them
 COMMANDS = {"compile": "compile", "check": "check", "show": "show", "plot": "plot",

@@ -14,8 +14,7 @@ from ...language.program import Program
 from ...profiles.data import Profile
 from ..common import add_lib, report
 from ..target import load_target
-
-PROG = "gestc"
+from . import PROG  # noqa: F401 (the commands take it from here)
 
 
 def add_arguments(p: argparse.ArgumentParser, target: bool = True) -> None:
