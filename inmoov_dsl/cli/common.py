@@ -76,8 +76,9 @@ def run(prog: str, body: Callable[[], int]) -> int:
     """Run a command: people get messages and exit codes, never a traceback. SIGTERM
     and SIGHUP stop it as Ctrl-C does. In a tool's own process, started with garbage
     collection off (``cli._start``), what start-up made is frozen (never looked at
-    again) and collection goes on for the command; when it ends, all it made is frozen
-    too, so the interpreter's last collection, as it exits, has nothing to walk."""
+    again) and collection goes on for the command. (What the command makes is not
+    frozen: ruckig's objects must be collected before the interpreter ends, or nanobind
+    reports them as leaked.)"""
     own = not gc.isenabled()
     if own:
         gc.freeze()
@@ -100,9 +101,6 @@ def run(prog: str, body: Callable[[], int]) -> int:
         where = f" '{exc.filename}'" if exc.filename else ""
         print(f"{prog}: error: cannot use{where}: {exc.strerror or exc}", file=sys.stderr)
         return EXIT_ERROR
-    finally:
-        if own:
-            gc.freeze()
 
 
 def add_lib(p: argparse.ArgumentParser) -> None:
