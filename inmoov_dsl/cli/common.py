@@ -79,8 +79,7 @@ def run(prog: str, body: Callable[[], int]) -> int:
     again) and collection goes on for the command. (What the command makes is not
     frozen: ruckig's objects must be collected before the interpreter ends, or nanobind
     reports them as leaked.)"""
-    own = not gc.isenabled()
-    if own:
+    if not gc.isenabled():
         gc.freeze()
         gc.enable()
     stop_on_signals()
