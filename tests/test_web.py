@@ -141,7 +141,8 @@ class Browser:
 
         self.proc = subprocess.Popen([exe, *BROWSER_FLAGS, f"--user-data-dir={profile_dir}",
                                       "--remote-debugging-port=0", "about:blank"],
-                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                     start_new_session=True)  # its helpers in its group
         try:
             port = Path(profile_dir, "DevToolsActivePort")  # chromium writes it when ready
             deadline = time.monotonic() + 30
@@ -193,10 +194,32 @@ class Browser:
         return Image.open(io.BytesIO(base64.b64decode(data))).convert("RGB")
 
     def close(self) -> None:
+        """End chromium and every helper process it started, and wait until all are
+        gone: a helper still writing into the profile folder breaks its removal."""
         if getattr(self, "ws", None) is not None:
             self.ws.close()
-        self.proc.kill()
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(self.proc.pid, signal.SIGKILL)
         self.proc.communicate(timeout=10)
+        deadline = time.monotonic() + 30
+        while time.monotonic() < deadline:
+            if not running_in_group(self.proc.pid):
+                return
+            time.sleep(0.05)
+        raise AssertionError("chromium's helper processes did not end in 30 s")
+
+
+def running_in_group(pgid: int) -> bool:
+    """Whether a process of group ``pgid`` still runs (zombies waiting for a parent that
+    never reaps them do not count: they write nothing)."""
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue  # it ended while we looked
+        if int(fields[2]) == pgid and fields[0] not in "ZX":
+            return True
+    return False
 
 
 @pytest.fixture
