@@ -7,7 +7,7 @@ from hypothesis import strategies as st
 from vectors import BOARD as VECTORS
 from vectors import vector_board
 
-from inmoov_dsl.wire.board import BoardCore
+from inmoov_dsl.boards.rig.core import BoardCore
 
 
 @pytest.mark.parametrize("case", VECTORS["cases"], ids=lambda c: c["name"])

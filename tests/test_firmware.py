@@ -21,12 +21,13 @@ from conftest import WHOLE_ROBOT
 from toolchain import need
 
 from inmoov_dsl import load_profile, to_timed
+from inmoov_dsl.boards.pulses import PULSE_MAX, PULSE_MIN, pulse_us
+from inmoov_dsl.boards.rig.core import BoardCore, BoardServo
 from inmoov_dsl.compiling.compiler import compile_program
 from inmoov_dsl.firmware.sketches import sketches
 from inmoov_dsl.language.library import scan_library
 from inmoov_dsl.language.load import load
 from inmoov_dsl.protocol import FIRST_BOARD_ID, MAX_SERVO_ID, MAX_VALUE, POSE_SETTLE, Signal
-from inmoov_dsl.wire.board import PULSE_MAX, PULSE_MIN, BoardCore, BoardServo, pulse_us
 from inmoov_dsl.wire.player import Link, ask_dump, play, wait_ready
 from inmoov_dsl.wire.sim import VirtualBoard
 

@@ -7,10 +7,10 @@ import itertools
 import pytest
 from test_repl import RHAND, ClockedPort, Timeline
 
+from inmoov_dsl.boards.rig.core import BoardCore
 from inmoov_dsl.live.drive import Drive, Note, library_program
 from inmoov_dsl.live.orders import Control, Order
 from inmoov_dsl.protocol import Signal
-from inmoov_dsl.wire.board import BoardCore
 from inmoov_dsl.wire.pace import LIVE_HORIZON
 from inmoov_dsl.wire.player import Link
 from inmoov_dsl.wire.sim import VirtualBoard

@@ -329,7 +329,7 @@ class SilentPort:
 def test_no_board_is_an_error_before_any_gesture_byte(capsys, monkeypatch, tool,
                                                       virtual_clock):
     port = SilentPort()
-    monkeypatch.setattr(wire_link, "open_port", lambda name, baud: port)
+    monkeypatch.setattr(wire_link, "open_port", lambda name, baud, timeout=0: port)
     code, _, err = run(capsys, *(tool or ["peace"]), "--port", "COM7")
     assert code == 1
     assert err.startswith("gestplay: error: no board answered on COM7 (board 181, 9600 baud)")
@@ -340,7 +340,7 @@ def test_no_board_is_an_error_before_any_gesture_byte(capsys, monkeypatch, tool,
 def test_one_port_is_enough_for_a_gesture_on_one_board_of_many(capsys, monkeypatch):
     opened = []
 
-    def open_port(name, baud):
+    def open_port(name, baud, timeout=0):
         opened.append(name)
         return SilentPort()
 
@@ -356,7 +356,7 @@ def test_blind_plays_on_a_link_that_cannot_answer(capsys, monkeypatch, virtual_c
     """On the virtual clock: the bytes are the stream's run exactly, however busy the
     machine (on the real one a stall longer than the horizon leaves filler out)."""
     port = SilentPort()
-    monkeypatch.setattr(wire_link, "open_port", lambda name, baud: port)
+    monkeypatch.setattr(wire_link, "open_port", lambda name, baud, timeout=0: port)
     code, _, err = run(capsys, "peace", "--port", "COM7", "--blind")
     assert code == 0
     assert ("gestplay: warning: board 181 on COM7 did not answer (--blind): starting from "

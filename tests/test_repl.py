@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 from terminal import AtTerminal
 
+from inmoov_dsl.boards.rig.core import BoardCore
 from inmoov_dsl.cli.gestplay.repl import repl
 from inmoov_dsl.profiles.profile import load_profile
-from inmoov_dsl.wire.board import BoardCore
 from inmoov_dsl.wire.player import Link
 from inmoov_dsl.wire.sim import VirtualBoard
 

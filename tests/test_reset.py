@@ -16,9 +16,9 @@ from stopping import received, wait_for
 from terminal import AtTerminal, listen_as_a_plain_program
 
 from inmoov_dsl import load_profile
+from inmoov_dsl.boards.rig.core import BoardCore
 from inmoov_dsl.cli import gestplay
 from inmoov_dsl.protocol import POSE_SETTLE
-from inmoov_dsl.wire.board import BoardCore
 from inmoov_dsl.wire.player import ask_dump, wait_ready
 from inmoov_dsl.wire.ports import leave_dtr_up, open_port
 from inmoov_dsl.wire.sim import VirtualBoard, settled

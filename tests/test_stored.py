@@ -19,6 +19,8 @@ from boardmodel import read_stream
 from toolchain import need
 
 from inmoov_dsl import load_profile, to_timed
+from inmoov_dsl.boards.pulses import pulse_us
+from inmoov_dsl.boards.rig.core import BoardCore, BoardServo
 from inmoov_dsl.cli import gestc
 from inmoov_dsl.compiling.compiler import compile_program
 from inmoov_dsl.errors import GestError
@@ -33,7 +35,6 @@ from inmoov_dsl.firmware.store import (
 from inmoov_dsl.language.library import scan_library
 from inmoov_dsl.language.load import load
 from inmoov_dsl.protocol import CATALOG, PLAY, Signal
-from inmoov_dsl.wire.board import BoardCore, BoardServo, pulse_us
 from inmoov_dsl.wire.sim import VirtualBoard
 from inmoov_dsl.wire.stored import (
     UNIT,

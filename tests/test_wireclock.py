@@ -28,13 +28,13 @@ from test_firmware import (  # noqa: F401
 )
 from toolchain import need
 
+from inmoov_dsl.boards.rig.core import BoardCore
 from inmoov_dsl.cli import gestc
 from inmoov_dsl.compiling.compiled import to_timed
 from inmoov_dsl.compiling.compiler import compile_program
 from inmoov_dsl.language.load import load
 from inmoov_dsl.profiles.profile import load_profile
 from inmoov_dsl.protocol import Signal, pairs
-from inmoov_dsl.wire.board import BoardCore
 from inmoov_dsl.wire.pace import padded
 
 RHAND = load_profile("rhand")

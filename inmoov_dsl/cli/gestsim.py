@@ -16,10 +16,10 @@ import os
 import sys
 from dataclasses import dataclass
 
+from ..boards.rig.core import BoardCore
 from ..errors import Diagnostic, GestError
 from ..profiles.data import Glove
 from ..profiles.profile import load_profile
-from ..wire.board import BoardCore
 from ..wire.sim import VirtualBoard
 from .common import EXIT_OK, add_version, number, parse_args, report, run
 from .gestsim_pty import Pty

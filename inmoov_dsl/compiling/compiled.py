@@ -26,28 +26,30 @@ VERSION = 1  #: and its "version"
 
 @dataclass(frozen=True)
 class Stream:
-    """The bytes for one board and the time (s from the stream's start) each goes out."""
+    """The bytes for one board and the time (s from the stream's start) each goes out,
+    in the protocol of the board's ``kind`` (``boards/``)."""
 
     board: int
     baud: int
     times: np.ndarray
     data: bytes
+    kind: str = "rig"
 
     @property
     def byte_time(self) -> float:
-        """Seconds one byte takes on this board's link."""
+        """Seconds one byte takes on this board's link (a rig's: 8N1 at its baud)."""
         return protocol.byte_time(self.baud)
 
     @property
     def idle(self) -> bool:
-        """Does it move none of its board's servos: the CANCEL every stream starts
-        with, and no (servo ID, value) pair?"""
-        return not protocol.pairs(self.data)
+        """Does it move none of its board's servos: a rig's, the CANCEL every stream
+        starts with and no (servo ID, value) pair; another kind's, no bytes?"""
+        return not protocol.pairs(self.data) if self.kind == "rig" else not self.data
 
     @property
     def servo_ids(self) -> set[int]:
-        """The servo IDs its pairs command."""
-        return {sid for sid, _ in protocol.pairs(self.data)}
+        """The servo IDs a rig stream's pairs command (another kind's: none)."""
+        return {sid for sid, _ in protocol.pairs(self.data)} if self.kind == "rig" else set()
 
 
 

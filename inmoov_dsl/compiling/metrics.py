@@ -22,10 +22,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import protocol
+from ..boards.rig.encode import frame_ends, round_values
 from ..decode import BOARD, Pair, Reader
 from ..profiles.data import Board, Profile
-from .compiled import Compiled
-from .encode import Stream, frame_ends, round_values
+from .compiled import Compiled, Stream
 from .plan import Plan
 
 

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
-from .. import clock, protocol
+from .. import clock
 from ..compiling.actions import Action, Steps
 from ..errors import Diagnostic, GestError, SourceMap
 from ..language.library import library_dirs, library_files, scan
@@ -215,7 +215,7 @@ class Drive:
         runs or is queued after."""
         self.out.discard(t)  # CANCEL, and what may have gone already, again
         if control.kind == "relax":
-            self.out.signal(t, protocol.RELAX_BOARD)
+            self.out.relax(t)
         if self.speaker is not None:
             self.speaker.stop()
         self.tracker.halt(self.session.tags())

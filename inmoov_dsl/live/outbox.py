@@ -10,21 +10,21 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from .. import protocol
+from ..boards import controller
 from ..compiling.compiled import Stream
 from ..profiles.data import Profile
 from ..protocol import PAIR_BYTES
-from ..wire.board import BoardCore
-from ..wire.pace import LIVE_HORIZON, Pacer, commands
+from ..wire.pace import LIVE_HORIZON, pacer
 from ..wire.player import SPIN, Link
 
 
 class Mirror:
-    """What each board holds, from the bytes sent to it (the board's own rules)."""
+    """What each board holds, from the bytes sent to it (the board's own rules: its
+    kind's ``core``)."""
 
     def __init__(self, profile: Profile, boards: Sequence[int]):
         by_id = {b.id: b for b in profile.boards}
-        self.cores = [BoardCore.from_profile(profile, by_id[board]) for board in boards]
+        self.cores = [controller(profile, by_id[board]).core() for board in boards]
         where = {}
         for k, core in enumerate(self.cores):
             for j, servo in enumerate(core.servos):
@@ -72,8 +72,11 @@ class Outbox:
     def __init__(self, links: Sequence[Link], profile: Profile):
         self.links = list(links)
         self.mirror = Mirror(profile, [link.board for link in links])
-        taus = {b.id: protocol.byte_time(b.baud) for b in profile.boards}
-        self.pacers = [Pacer(link.port, taus[link.board], LIVE_HORIZON) for link in links]
+        by_id = {b.id: b for b in profile.boards}
+        self.kinds = [link.controller or controller(profile, by_id[link.board])
+                      for link in links]
+        self.pacers = [pacer(link.port, kind, LIVE_HORIZON)
+                       for link, kind in zip(self.links, self.kinds, strict=True)]
         #: (clock time, link, byte, the servo ID of a pair's value byte or None), in
         #: time order: not yet arrived, the Mirror reads them when due
         self.events: list[tuple[float, int, int, int | None]] = []
@@ -97,19 +100,23 @@ class Outbox:
         events = []
         for stream in streams:
             k, times, data = by_board[stream.board], stream.times.tolist(), stream.data
-            for first, stop in commands(data):
+            rig = self.kinds[k].kind == "rig"
+            for first, stop in self.kinds[k].commands(data):
                 self.pacers[k].add(origin + times[first], data[first:stop])
+                if not rig:  # its values are read when they arrive; a stop resends them
+                    self._touched[k] |= {s for s, _ in self.kinds[k].moves(data[first:stop])}
                 for i in range(first, stop):
-                    pair = stop - first == PAIR_BYTES and i > first
+                    pair = rig and stop - first == PAIR_BYTES and i > first
                     events.append((origin + times[i], k, data[i],
                                    data[first] if pair else None))
         self.events = sorted(self.events + events, key=lambda e: (e[0], e[1]))
 
-    def signal(self, t: float, data: bytes) -> None:
-        """Send ``data`` (RELAX) to every board at once."""
-        for k, pacer in enumerate(self.pacers):
-            pacer.add(t, data)
-            pacer.pump(t)
+    def relax(self, t: float) -> None:
+        """Every board stops driving its servos, at once (its kind's ``relax``)."""
+        for k, out in enumerate(self.pacers):
+            data = self.kinds[k].relax()
+            out.add(t, data)
+            out.pump(t)
             for byte in data:
                 self.mirror.feed(k, byte)
 
@@ -141,16 +148,17 @@ class Outbox:
         again = [{servo: self.mirror.value(servo) for servo in touched}
                  for touched in self._touched]
         self.events = []
-        for k, pacer in enumerate(self.pacers):
-            pacer.discard()
-            if resync:
-                pacer.add(t, protocol.frame(sorted(again[k].items())))
-                pacer.pump(t)
+        for k, out in enumerate(self.pacers):
+            out.discard()
+            data = self.kinds[k].set_values(again[k])
+            if resync and data:
+                out.add(t, data)
+                out.pump(t)
 
     def send(self, t: float) -> None:
         """Top the links up, and mirror what has arrived by ``t``."""
-        for pacer in self.pacers:
-            pacer.pump(t)
+        for out in self.pacers:
+            out.pump(t)
         self._mirror(t)
 
     def _mirror(self, t: float) -> None:

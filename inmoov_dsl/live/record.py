@@ -21,8 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..boards.rig.encode import round_values
 from ..compiling.actions import Action
-from ..compiling.encode import round_values
 from ..compiling.plan import Planner
 from ..language.fmt import format_source
 from ..profiles.data import Profile

@@ -18,7 +18,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
 from ..compiling.actions import Action
-from ..compiling.encode import Stream, encode
+from ..compiling.compiled import Stream
+from ..compiling.encode import encode
 from ..compiling.plan import MotionState, Plan, Planner
 from ..compiling.resolve import Resolver
 from ..errors import Diagnostic, GestError, Pos, SourceMap

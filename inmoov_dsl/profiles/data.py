@@ -24,10 +24,12 @@ class Servo:
     max_jerk: float  #: command degrees / s^3
     calibration: tuple[int, int]  #: board side: 0..180 is mapped onto these servo angles
     reversed: bool  #: board side: 180..0 is mapped onto the calibration instead
-    pin: int | None
+    pin: int | None  #: its pin; on a Maestro or a PCA9685, its channel
     joint: str = ""  #: the model's joint this servo turns (urdf.py); the servo's name if ""
     #: where its ``joint`` key is (its table's header when it has none), and that line
     joint_at: tuple[Pos, str] | None = field(default=None, compare=False)
+    #: ``pulse``: the widths (us) of values 0 and 180, instead of the calibration's
+    pulse: tuple[int, int] | None = None
 
 
 @dataclass(frozen=True)
@@ -39,6 +41,14 @@ class Board:
     baud: int
     servos: tuple[str, ...]
     pos: Pos | None = field(default=None, compare=False)  #: its ``id`` in the profile
+    kind: str = "rig"  #: what drives its servos: ``rig``, ``maestro``, ``pca9685``
+    #: what its kind needs to know of it (a Maestro's model and device number, a
+    #: PCA9685's address, oscillator and bus speed), as ``profiles.kinds`` reads them
+    options: tuple[tuple[str, int], ...] = ()
+
+    def option(self, key: str, default: int) -> int:
+        """Its kind's option ``key``."""
+        return dict(self.options).get(key, default)
 
 
 @dataclass(frozen=True)

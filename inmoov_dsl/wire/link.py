@@ -17,6 +17,8 @@ from dataclasses import dataclass
 
 import serial
 
+from ..boards import controller
+from ..boards.pca9685.bus import open_bus
 from ..errors import Diagnostic, GestError
 from ..profiles.data import Board, Glove, Profile
 from .player import Link
@@ -88,17 +90,21 @@ def open_board(spec: str, profile: Profile, board: Board | None = None,
     """The port ``spec`` of ``board`` (default the profile's first), open at its baud;
     ``timeout``: as ``ports.open_port``."""
     board = board or profile.boards[0]
-    return open_port(protocol_sim.complete(spec, profile, board.id), board.baud, timeout)
+    spec = protocol_sim.complete(spec, profile, board.id)
+    if board.kind == "pca9685":  # on an I2C bus, not a serial port
+        return open_bus(spec, controller(profile, board).oscillator)
+    return open_port(spec, board.baud, timeout)
 
 
 def connect(ports: Mapping[int, str], profile: Profile) -> list[Link]:
     """Open a link to each board of the profile that has a port (as ``parse_ports``
-    gives them), at the board's baud: all or none."""
+    gives them), each as its kind needs (a serial port at the board's baud, an I2C
+    bus): all or none."""
     links: list[Link] = []
     try:
         for board in (b for b in profile.boards if b.id in ports):
-            links.append(Link(board.id, open_port(ports[board.id], board.baud),
-                              ports[board.id]))
+            links.append(Link(board.id, open_board(ports[board.id], profile, board),
+                              ports[board.id], controller(profile, board)))
     except GestError:
         close(links)
         raise

@@ -22,6 +22,9 @@ writes ``LIVE_HORIZON`` (10 ms) ahead: a take-over goes out behind at most that 
 so a new request takes over within half a frame, and a stall there costs a late byte.
 
 Filler never goes inside a command: a pair's value follows its ID at once.
+
+A kind of board with no filler (a Maestro, a PCA9685: ``Controller.fill`` is None)
+gets its commands from a ``Timed`` sender instead: each written, whole, when it is due.
 """
 
 from __future__ import annotations
@@ -30,24 +33,13 @@ import contextlib
 import math
 from collections.abc import Sequence
 
-from ..protocol import MAX_VALUE, PAIR_BYTES, Signal
+from ..boards.rig import commands
+from ..protocol import Signal
 
 FILL = Signal.CANCEL  #: what fills the gaps: a board waiting for a servo ID drops it
 HORIZON = 0.015  #: s; how far ahead of the wire a gesture is written (see above)
 LIVE_HORIZON = 0.010  #: s; the same for live control
 WAKE = 0.003  #: s; how often the pacer tops the port up
-
-
-def commands(data: bytes) -> list[tuple[int, int]]:
-    """(first, end) index of each command of ``data``: a signal (a byte above
-    MAX_VALUE, the stream's CANCEL) alone, a servo ID with the value after it."""
-    out = []
-    i = 0
-    while i < len(data):
-        stop = i + 1 if data[i] > MAX_VALUE else min(i + PAIR_BYTES, len(data))
-        out.append((i, stop))
-        i = stop
-    return out
 
 
 def place(offset: float, end: int, tau: float) -> int:
@@ -188,3 +180,61 @@ def discard_output(port) -> None:
         # a port that cannot discard (gone, or a termios error) leaves its bytes to go
         with contextlib.suppress(Exception):
             reset()
+
+
+class Timed:
+    """The pacer of a link with no filler: each command written whole when it is due
+    (the wire is idle between them), in the order given. A stop drops what is not yet
+    written and nothing the port holds: a command cut short would be a protocol error."""
+
+    def __init__(self, port, tau: float, horizon: float = 0.0):
+        self.port, self.tau, self.horizon = port, tau, horizon
+        self._queue: list[tuple[float, bytes]] = []  # (due, command), in order
+        self._free = -math.inf
+        self.late = 0.0  #: s; the most a command was written after it was due
+
+    def pending(self) -> bool:
+        """Are commands still to be written?"""
+        return bool(self._queue)
+
+    def add(self, t: float, command: bytes) -> None:
+        """``command`` is due at clock time ``t`` (not before the one before it)."""
+        if self._queue and self._queue[-1][0] > t:
+            t = self._queue[-1][0]
+        self._queue.append((t, command))
+
+    def shift(self, dt: float) -> None:
+        """Every command is due ``dt`` s later."""
+        self._queue = [(t + dt, c) for t, c in self._queue]
+
+    def pump(self, now: float) -> None:
+        """Write every command due by ``now``, in one write."""
+        n = 0
+        while n < len(self._queue) and self._queue[n][0] <= now:
+            n += 1
+        if n:
+            self.late = max(self.late, now - self._queue[0][0])
+            data = b"".join(c for _, c in self._queue[:n])
+            del self._queue[:n]
+            self.port.write(data)
+            self._free = max(now, self._free) + len(data) * self.tau
+
+    def busy(self, now: float) -> bool:
+        """Is the wire still sending what was written?"""
+        return self._free > now
+
+    def next_wake(self, now: float) -> float:
+        """When the next command is due (inf: none)."""
+        return self._queue[0][0] if self._queue else math.inf
+
+    def discard(self) -> None:
+        """Nothing more is written."""
+        self._queue.clear()
+
+
+def pacer(port, controller, horizon: float = HORIZON) -> Pacer | Timed:
+    """The pacer for ``controller``'s board on ``port``: a continuous run with the
+    kind's filler (the rig), else commands written when due."""
+    if controller.fill is None:
+        return Timed(port, controller.tau)
+    return Pacer(port, controller.tau, horizon)

@@ -15,11 +15,13 @@ from dataclasses import dataclass
 from typing import Any, Protocol
 
 from .. import clock
+from ..boards.base import Controller
+from ..boards.rig import DumpReader, commands
 from ..clock import Clock, Sleep
 from ..compiling.compiled import Compiled
-from ..decode import Replies
 from ..protocol import ASK_POSE, CANCEL_PENDING, RELAX_BOARD, Signal
-from .pace import HORIZON, Pacer, commands, discard_output
+from .pace import HORIZON, Pacer, Timed, discard_output
+from .pace import pacer as pacer_for
 
 READY_TIMEOUT = 2.0  #: s; the longest we wait for a board to boot (its first WAIT)
 PROBE = 0.1  #: s; while waiting for a board, send it a CANCEL this often
@@ -43,11 +45,12 @@ class Port(Protocol):
 
 @dataclass
 class Link:
-    """One board's connection."""
+    """One board's connection, and the board as its kind drives it (None: a rig)."""
 
     board: int
     port: Port
     name: str = ""
+    controller: Controller | None = None
 
 
 def drain(port: Port) -> bytes:
@@ -56,36 +59,47 @@ def drain(port: Port) -> bytes:
 
 
 def wait_ready(port: Port, now: Clock | None = None, sleep: Sleep | None = None,
-               timeout: float = READY_TIMEOUT) -> bool:
-    """Wait until the board is ready: the WAIT it sends when it has booted (opening the
-    port reset it) or the WAIT it answers a CANCEL with (the port kept DTR up, so it did
-    not reset). A CANCEL goes out every PROBE s; a bootloader still running swallows it.
-    False after ``timeout``."""
+               timeout: float = READY_TIMEOUT, controller: Controller | None = None,
+               heard: bytearray | None = None) -> bool:
+    """Wait until the board is ready. A rig (``controller`` None or a rig's): the WAIT
+    it sends when it has booted (opening the port reset it) or the WAIT it answers a
+    CANCEL with (the port kept DTR up, so it did not reset); another kind: its answer
+    to its ``probe``. The probe goes out every PROBE s; a bootloader still running
+    swallows it. False after ``timeout``. ``heard``: gets what the board answered."""
     now, sleep = now or clock.now, sleep or clock.sleep
+    question = controller.probe() if controller else CANCEL_PENDING
+    answered = controller.ready if controller else (lambda a: Signal.WAIT in a)
+    answer = bytearray()
     deadline = now() + timeout
     probe = now()
     while now() < deadline:
         if now() >= probe:
-            port.write(CANCEL_PENDING)
+            answer.clear()
+            port.write(question)
             probe = now() + PROBE
-        if Signal.WAIT in drain(port):
+        answer += drain(port)
+        if answered(bytes(answer)):
+            if heard is not None:
+                heard += answer
             return True
         sleep(0.01)
     return False
 
 
 def ask_dump(port: Port, board: int, now: Clock | None = None, sleep: Sleep | None = None,
-             timeout: float = DUMP_TIMEOUT) -> dict[int, int] | None:
-    """CANCEL, then DUMP: the board's servo values (ID -> value), or None if no reply."""
+             timeout: float = DUMP_TIMEOUT, controller: Controller | None = None
+             ) -> dict[int, int] | None:
+    """The board's servo values (ID -> value), or None if no reply: a rig's answer to
+    CANCEL DUMP, another kind's to its ``ask_pose``."""
     now, sleep = now or clock.now, sleep or clock.sleep
     drain(port)
-    port.write(ASK_POSE)
-    replies = Replies(board)
+    port.write(controller.ask_pose() if controller else ASK_POSE)
+    reader = controller.pose_reader() if controller else DumpReader(board)
     deadline = now() + timeout
     while now() < deadline:
-        found = replies.feed(drain(port))
+        found = reader.feed(drain(port))
         if found is not None:
-            return found[1]
+            return found
         sleep(0.005)
     return None
 
@@ -158,38 +172,46 @@ def play(compiled: Compiled, links: Sequence[Link], speed: float = 1.0,
 
 
 def runs(compiled: Compiled, links: Sequence[Link], start: float, speed: float = 1.0,
-         horizon: float = HORIZON) -> list[Pacer]:
+         horizon: float = HORIZON) -> list[Pacer | Timed]:
     """A pacer for each link, holding its board's stream from clock time ``start``."""
     by_board = {s.board: s for s in compiled.streams}
     pacers = []
     for link in links:
         stream = by_board.get(link.board)
-        pacer = Pacer(link.port, stream.byte_time if stream else 0.0, horizon)
+        c = link.controller
+        out = pacer_for(link.port, c, horizon) if c else \
+            Pacer(link.port, stream.byte_time if stream else 0.0, horizon)
         if stream is not None:
             times = stream.times.tolist()
-            for first, stop in commands(stream.data):
-                pacer.add(start + times[first] / speed, stream.data[first:stop])
-        pacers.append(pacer)
+            for first, stop in (c.commands if c else commands)(stream.data):
+                out.add(start + times[first] / speed, stream.data[first:stop])
+        pacers.append(out)
     return pacers
 
 
 def cancel_all(links: Sequence[Link]) -> None:
-    """Send CANCEL everywhere we still can, at once: what the ports still hold of a
-    stream is dropped first (``pace.discard_output``), and no half command is left
-    pending."""
-    _send_all(links, CANCEL_PENDING)
+    """Stop every board we still can, at once: a rig's port drops what it still holds
+    of a stream (``pace.discard_output``) and a CANCEL follows, so no half command is
+    left pending; a kind with no filler was written whole commands only, and is left
+    holding the last."""
+    for link in links:
+        c = link.controller
+        _send(link, c.cancel() if c else CANCEL_PENDING, c is None or c.fill is not None)
 
 
 def relax_all(links: Sequence[Link]) -> None:
     """Every board we can reach stops driving its servos (they go limp) until its next
-    command: ``protocol.RELAX_BOARD`` (CANCEL RELAX CANCEL, which the original firmware
-    reads as a servo it does not have, and ignores), at once: what the ports still hold
-    is dropped first."""
-    _send_all(links, RELAX_BOARD)
-
-
-def _send_all(links: Sequence[Link], data: bytes) -> None:
+    command, at once: a rig's ``protocol.RELAX_BOARD`` (CANCEL RELAX CANCEL, which the
+    original firmware reads as a servo it does not have, and ignores), after what its
+    port still holds is dropped; another kind's ``relax``."""
     for link in links:
-        with contextlib.suppress(OSError):  # a dead link cannot be reached; go on
+        c = link.controller
+        _send(link, c.relax() if c else RELAX_BOARD, c is None or c.fill is not None)
+
+
+def _send(link: Link, data: bytes, discard: bool) -> None:
+    with contextlib.suppress(OSError):  # a dead link cannot be reached; go on
+        if discard:
             discard_output(link.port)
+        if data:
             link.port.write(data)

@@ -21,8 +21,9 @@ import math
 from collections import deque
 from dataclasses import dataclass, field
 
+from ..boards.base import Write
+from ..boards.rig.core import BoardCore
 from ..protocol import CATALOG, DEFAULT_BAUD, POSE_SETTLE, Signal, byte_time
-from .board import BoardCore, Write
 from .stored import BOOT_QUIET, DEBOUNCE, StoredSet, catalog_reply
 from .stored_play import Playback
 

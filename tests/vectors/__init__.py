@@ -4,7 +4,7 @@ read the same files): board.json, bytes into a servo board and what it does."""
 import json
 from pathlib import Path
 
-from inmoov_dsl.wire.board import BoardCore, BoardServo
+from inmoov_dsl.boards.rig.core import BoardCore, BoardServo
 
 BOARD = json.loads((Path(__file__).parent / "board.json").read_text())
 

@@ -7,13 +7,13 @@ import argparse
 import sys
 from pathlib import Path
 
+from ...boards.rig.core import BoardServo
 from ...errors import Diagnostic, GestError, did_you_mean
 from ...live.calibrate import HELP, Ends, edit_profile, found
 from ...profiles.data import Servo
 from ...profiles.profile import find_profile, load_profile, parse_profile
 from ...protocol import CANCEL_PENDING, MAX_VALUE
 from ...resources import profiles_dir
-from ...wire.board import BoardServo
 from ...wire.link import open_board
 from ...wire.player import ask_dump, wait_ready
 from ..common import EXIT_OK, send_value, status_line, status_of, warn, why

@@ -14,11 +14,11 @@ import json
 import os
 from pathlib import Path
 
+from ...boards.rig.core import BoardCore
 from ...profiles.data import Profile
 from ...profiles.profile import builtin_profiles, find_profile
 from ...protocol import MAX_VALUE
 from ...resources import private_file, private_state_dir
-from ..board import BoardCore
 from ..sim import VirtualBoard, settled
 
 MAX_FILE = 4096  #: bytes; a board's memory is far smaller

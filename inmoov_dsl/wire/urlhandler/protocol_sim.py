@@ -32,10 +32,10 @@ from pathlib import Path
 from serial.serialutil import PortNotOpenError, SerialBase, SerialException
 
 from ... import clock
+from ...boards.rig.core import BoardCore
 from ...errors import Diagnostic, GestError, did_you_mean
 from ...profiles.data import Profile
 from ...profiles.profile import builtin_profiles, find_profile, load_profile
-from ..board import BoardCore
 from ..sim import DtrLine, VirtualBoard
 from ..stored import StoredSet, read_blob, read_set
 from . import memory

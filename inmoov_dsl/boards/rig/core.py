@@ -1,4 +1,4 @@
-"""A servo board's rules, byte for byte as the original firmware reads them
+"""The rig board's rules, byte for byte as the original firmware reads them
 (docs/protocol.md).
 
 A pure state machine fed one byte at a time: ``feed(byte)`` returns what the board
@@ -26,24 +26,11 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from ..decode import BOARD, Pair, Reader
-from ..profiles.data import Board, Profile
-from ..protocol import MAX_VALUE, PLAY, Signal, reply
-
-PULSE_MIN, PULSE_MAX = 544, 2400  #: us: the pulse for servo angle 0 and 180
-
-
-def arduino_map(x: int, in_min: int, in_max: int, out_min: int, out_max: int) -> int:
-    """Arduino's ``map()``: integer arithmetic, the division truncated toward zero."""
-    num = (x - in_min) * (out_max - out_min)
-    den = in_max - in_min
-    quotient = abs(num) // abs(den)
-    return (quotient if (num < 0) == (den < 0) else -quotient) + out_min
-
-
-def pulse_us(angle: int) -> int:
-    """The pulse width (us) for a servo angle 0..180, as the Servo library computes it."""
-    return arduino_map(angle, 0, MAX_VALUE, PULSE_MIN, PULSE_MAX)
+from ...decode import BOARD, Pair, Reader
+from ...profiles.data import Board, Profile
+from ...protocol import MAX_VALUE, PLAY, Signal, reply
+from ..base import Write
+from ..pulses import angle, pulse_us
 
 
 @dataclass(frozen=True)
@@ -59,23 +46,11 @@ class BoardServo:
     def angle(self, value: int) -> int:
         """The servo angle for a command value, as the original firmware computes it:
         ``map(v, 0, 180, lo, hi)``, or ``map(v, 180, 0, lo, hi)`` when reversed."""
-        lo, hi = self.calibration
-        if self.reversed:
-            return arduino_map(value, MAX_VALUE, 0, lo, hi)
-        return arduino_map(value, 0, MAX_VALUE, lo, hi)
+        return angle(value, self.calibration, self.reversed)
 
     def pulse(self, value: int) -> int:
         """The pulse width (us) on this servo's pin for a command value."""
         return pulse_us(self.angle(value))
-
-
-@dataclass(frozen=True)
-class Write:
-    """The board wrote ``value`` (unscaled) to servo ``id``, at ``angle``."""
-
-    id: int
-    value: int
-    angle: int
 
 
 class BoardCore:

@@ -1,0 +1,136 @@
+"""What every kind of board provides (``Controller``), and what it is given (a plan).
+
+A kind of board is one folder of ``boards/``: how a plan becomes its commands (timed
+bytes: for a serial controller the bytes on its wire, for an I2C one its bus
+transactions, framed), how those bytes are cut into commands, what the board holds
+after reading them (its ``core``, a pure state machine: also its virtual twin's
+heart), how to ask it for its pose and who it is, how it relaxes. Everything above
+the boards (the player, the drive loop, the repl, the service, the ROS node) sees only
+this interface.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any, ClassVar, Protocol
+
+import numpy as np
+
+from ..profiles.data import Board, Profile, Servo
+from .pulses import Widths, widths
+
+
+class Track(Protocol):
+    """A servo's planned motion."""
+
+    def position(self, at: np.ndarray) -> np.ndarray:
+        """Its value (command degrees, not rounded) at each of ``at`` (s)."""
+
+
+class PlanLike(Protocol):
+    """What a kind needs of a plan: the profile, a track per servo (the profile's
+    order), the start pose and the duration (s)."""
+
+    profile: Profile
+    tracks: Sequence[Track]
+    start: Sequence[float]
+    duration: float
+
+
+@dataclass(frozen=True)
+class Write:
+    """The board wrote ``value`` (a command value) to servo ``id``, at ``angle``
+    (the servo angle: the firmware's; for a controller finer than a degree, the pulse
+    width in us)."""
+
+    id: int
+    value: int
+    angle: int
+
+
+class PoseReader(Protocol):
+    """Reads a board's answer to ``Controller.ask_pose``."""
+
+    def feed(self, data: bytes) -> dict[int, int] | None:
+        """Read ``data``: the pose (servo ID -> value) once the answer is whole."""
+
+
+class Controller:
+    """One board of a profile, as its kind drives it."""
+
+    kind: ClassVar[str] = ""
+    #: the byte that fills the gaps of a continuous run (None: the link is idle between
+    #: commands, and each command is written when it is due)
+    fill: ClassVar[int | None] = None
+
+    def __init__(self, profile: Profile, board: Board):
+        self.profile, self.board = profile, board
+        self.servos: tuple[Servo, ...] = tuple(profile.servos[profile.index(n)]
+                                               for n in board.servos)
+        self.widths: tuple[Widths, ...] = tuple(widths(s) for s in self.servos)
+
+    @property
+    def tau(self) -> float:
+        """Seconds one byte of its stream takes on the link."""
+        raise NotImplementedError
+
+    def commands(self, data: bytes) -> list[tuple[int, int]]:
+        """(first, end) index of each command of ``data``: what goes whole."""
+        raise NotImplementedError
+
+    def moves(self, data: bytes) -> list[tuple[int, int]]:
+        """(servo ID, its value in the board's unit) of each servo command of ``data``."""
+        raise NotImplementedError
+
+    def encode(self, plan: PlanLike) -> tuple[np.ndarray, bytes]:
+        """The plan's motion of this board's servos: each byte's time (s) and the bytes."""
+        raise NotImplementedError
+
+    def core(self) -> Any:
+        """What the board holds after the bytes it reads (``feed``, ``values``,
+        ``restore``, ``dump``): a new one, at the servos' rests."""
+        raise NotImplementedError
+
+    def set_values(self, values: Mapping[int, int]) -> bytes:
+        """Commands that leave servo ID -> value as given (a stop sends them again)."""
+        raise NotImplementedError
+
+    def cancel(self) -> bytes:
+        """What drops a half-sent command (empty: the kind needs nothing)."""
+        return b""
+
+    def relax(self) -> bytes:
+        """What makes the board stop driving its servos."""
+        raise NotImplementedError
+
+    def ask_pose(self) -> bytes:
+        """The question whose answer is the pose it holds."""
+        raise NotImplementedError
+
+    def pose_reader(self) -> PoseReader:
+        """A reader of the answer to ``ask_pose``."""
+        raise NotImplementedError
+
+    def probe(self) -> bytes:
+        """What a board answers once it is ready (rig: CANCEL, answered WAIT)."""
+        raise NotImplementedError
+
+    def ready(self, answer: bytes) -> bool:
+        """Does ``answer`` (all that came since the first probe) say it is ready?"""
+        raise NotImplementedError
+
+    def greeting(self, answer: bytes) -> str | None:
+        """What to tell a person about the board's answer to ``probe`` (its errors), or
+        None."""
+        return None
+
+    def setup(self, answer: bytes = b"") -> bytes:
+        """What goes to the board once it is ready (``answer``: what it answered the
+        probe), before anything moves."""
+        return b""
+
+    def limit(self, values: np.ndarray, index: int) -> np.ndarray:
+        """``values`` (a plan's) of servo ``index`` kept in its range."""
+        s = self.servos[index]
+        return np.clip(values, s.lo, s.hi)

@@ -1,0 +1,135 @@
+"""The edge of a PCA9685: its I2C bus as a port the player writes transactions to.
+
+``--port i2c:1`` is ``/dev/i2c-1`` at address 0x40 (``i2c:1@0x41`` another address),
+through ``smbus2``; a ``sim://`` port is the virtual chip (``chip.Chip``), kept for the
+life of the process. The port reads the framed transactions it is written
+(``transactions.py``), makes each a block write or a read, and keeps what reads
+answer for ``read``: the player, the drive loop and the tools use it as they use a
+serial port.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable
+
+from ...errors import Diagnostic, GestError
+from . import chip as regs
+from . import transactions as tx
+
+ADDRESS = 0x40  #: a PCA9685's address with no jumper closed
+SPEC = re.compile(r"i2c:(\d+)(?:@(0x[0-9a-fA-F]{1,2}|\d{1,3}))?")
+
+
+class VirtualBus:
+    """A bus with one virtual PCA9685, as ``smbus2.SMBus`` is called."""
+
+    def __init__(self, chip: regs.Chip, address: int = ADDRESS):
+        self.chip, self.address = chip, address
+
+    def _check(self, address: int) -> None:
+        if address != self.address:
+            raise OSError(121, "Remote I/O error")  # nobody acknowledges the address
+
+    def write_i2c_block_data(self, address: int, register: int, data: list[int]) -> None:
+        """A block write."""
+        self._check(address)
+        self.chip.write(register, bytes(data))
+
+    def read_i2c_block_data(self, address: int, register: int, length: int) -> list[int]:
+        """A block read."""
+        self._check(address)
+        return list(self.chip.read(register, length))
+
+    def close(self) -> None:
+        """Nothing to release."""
+
+
+class I2CPort:
+    """A PCA9685 on ``bus`` at ``address``, written to and read as a port."""
+
+    def __init__(self, bus, address: int, name: str):
+        self.bus, self.address, self.name = bus, address, name
+        self._out = bytearray()  # a transaction not yet whole
+        self._in = bytearray()  # what reads answered
+        self.is_open = True
+
+    def write(self, data: bytes) -> int:
+        """Carry out every whole transaction of what was written so far."""
+        self._out += data
+        out = self._out
+        whole = [(a, b) for a, b in tx.commands(bytes(out))
+                 if b - a >= 3 and (out[a] != tx.WRITE or b - a == 3 + out[a + 2])]
+        end = whole[-1][1] if whole else 0
+        done, self._out = bytes(self._out[:end]), self._out[end:]
+        for kind, register, arg in tx.parse(done):
+            self._do(lambda k=kind, r=register, a=arg: self._in.extend(
+                self.bus.read_i2c_block_data(self.address, r, a)) if k == tx.READ else
+                self.bus.write_i2c_block_data(self.address, r, list(a)))
+        return len(data)
+
+    def _do(self, call: Callable[[], object]) -> None:
+        try:
+            call()
+        except OSError as exc:
+            raise OSError(exc.errno, f"{self.name}: the PCA9685 at 0x{self.address:02x} "
+                          f"did not answer ({exc.strerror or exc})") from None
+
+    def read(self, size: int = 1) -> bytes:
+        """Up to ``size`` bytes of what reads answered."""
+        out, self._in = bytes(self._in[:size]), self._in[size:]
+        return out
+
+    @property
+    def in_waiting(self) -> int:
+        """Bytes read and not yet taken."""
+        return len(self._in)
+
+    def reset_input_buffer(self) -> None:
+        """Drop what reads answered."""
+        self._in.clear()
+
+    def close(self) -> None:
+        """Release the bus."""
+        if self.is_open:
+            self.bus.close()
+        self.is_open = False
+
+
+_DESK: dict[str, regs.Chip] = {}  #: the virtual chips of this process, by port
+
+
+def is_bus(spec: str) -> bool:
+    """Does ``spec`` name an I2C bus?"""
+    return spec.startswith("i2c:")
+
+
+def open_bus(spec: str, oscillator: int = regs.OSCILLATOR) -> I2CPort:
+    """The PCA9685 that ``spec`` names: ``i2c:N[@ADDRESS]`` through smbus2, or a
+    ``sim://`` port's virtual chip (its ``oscillator`` as the profile says)."""
+    if spec.startswith("sim://"):
+        chip = _DESK.setdefault(spec, regs.Chip(oscillator))
+        return I2CPort(VirtualBus(chip), ADDRESS, spec)
+    found = SPEC.fullmatch(spec)
+    if found is None:
+        raise GestError(Diagnostic("error", f"cannot open port {spec}: a PCA9685 is on an "
+                                   "I2C bus", hint="--port i2c:1 (/dev/i2c-1, address "
+                                   "0x40) or i2c:1@0x41"))
+    number, address = int(found[1]), int(found[2] or str(ADDRESS), 0)
+    if not 0x03 <= address <= 0x77:
+        raise GestError(Diagnostic("error", f"cannot open port {spec}: I2C addresses are "
+                                   "0x03..0x77", hint="a PCA9685 is at 0x40..0x7F less "
+                                   "the reserved ones; the default 0x40"))
+    try:
+        from smbus2 import SMBus
+    except ImportError:
+        raise GestError(Diagnostic("error", f"cannot open port {spec}: smbus2 is not "
+                                   "installed", hint="pip install 'inmoov-dsl[pca9685]'")
+                        ) from None
+    try:
+        return I2CPort(SMBus(number), address, spec)
+    except OSError as exc:
+        raise GestError(Diagnostic("error", f"cannot open port {spec}: /dev/i2c-{number}: "
+                                   f"{exc.strerror or exc}",
+                                   hint="enable I2C (sudo raspi-config, Interface "
+                                   "Options) and add yourself to the i2c group")) from None
