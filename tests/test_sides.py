@@ -57,7 +57,8 @@ def test_one_port_plays_a_hand_gesture_on_the_left_hand(capsys, monkeypatch):
 
         in_waiting = 0
 
-    monkeypatch.setattr(link, "open_port", lambda name, baud, timeout=0: opened.append(name) or Silent())
+    monkeypatch.setattr(link, "open_port",
+                        lambda name, baud, timeout=0: opened.append(name) or Silent())
     assert gestplay.main(["peace", "--profile", "inmoov", "--hand", "left", "--port", "COM4",
                           "--blind"]) == 0
     assert opened == ["COM4"]

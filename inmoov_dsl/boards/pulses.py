@@ -51,10 +51,13 @@ class Widths:
         whole = np.arange(MAX_VALUE + 1)
         if pulse is not None:
             a, b = (pulse[1], pulse[0]) if reversed else (pulse[0], pulse[1])
-            self.table = a + (b - a) * whole / MAX_VALUE
+            self.table = self.exact = a + (b - a) * whole / MAX_VALUE
         else:
             self.table = np.array([pulse_us(angle(v, calibration, reversed))
                                    for v in whole.tolist()], dtype=float)
+            lo, hi = (calibration[1], calibration[0]) if reversed else calibration
+            self.exact = PULSE_MIN + (lo + (hi - lo) * whole / MAX_VALUE) * \
+                (PULSE_MAX - PULSE_MIN) / MAX_VALUE
 
     def us(self, values) -> np.ndarray:
         """The width for each of ``values`` (clipped to 0..180)."""
@@ -63,8 +66,11 @@ class Widths:
 
     def value(self, us: float) -> int:
         """The whole value whose width is nearest ``us`` (a pose read back from a
-        controller; of several with the same width, the first)."""
-        return int(np.argmin(np.abs(self.table - us)))
+        controller); of several with the same width (the firmware's truncation), the one
+        whose untruncated width is nearest: 180, not 179, when both give the same."""
+        off = np.abs(self.table - us)
+        tied = np.flatnonzero(off <= off.min() + 1e-9)
+        return int(tied[np.argmin(np.abs(self.exact[tied] - us))])
 
 
 def widths(servo) -> Widths:

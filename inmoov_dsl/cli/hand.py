@@ -15,8 +15,6 @@ from collections.abc import Collection, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
 
-import serial
-
 from .. import clock
 from ..errors import Diagnostic, GestError
 from ..profiles.data import Profile
@@ -55,8 +53,14 @@ def reach(link: Link, profile: Profile, blind: bool, going_on: str) -> dict[int,
     values (servo ID -> value), or None. Nothing answering (no WAIT and no DUMP reply)
     is an error before any gesture byte goes out, unless ``blind`` (a link that cannot
     answer); a board that answered only in part is a warning ending in ``going_on``."""
-    ready = wait_ready(link.port)
-    values = ask_dump(link.port, link.board)
+    c = link.controller
+    heard = bytearray()
+    ready = wait_ready(link.port, controller=c, heard=heard)
+    if ready and c is not None and (said := c.greeting(bytes(heard))):
+        warn(said, "gestplay")
+    values = ask_dump(link.port, link.board, controller=c)
+    if ready and c is not None and (setup := c.setup(bytes(heard))):
+        link.port.write(setup)
     where = f"board {link.board} on {link.name}"
     if values is None and not ready:
         if not blind:
@@ -74,6 +78,12 @@ def no_answer(link: Link, profile: Profile) -> Diagnostic:
     from ..firmware.sketches import sketch_names
 
     board = next(b for b in profile.boards if b.id == link.board)
+    if board.kind == "maestro":
+        return Diagnostic(
+            "error", f"no Maestro answered on {link.name} (board {link.board})",
+            hint="give the Maestro's Command Port (the first of its two ports), set its "
+            "serial mode to USB Dual Port in Maestro Control Center (docs/controllers.md), "
+            "or list the ports: gestplay ports")
     sketch = next(n for n, i in sketch_names(profile).items() if i == board.id)
     return Diagnostic(
         "error", f"no board answered on {link.name} (board {link.board}, {board.baud} baud)",
@@ -102,7 +112,7 @@ def opened(prog: str, profile: Profile, ports: list[str], blind: bool = False,
     except KeyboardInterrupt as exc:
         cancel_all(links)
         raise Exit(_interrupted(prog, links, exc, modes)) from None
-    except serial.SerialException as exc:
+    except OSError as exc:  # a serial port's SerialException, an I2C bus's error
         cancel_all(links)
         where = ", ".join(f"board {link.board} on {link.name}" for link in links)
         raise GestError(Diagnostic("error", f"lost the link ({where}): {exc}")) from None

@@ -76,7 +76,7 @@ def limit(key: str, value: Any) -> float:
     return float(value)
 
 
-def _pair(value: Any) -> tuple[int, int] | None:
+def pair(value: Any) -> tuple[int, int] | None:
     """Two whole numbers, as a list (or the tuple of a default), else None."""
     if isinstance(value, list | tuple) and len(value) == 2 and all(map(is_whole, value)):
         return (value[0], value[1])
@@ -85,29 +85,29 @@ def _pair(value: Any) -> tuple[int, int] | None:
 
 def span(key: str, value: Any) -> tuple[int, int]:
     """[low, high] command degrees with 0 <= low <= high <= MAX_VALUE (180)."""
-    pair = _pair(value)
-    if pair is None or not 0 <= pair[0] <= pair[1] <= protocol.MAX_VALUE:
+    found = pair(value)
+    if found is None or not 0 <= found[0] <= found[1] <= protocol.MAX_VALUE:
         raise Problem(f"'{key}' must be [low, high] with 0 <= low <= high <= "
                       f"{protocol.MAX_VALUE}, "
                       f"got {shown(value)}")
-    return pair
+    return found
 
 
 def readings(key: str, value: Any) -> tuple[int, int]:
     """[low, high] sensor readings with 0 <= low < high <= 1023."""
-    pair = _pair(value)
-    if pair is None or not 0 <= pair[0] < pair[1] <= 1023:
+    found = pair(value)
+    if found is None or not 0 <= found[0] < found[1] <= 1023:
         raise Problem(f"'{key}' must be [low, high] readings with 0 <= low < high <= 1023, "
                       f"got {shown(value)}")
-    return pair
+    return found
 
 
 def pins(key: str, value: Any) -> tuple[int, int]:
     """[rx, tx], two pins 0..255."""
-    pair = _pair(value)
-    if pair is None or not all(0 <= p <= 255 for p in pair):
+    found = pair(value)
+    if found is None or not all(0 <= p <= 255 for p in found):
         raise Problem(f"'{key}' must be [rx, tx], got {shown(value)}")
-    return pair
+    return found
 
 
 def baud(key: str, value: Any) -> int:

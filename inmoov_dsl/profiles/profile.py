@@ -18,7 +18,7 @@ from typing import Any
 
 from ..errors import Diagnostic, GestError, Pos, decode_utf8, did_you_mean
 from ..resources import profiles_dir, read_regular
-from . import tables, voicetable
+from . import kinds, tables, voicetable
 from .data import Board, Glove, Profile, Sensor, Servo
 from .fields import LIMITS, NAME_RE, cut
 from .keys import Report
@@ -167,6 +167,7 @@ def _build(data: dict[str, Any], report: Report, file: str) -> Profile:
                 servos.append(servo)
                 ids[servo.id] = servo_name
                 joints[servo.joint] = servo_name
+    kinds.check_channels(report, boards, servos)
     names = tuple(s.name for s in servos)
     groups = tables.groups(report, data.get("groups", {}), names)
     sides = tables.sides(report, data["sides"], names) if "sides" in data else {}

@@ -16,6 +16,7 @@ from .. import protocol
 from ..errors import did_you_mean
 from ..language.syntax import KEYWORDS
 from . import fields as check
+from . import kinds
 from .data import Board, Glove, Sensor, Servo
 from .fields import NAME_RE, Check, Problem, T, cut, is_whole, shown
 from .keys import Key, Report
@@ -106,7 +107,8 @@ def board(report: Report, k: int, data: Any, taken: Collection[int],
     if bid in taken:
         report.error((*at, "id"), f"board {bid} is declared twice")
     fields = Fields(report, at, data, f"board {bid}")
-    speed = fields.get("baud", check.baud, protocol.DEFAULT_BAUD)
+    what = fields.get("kind", kinds.kind, "rig", fallback="rig")
+    speed = fields.get("baud", check.baud, kinds.DEFAULT_BAUD[what])
     servo_names = fields.get("servos", check.names, [])
     mine: dict[str, int] = {}
     for i, name in enumerate(servo_names):
@@ -119,7 +121,8 @@ def board(report: Report, k: int, data: Any, taken: Collection[int],
                          f"there is no [servo.{cut(name)}]", did_you_mean(name, servos))
         mine[name] = bid
     label = fields.get("name", check.text, f"board {bid}")
-    return Board(bid, label, speed, tuple(mine), report.where((*at, "id")))
+    return Board(bid, label, speed, tuple(mine), report.where((*at, "id")), what,
+                 kinds.options(fields, what))
 
 
 def servo(report: Report, name: str, data: Any, board_id: int, ids: Mapping[int, str]
@@ -149,6 +152,7 @@ def servo(report: Report, name: str, data: Any, board_id: int, ids: Mapping[int,
         calibration=fields.get("calibration", check.span, FULL),
         joint=fields.get("joint", check.joint, name),
         joint_at=report.index.find(("servo", name, "joint")),
+        pulse=fields.get("pulse", check.optional(kinds.pulse)),
     )
 
 

@@ -10,6 +10,7 @@ so tests can drive the player as a timeline.
 from __future__ import annotations
 
 import contextlib
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
@@ -160,7 +161,8 @@ def play(compiled: Compiled, links: Sequence[Link], speed: float = 1.0,
             # a run's first byte goes when it is due (spin for it); the rest are timed
             # by the wire, and the player only tops the ports up
             starting = any(p.next_wake(t) == wake and not p.busy(t) for p in pacers)
-            wait_until(wake, links, now, sleep, SPIN if starting else 0.0)
+            if wake < math.inf:  # (inf: the last commands were just written)
+                wait_until(wake, links, now, sleep, SPIN if starting else 0.0)
         wait_until(start + compiled.duration / speed, links, now, sleep)
     except BaseException:
         if sounds:

@@ -69,6 +69,9 @@ class VirtualBoard:
     records: int = 0  #: poses stored (EEPROM records written)
     resets: int = 0
     flash: StoredSet | None = None  #: the gestures stored in its flash
+    #: it sends WAIT when it boots and when it has nothing left to read (a rig; a
+    #: Maestro answers only what it is asked)
+    chatty: bool = True
 
     def __post_init__(self) -> None:
         self.tau = byte_time(self.baud)
@@ -140,7 +143,8 @@ class VirtualBoard:
         if not self._booted and now >= self.ready_at:
             self._booted = True
             self._clock = self._quiet = self.ready_at
-            self._send(self.ready_at, bytes([Signal.WAIT]))
+            if self.chatty:
+                self._send(self.ready_at, bytes([Signal.WAIT]))
             if self.flash is not None and self.flash.boot is not None:
                 self._boot_at = self.ready_at + BOOT_QUIET
         while True:
@@ -167,14 +171,14 @@ class VirtualBoard:
         self.playing = self._boot_at = None  # any byte stops what the board does itself
         self._cut_catalog(arrival)
         write, reply = self.core.feed(byte)
-        if write is not None:
-            self._wrote(arrival, write)
+        for one in write if isinstance(write, tuple) else (write,) if write else ():
+            self._wrote(arrival, one)  # a command may set several servos
         self._send(arrival, reply)
         asked = self.core.asked if self.flash is not None else None
         if asked is not None and asked < len(self.flash.gestures):
             self._play(arrival, asked)
         idle = not self._inbox or self._inbox[0][0] > arrival
-        if idle and self.core.pending is None and self.playing is None:
+        if idle and self.chatty and self.core.pending is None and self.playing is None:
             self._send(arrival, bytes([Signal.WAIT]))
         if asked == CATALOG:
             self._catalog = [self._send(arrival, catalog_reply(self.core.board_id,

@@ -107,7 +107,9 @@ def is_bus(spec: str) -> bool:
 def open_bus(spec: str, oscillator: int = regs.OSCILLATOR) -> I2CPort:
     """The PCA9685 that ``spec`` names: ``i2c:N[@ADDRESS]`` through smbus2, or a
     ``sim://`` port's virtual chip (its ``oscillator`` as the profile says)."""
-    if spec.startswith("sim://"):
+    if spec.startswith("sim://"):  # ``fresh``: a chip just powered up
+        if "fresh" in spec.partition("?")[2].split("&"):
+            _DESK.pop(spec, None)
         chip = _DESK.setdefault(spec, regs.Chip(oscillator))
         return I2CPort(VirtualBus(chip), ADDRESS, spec)
     found = SPEC.fullmatch(spec)

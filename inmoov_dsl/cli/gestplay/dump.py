@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from ...boards import controller
 from ...errors import Diagnostic, GestError
 from ...profiles.data import Board, Profile
 from ...profiles.profile import load_profile
@@ -29,8 +30,9 @@ def run(args: argparse.Namespace) -> int:
 def _dump(name: str, port, profile: Profile, boards: tuple[Board, ...]) -> None:
     """Print the first of ``boards`` that answers DUMP on ``port``, and close it."""
     try:
-        wait_ready(port)
-        found = ((b, ask_dump(port, b.id)) for b in boards)
+        kinds = {b.id: controller(profile, b) for b in boards}
+        wait_ready(port, controller=kinds[boards[0].id] if boards[0].kind != "rig" else None)
+        found = ((b, ask_dump(port, b.id, controller=kinds[b.id])) for b in boards)
         b, values = next(((b, v) for b, v in found if v is not None), (None, None))
         if values is None:
             raise GestError(Diagnostic("error", f"no DUMP reply from {name}",

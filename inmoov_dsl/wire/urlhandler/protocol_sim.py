@@ -1,5 +1,6 @@
 """``sim://[PROFILE][?board=ID&boot=SECONDS&fresh&flash=DIR]``: the virtual board as a
-pyserial port.
+pyserial port, of the board's kind (a rig, a Maestro; a PCA9685 is on a bus, not a
+serial port: ``boards/pca9685/bus.py`` gives its ``sim://``).
 
 PROFILE defaults to ``rhand``, the board to the profile's first, ``boot`` (the time
 the bootloader swallows bytes after a reset, as an Uno or Nano does) to 0.2 s.
@@ -32,6 +33,7 @@ from pathlib import Path
 from serial.serialutil import PortNotOpenError, SerialBase, SerialException
 
 from ... import clock
+from ...boards import controller
 from ...boards.rig.core import BoardCore
 from ...errors import Diagnostic, GestError, did_you_mean
 from ...profiles.data import Profile
@@ -103,10 +105,14 @@ def _board_from_url(url: str) -> tuple[VirtualBoard, Profile]:
     if board is None:
         raise SimError(url, f"profile '{profile.name}' has no board {board_id}",
                        f"its boards: {ids}")
-    core = BoardCore.from_profile(profile, board)
+    core = controller(profile, board).core()
     stored = None if "fresh" in options else memory.recall(profile, core)
+    if "flash" in options and board.kind != "rig":
+        raise SimError(url, f"flash: board {board.id} is a {board.kind}, which stores no "
+                       "gestures", "leave flash= out")
     flash = _flash(url, options["flash"][0], core) if "flash" in options else None
-    return VirtualBoard(core, board.baud, stored=stored, flash=flash), profile
+    return VirtualBoard(core, board.baud, stored=stored, flash=flash,
+                        chatty=board.kind == "rig"), profile
 
 
 def _flash(url: str, path: str, core: BoardCore) -> StoredSet:
@@ -158,10 +164,11 @@ class Serial(SerialBase):
         if board is None:  # powered up: the board boots, with DTR rising
             board, _Desk.profiles[url] = _board_from_url(url)
             _Desk.boards[url] = board
-            board.ready_at = clock.now() + boot
+            board.ready_at = clock.now() + (boot if board.chatty else 0.0)
             _Desk.lines[url] = DtrLine()
             _Desk.lines[url].opened()
-        elif _Desk.lines[url].opened():  # DTR rose: an Uno resets
+        elif _Desk.lines[url].opened() and board.chatty:  # DTR rose: an Uno resets
+            # (a Maestro's USB port does not reset it)
             board.reset(clock.now(), boot)
         self.board = board
         self.is_open = True

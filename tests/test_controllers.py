@@ -1,0 +1,258 @@
+"""The kinds of board (boards/): the virtual Maestro against Pololu's documented command
+bytes, the PCA9685 register model against its datasheet, and the right hand's library
+on ``rhand-maestro`` and ``rhand-pca9685`` against the pulses our firmware gives."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import WHOLE_ROBOT
+
+from inmoov_dsl import load_profile
+from inmoov_dsl.boards import controller
+from inmoov_dsl.boards.maestro import commands as mc
+from inmoov_dsl.boards.maestro.device import MaestroCore
+from inmoov_dsl.boards.pca9685 import chip as regs
+from inmoov_dsl.boards.pca9685 import transactions as tx
+from inmoov_dsl.boards.pca9685.bus import I2CPort, VirtualBus, open_bus
+from inmoov_dsl.boards.rig.core import BoardServo
+from inmoov_dsl.cli.hand import reach
+from inmoov_dsl.compiling.compiler import compile_program
+from inmoov_dsl.errors import GestError
+from inmoov_dsl.language.library import scan_library
+from inmoov_dsl.language.load import load
+from inmoov_dsl.wire.player import Link, ask_dump, play
+from inmoov_dsl.wire.sim import VirtualBoard
+
+ROOT = Path(__file__).resolve().parent.parent
+LIBRARY = scan_library([ROOT / "gestures"])
+HAND = sorted(n for n, e in LIBRARY.items() if e.path.name not in WHOLE_ROBOT)
+RHAND = load_profile("rhand")
+MAESTRO = load_profile("rhand-maestro")
+PCA = load_profile("rhand-pca9685")
+
+
+def maestro(model="mini12", device=12) -> MaestroCore:
+    c = controller(MAESTRO, MAESTRO.boards[0])
+    return MaestroCore(181, c.servos, c.widths, model, device)
+
+
+def feed(core, data: bytes) -> bytes:
+    out = bytearray()
+    for byte in data:
+        out += core.feed(byte)[1]
+    return bytes(out)
+
+
+# -- the Maestro, by Pololu's documentation ----------------------------------------------
+def test_the_documented_set_target_is_1500_us_on_channel_2():
+    assert mc.set_target(2, 6000) == bytes([0x84, 0x02, 0x70, 0x2E])
+    core = maestro()
+    feed(core, bytes([0x84, 0x02, 0x70, 0x2E]))
+    assert core.targets[2] == 6000 and core.errors == 0
+    assert feed(core, bytes([0x90, 0x02])) == bytes([0x70, 0x17])  # 6000, little-endian
+
+
+def test_the_pololu_protocol_answers_its_own_device_number_only():
+    core = maestro(device=12)
+    feed(core, bytes([0xAA, 0x0C, 0x04, 0x02, 0x70, 0x2E]))  # device 12: Set Target
+    assert core.targets[2] == 6000
+    feed(core, bytes([0xAA, 0x0D, 0x04, 0x02, 0x40, 0x1F]))  # device 13: not this one
+    assert core.targets[2] == 6000 and core.errors == 0
+    assert mc.command(mc.SET_TARGET, [2, 0x70, 0x2E], 12) == bytes(
+        [0xAA, 0x0C, 0x04, 0x02, 0x70, 0x2E])
+
+
+def test_set_multiple_targets_on_a_mini_and_a_protocol_error_on_a_micro():
+    data = mc.set_targets(3, [6000, 8000])
+    assert data == bytes([0x9F, 0x02, 0x03, 0x70, 0x2E, 0x40, 0x3E])
+    mini = maestro("mini12")
+    feed(mini, data)
+    assert mini.targets[3:5] == [6000, 8000] and mini.errors == 0
+    micro = maestro("micro6")
+    feed(micro, mc.set_target(2, 6000))
+    feed(micro, data)
+    assert micro.errors & mc.PROTOCOL_ERROR
+    assert micro.targets[2] == 0  # an error sends every channel home: pulses off
+
+
+def test_errors_are_read_once_and_a_command_cut_short_is_one():
+    core = maestro()
+    feed(core, bytes([0x84, 0x02, 0x70]) + mc.set_target(1, 6000))  # cut short
+    assert feed(core, bytes([mc.GET_ERRORS])) == bytes([mc.PROTOCOL_ERROR, 0])
+    assert feed(core, bytes([mc.GET_ERRORS])) == bytes([0, 0])  # reading cleared it
+    feed(core, bytes([0x02]))  # a data byte where a command is due
+    assert core.errors == mc.PROTOCOL_ERROR
+    assert "serial protocol error" in mc.describe(core.errors)
+
+
+def test_targets_are_kept_within_the_channel_limits_and_0_is_off():
+    core = maestro()
+    feed(core, mc.set_target(0, 100 * 4) + mc.set_target(1, 3000 * 4) + mc.set_target(2, 0))
+    assert core.targets[:3] == [500 * 4, 2500 * 4, 0]
+
+
+# -- the PCA9685, by its datasheet -------------------------------------------------------
+def test_prescale_is_refused_while_the_chip_is_awake():
+    assert regs.prescale(50) == 121
+    chip = regs.Chip()
+    chip.write(regs.MODE1, bytes([regs.AI]))  # awake
+    chip.write(regs.PRESCALE, bytes([121]))
+    assert chip.registers[regs.PRESCALE] == 30 and chip.refused
+    chip.write(regs.MODE1, bytes([regs.SLEEP | regs.AI]))
+    chip.write(regs.PRESCALE, bytes([121]))
+    assert chip.registers[regs.PRESCALE] == 121
+
+
+def test_a_channel_s_pulse_is_its_off_count_and_full_off_wins():
+    chip = regs.Chip()
+    chip.write(regs.MODE1, bytes([regs.SLEEP | regs.AI]))
+    chip.write(regs.PRESCALE, bytes([121]))
+    chip.write(regs.MODE1, bytes([regs.AI]))
+    chip.write(regs.led(3), bytes([0, 0, 307 & 0xFF, 307 >> 8]))
+    assert chip.pulse(3) == pytest.approx(307 * 122 / 25e6)  # 1.4986 ms
+    chip.write(regs.led(3) + 3, bytes([0x10 | 307 >> 8]))
+    assert chip.pulse(3) == 0.0
+    chip.write(regs.MODE1, bytes([0]))  # no auto-increment: every byte to one register
+    chip.write(regs.led(4), bytes([1, 2, 3]))
+    assert list(chip.registers[regs.led(4):regs.led(4) + 2]) == [3, 0]
+
+
+def test_the_port_makes_each_transaction_a_block_write_of_at_most_32_bytes():
+    calls = []
+
+    class Bus:
+        def write_i2c_block_data(self, address, register, data):
+            calls.append((address, register, len(data)))
+
+        def close(self):
+            pass
+
+    port = I2CPort(Bus(), 0x41, "i2c:1@0x41")
+    data = tx.write(regs.led(0), bytes(16 * 4))
+    port.write(data[:10])  # half a transaction waits for the rest
+    assert calls == []
+    port.write(data[10:])
+    assert calls == [(0x41, regs.led(0), 32), (0x41, regs.led(8), 32)]
+
+
+def test_a_bus_that_does_not_answer_is_a_clear_error():
+    port = I2CPort(VirtualBus(regs.Chip(), address=0x40), 0x41, "i2c:1@0x41")
+    with pytest.raises(OSError, match="the PCA9685 at 0x41 did not answer"):
+        port.write(tx.read(regs.MODE1, 1))
+    for spec, message in [("COM3", "a PCA9685 is on an I2C bus"),
+                          ("i2c:1@0x99", "I2C addresses are 0x03..0x77")]:
+        with pytest.raises(GestError, match=message):
+            open_bus(spec)
+
+
+# -- the right hand on each controller: the firmware's pulses ----------------------------
+def final_widths(profile, name: str) -> dict[int, float]:
+    """Servo ID -> the width (us) the board of ``profile`` sends once ``name`` has played
+    on its virtual device, from the rest pose (set up, and holding it, as a connected
+    board is)."""
+    compiled, _ = compile_program(load(str(LIBRARY[name].path)), name, profile)
+    c = controller(profile, profile.boards[0])
+    core = c.core()
+    rest = c.set_values({s.id: s.rest for s in c.servos})
+    for byte in c.setup() + rest + compiled.streams[0].data:
+        core.feed(byte)
+    if profile is MAESTRO:
+        return {s.id: core.targets[s.pin] / 4 for s in c.servos}
+    return {s.id: core.chip.pulse(s.pin) * 1e6 for s in c.servos}
+
+
+@pytest.mark.parametrize("name", HAND)
+def test_every_hand_gesture_ends_in_the_firmware_s_pulses(name):
+    """The rig's final values, as the firmware's Servo library turns them into widths
+    (what test_firmware proves the image puts on the pins), are the widths the Maestro
+    ends at within a quarter-microsecond and the PCA9685 within half a tick."""
+    compiled, _ = compile_program(load(str(LIBRARY[name].path)), name, RHAND)
+    firmware = {s.id: BoardServo(s.id, s.calibration, s.reversed).pulse(v)
+                for s, v in zip(RHAND.servos, compiled.final, strict=True)}
+    tick = controller(PCA, PCA.boards[0]).tick * 1e6
+    for profile, bound in ((MAESTRO, 0.125), (PCA, tick / 2)):
+        got = final_widths(profile, name)
+        assert all(abs(got[i] - firmware[i]) <= bound + 1e-9 for i in firmware), \
+            (profile.name, got, firmware)
+
+
+@pytest.mark.parametrize("profile", [MAESTRO, PCA], ids=lambda p: p.name)
+def test_an_update_every_frame_while_a_servo_moves_and_no_step_above_its_limit(profile):
+    name = "wave"
+    compiled, _ = compile_program(load(str(LIBRARY[name].path)), name, profile)
+    c = controller(profile, profile.boards[0])
+    stream = compiled.streams[0]
+    frames = {}
+    for first, stop in c.commands(stream.data):
+        for sid, unit in c.moves(stream.data[first:stop]):
+            frames.setdefault(sid, []).append((round(stream.times[stop - 1] / 0.02), unit))
+    per_us = 4 if profile is MAESTRO else 1 / (c.tick * 1e6)
+    assert frames
+    for s in (s for s in c.servos if s.id in frames):
+        f, units = zip(*frames[s.id], strict=True)
+        assert len(set(f)) == len(f)  # one update per frame at most
+        # a servo moves in unbroken runs: a frame without an update is one it held
+        steps = np.abs(np.diff(units)) / per_us  # us per update
+        us_per_value = np.abs(np.diff(c.widths[[x.id for x in c.servos].index(s.id)]
+                                      .table)).max()
+        assert steps.max() <= s.max_velocity * 0.02 * us_per_value + 1 + 5 / per_us
+
+
+@pytest.mark.parametrize("profile", [MAESTRO, PCA], ids=lambda p: p.name)
+def test_sim_plays_and_reads_back_the_pose_from_a_non_rest_start(profile):
+    """On the virtual device behind sim://: the pose read back is the one left, and a
+    gesture from it starts next to it (no jump)."""
+    from inmoov_dsl.wire.link import connect, parse_ports
+
+    links = connect(parse_ports(["sim://?fresh"], profile), profile)
+    try:
+        c = links[0].controller
+        # as gestplay connects: ready, errors said, pose asked, set up
+        assert reach(links[0], profile, False, "") == {s.id: s.rest for s in c.servos}
+        first, _ = compile_program(load(str(LIBRARY["fist"].path)), "fist", profile)
+        play(first, links)
+        held = ask_dump(links[0].port, 181, controller=c)
+        assert held == {s.id: 180 if s.name != "wrist" else 0 for s in c.servos}
+        start = {s.name: held[s.id] for s in c.servos}
+        then, _ = compile_program(load(str(LIBRARY["open"].path)), "open", profile,
+                                  start=start)
+        first_moves = dict(reversed(c.moves(then.streams[0].data)))  # each one's first
+        us = 0.25 if profile is MAESTRO else c.tick * 1e6  # per unit
+        assert first_moves
+        for s in c.servos:
+            if s.id in first_moves:
+                now = c.set_values({s.id: held[s.id]})
+                # within a degree of the servo's angle (10.3 us) of the pose read back
+                assert abs(first_moves[s.id] - dict(c.moves(now))[s.id]) * us <= 10.4
+    finally:
+        for link in links:
+            link.port.close()
+
+
+def test_a_board_s_kind_is_checked_in_the_profile(tmp_path):
+    from inmoov_dsl.profiles.profile import parse_profile
+
+    text = (ROOT / "gestures/profiles/rhand-maestro.toml").read_text()
+    wrong = text.replace('kind = "maestro"', 'kind = "maestr"')
+    with pytest.raises(GestError) as exc:
+        parse_profile(wrong, "p.toml")
+    assert "'kind' must be one of rig, maestro, pca9685" in str(exc.value)
+    assert "did you mean 'maestro'" in str(exc.value.first.hint)
+    micro = text.replace('model = "mini12"', 'model = "micro6"').replace("pin = 5", "pin = 6")
+    with pytest.raises(GestError, match=r"has channels 0\.\.5"):
+        parse_profile(micro, "p.toml")
+    twice = text.replace("pin = 5", "pin = 4")
+    with pytest.raises(GestError, match="channel 4 of board 181 is servo 'ring'"):
+        parse_profile(twice, "p.toml")
+
+
+def test_virtual_board_logs_every_servo_a_command_sets():
+    c = controller(MAESTRO, MAESTRO.boards[0])
+    board = VirtualBoard(c.core(), 115200, chatty=False)
+    board.write(c.set_values({1: 90, 2: 90, 3: 90}), 0.0)
+    board.advance(1.0)
+    assert sorted(w.id for _, w in board.log) == [1, 2, 3]
+    assert board.read(1.0) == b""  # a Maestro says nothing it is not asked
+    link = Link(181, None, "", c)
+    assert link.controller.kind == "maestro"
