@@ -16,7 +16,7 @@ import os
 import sys
 from dataclasses import dataclass
 
-from ..boards.rig.core import BoardCore
+from ..boards import controller
 from ..errors import Diagnostic, GestError
 from ..profiles.data import Glove
 from ..profiles.profile import load_profile
@@ -87,9 +87,9 @@ def _serve(args: argparse.Namespace, profile, board_cfg, glove, views: list, web
                     if args.http_port not in (0, web.port) else "")
             print(f"{PROG}: the hand in 3-D at {web.url}{busy}", file=sys.stderr, flush=True)
         Pty(master, args.boot, glove and glove.stream, views, log,
-             lambda ready_at: VirtualBoard(BoardCore.from_profile(profile, board_cfg),
-                                           board_cfg.baud, ready_at=ready_at,
-                                           flash=flash)).serve()
+             lambda ready_at: VirtualBoard(controller(profile, board_cfg).core(),
+                                           board_cfg.baud, ready_at=ready_at, flash=flash,
+                                           chatty=board_cfg.kind == "rig")).serve()
     except KeyboardInterrupt:
         return EXIT_OK
     finally:
@@ -117,6 +117,11 @@ def _board(profile, board_id: int | None):
     if board_cfg is None:
         raise GestError(Diagnostic("error", f"profile '{profile.name}' has no board "
                                    f"{board_id}"))
+    if board_cfg.kind == "pca9685":
+        raise GestError(Diagnostic("error", f"board {board_cfg.id} of profile "
+                                   f"'{profile.name}' is a PCA9685, on an I2C bus, not a "
+                                   "serial port", hint=f"play on its virtual chip: gestplay "
+                                   f"GESTURE --profile {profile.name} --port sim://"))
     return board_cfg
 
 

@@ -96,9 +96,11 @@ def _ino(name: str, what: str, include: str | None, glue: str, prefix: str,
 
 
 def sketch_names(profile: Profile) -> dict[str, int]:
-    """Sketch folder name -> the ID of the board or glove of ``profile`` it is for."""
+    """Sketch folder name -> the ID of the board or glove of ``profile`` it is for: each
+    board of kind ``rig`` (a Maestro or a PCA9685 runs no sketch of ours), each glove."""
     several = len(profile.boards) > 1
-    names = {sketch_name(profile, "servo", b.name, several): b.id for b in profile.boards}
+    names = {sketch_name(profile, "servo", b.name, several): b.id for b in profile.boards
+             if b.kind == "rig"}
     gloves = len(profile.gloves) > 1
     names.update({sketch_name(profile, "glove", g.name, gloves): g.id for g in profile.gloves})
     return names
@@ -110,6 +112,13 @@ def sketches(profile: Profile, baud: int | None = None,
     ``baud`` overrides the profile's link speed (9600 by default, 115200 as an option);
     ``stored``: board ID -> the gestures it stores (its ``stored.h``)."""
     out: dict[str, dict[str, str]] = {}
+    if not sketch_names(profile):
+        other = profile.boards[0]
+        raise GestError(Diagnostic(
+            "error", f"profile '{profile.name}' has no board that runs our firmware: board "
+            f"{other.id} is a {other.kind}, which runs its maker's",
+            hint="play on it as it is: gestplay GESTURE --profile "
+            f"{profile.name} --port PORT (docs/controllers.md)"))
     boards = {b.id: b for b in profile.boards}
     gloves = {g.id: g for g in profile.gloves}
     stored = stored or {}

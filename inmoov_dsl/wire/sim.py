@@ -69,9 +69,7 @@ class VirtualBoard:
     records: int = 0  #: poses stored (EEPROM records written)
     resets: int = 0
     flash: StoredSet | None = None  #: the gestures stored in its flash
-    #: it sends WAIT when it boots and when it has nothing left to read (a rig; a
-    #: Maestro answers only what it is asked)
-    chatty: bool = True
+    chatty: bool = True  #: it sends WAIT when booted and idle (a rig; not a Maestro)
 
     def __post_init__(self) -> None:
         self.tau = byte_time(self.baud)
@@ -143,8 +141,7 @@ class VirtualBoard:
         if not self._booted and now >= self.ready_at:
             self._booted = True
             self._clock = self._quiet = self.ready_at
-            if self.chatty:
-                self._send(self.ready_at, bytes([Signal.WAIT]))
+            self._send(self.ready_at, bytes([Signal.WAIT]) if self.chatty else b"")
             if self.flash is not None and self.flash.boot is not None:
                 self._boot_at = self.ready_at + BOOT_QUIET
         while True:

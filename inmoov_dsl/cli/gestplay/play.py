@@ -109,7 +109,9 @@ def watch(args: argparse.Namespace, profile: Profile, boards: set[int],
     a pseudo-terminal), or elsewhere the one that draws it."""
     name = args.target
     again = ["--profile", args.profile] if args.profile else []  # else the file's robot
-    if not posix:  # gestc preview draws a gesture as written: on its own side
+    if not posix or any(b.kind == "pca9685" for b in profile.boards):
+        # gestc preview draws a gesture as written: on its own side (a PCA9685 is on a
+        # bus, which gestsim cannot serve)
         return f"'{shlex.join(['gestc', 'preview', name, *again, '-o', f'{name}.gif'])}' " \
             "draws it"
     again += ["--hand", args.hand] if args.hand else []
