@@ -59,7 +59,7 @@ def test_ross_own_parser_accepts_the_model(name, tmp_path):
                           timeout=60)
     assert done.returncode == 0, done.stdout + done.stderr
     assert "Successfully Parsed XML" in done.stdout
-    root = {"rhand": "right_forearm", "lhand": "left_forearm"}.get(name, "base_link")
+    root = {"rhand": "right_forearm", "lhand": "left_forearm"}.get(name.split("-")[0], "base_link")
     assert f"root Link: {root}" in done.stdout
 
 

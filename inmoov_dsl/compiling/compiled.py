@@ -119,7 +119,15 @@ class Compiled:
 
 
 def to_json(c: Compiled) -> str:
-    """The ``.gestc`` document of ``c``; times rounded to 1e-9 s."""
+    """The ``.gestc`` document of ``c``; times rounded to 1e-9 s. Its format carries a
+    rig's streams only: a gesture for another kind of board is played from its
+    ``.gest`` (GestError)."""
+    other = next((s for s in c.streams if s.kind != "rig"), None)
+    if other is not None:
+        raise GestError(Diagnostic(
+            "error", f"'{c.gesture}' is for board {other.board}, a {other.kind}: a compiled "
+            "file (.gestc, timed) carries the rig's streams only",
+            hint="play the .gest itself: gestplay GESTURE --profile PROFILE --port PORT"))
     doc = {
         "format": FORMAT,
         "version": VERSION,

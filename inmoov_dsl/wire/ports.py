@@ -30,6 +30,11 @@ ARDUINO_USB: dict[tuple[int, int | None], str] = {
     (0x1A86, 0x7523): "a CH340: most Nano and Uno clones",
     (0x0403, 0x6001): "an FTDI FT232R: older Nanos and clones",
     (0x10C4, 0xEA60): "a CP2102: some clones",
+    # Pololu's Maestros: two ports each, the Command Port first (docs/controllers.md)
+    (0x1FFB, 0x0089): "a Pololu Micro Maestro 6 (profile kind maestro, model micro6)",
+    (0x1FFB, 0x008A): "a Pololu Mini Maestro 12 (profile kind maestro)",
+    (0x1FFB, 0x008B): "a Pololu Mini Maestro 18 (profile kind maestro, model mini18)",
+    (0x1FFB, 0x008C): "a Pololu Mini Maestro 24 (profile kind maestro, model mini24)",
 }
 
 
