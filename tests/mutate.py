@@ -378,8 +378,6 @@ def _toml(seed: Seed, data: bytes):
     else:
         source = f"g:\n    all {hi} over 0.3s\n    all {lo} stagger 10ms\n"
     compiled = compile_source(source, profile=profile, file="fuzz.gest")
-    if any(b.kind != "rig" for b in profile.boards):
-        return compiled.warnings  # a compiled file carries a rig's streams only
     again = from_json(to_json(compiled), "fuzz.gestc")
     check_compiled(again)
     check_profile(again, profile)
@@ -414,6 +412,14 @@ def check_compiled(c) -> None:
     for s in c.streams:
         data, times = list(s.data), s.times.tolist()
         tau = 10 / s.baud
+        if s.kind != "rig":  # whole commands of the kind, in time, within the gesture
+            from inmoov_dsl.boards import fault
+
+            assert fault(s.kind, s.data) is None and len(data) == len(times)
+            assert all(math.isfinite(t) and t >= 0 for t in times)
+            assert all(b >= a for a, b in zip(times, times[1:], strict=False))
+            assert not times or times[-1] <= c.duration + 0.04 + 1e-6
+            continue
         assert 181 <= s.board <= 247 and len(data) == len(times) and len(data) % 2 == 1
         assert data[0] == 255 and times[0] == 0
         assert all(b <= 180 for b in data[1:]), "a servo ID or value above 180"

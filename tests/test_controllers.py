@@ -22,6 +22,7 @@ from inmoov_dsl.errors import GestError
 from inmoov_dsl.language.library import scan_library
 from inmoov_dsl.language.load import load
 from inmoov_dsl.wire.player import Link, ask_dump, play
+from inmoov_dsl.wire.ports import open_port
 from inmoov_dsl.wire.sim import VirtualBoard
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -256,3 +257,63 @@ def test_virtual_board_logs_every_servo_a_command_sets():
     assert board.read(1.0) == b""  # a Maestro says nothing it is not asked
     link = Link(181, None, "", c)
     assert link.controller.kind == "maestro"
+
+
+@pytest.mark.parametrize("profile", [MAESTRO, PCA], ids=lambda p: p.name)
+def test_a_compiled_file_carries_the_board_s_kind_and_its_rules(profile):
+    import json
+
+    from inmoov_dsl.compiling.compiled import check_profile, to_json
+    from inmoov_dsl.compiling.compiled_reader import from_json
+
+    compiled, _ = compile_program(load(str(LIBRARY["wave"].path)), "wave", profile)
+    again = from_json(to_json(compiled), "wave.gestc")
+    assert again.streams[0].kind == profile.boards[0].kind
+    assert again.streams[0].data == compiled.streams[0].data
+    check_profile(again, profile)
+    with pytest.raises(GestError, match=r"as a \w+, and profile 'rhand' has a rig there"):
+        check_profile(again, RHAND)
+    doc = json.loads(to_json(compiled))
+    doc["streams"][0]["bytes"] = doc["streams"][0]["bytes"][:-1]  # a command cut short
+    doc["streams"][0]["times"] = doc["streams"][0]["times"][:-1]
+    with pytest.raises(GestError, match="cut short"):
+        from_json(json.dumps(doc), "cut.gestc")
+    doc["streams"][0]["kind"] = "servo2040"
+    with pytest.raises(GestError, match="'kind' must be one of rig, maestro, pca9685"):
+        from_json(json.dumps(doc), "kind.gestc")
+
+
+def test_ports_says_who_answers_a_board_of_ours_a_maestro_and_its_errors(capsys,
+                                                                          monkeypatch):
+    from serial.tools import list_ports, list_ports_common
+
+    from inmoov_dsl.cli import gestplay
+    from inmoov_dsl.wire.urlhandler import protocol_sim
+
+    def port(device, description, vid, pid):
+        info = list_ports_common.ListPortInfo(device, skip_link_detection=True)
+        info.description, info.vid, info.pid = description, vid, pid
+        return info
+
+    protocol_sim.power_off()
+    monkeypatch.setattr(list_ports, "comports", lambda: [
+        port("sim://rhand?fresh&boot=0", "Arduino Uno", 0x2341, 0x0043),
+        port("sim://rhand-maestro?fresh", "Pololu Mini Maestro 12", 0x1FFB, 0x008A),
+        port("sim://rhand-maestro?fresh&board=181", "Pololu Mini Maestro 12", 0x1FFB,
+             0x008A),
+        port("/dev/ttyS0", "n/a", None, None)])
+    # the second Maestro was sent a command cut short: it reports a protocol error
+    cut = open_port("sim://rhand-maestro?fresh&board=181", 115200)
+    cut.write(bytes([0x84, 0x01]) + mc.set_target(1, 6000))
+    cut.close()
+    assert gestplay.main(["ports"]) == 0
+    out = dict(line.split("\t", 1) for line in capsys.readouterr().out.splitlines())
+    assert out["sim://rhand?fresh&boot=0"].endswith(
+        "answers: board 181, 6 servos (our firmware or the original)")
+    assert out["sim://rhand-maestro?fresh"].endswith(
+        "answers: a Pololu Maestro's Command Port: no errors")
+    assert out["sim://rhand-maestro?fresh&board=181"].endswith(
+        "answers: a Pololu Maestro's Command Port: errors: serial protocol error (cleared "
+        "now)")
+    assert out["/dev/ttyS0"] == "n/a\t-"  # an unknown device is not sent a byte
+    protocol_sim.power_off()

@@ -419,7 +419,7 @@ def test_ports_marks_the_likely_arduinos(capsys, monkeypatch):
     monkeypatch.setattr(list_ports, "comports", lambda: [
         port("/dev/ttyS0", "n/a"), port("/dev/ttyUSB0", "USB2.0-Serial", 0x1A86, 0x7523),
         port("/dev/ttyACM0", "Arduino Uno", 0x2341, 0x0043)])
-    code, out, _ = run(capsys, "ports")
+    code, out, _ = run(capsys, "ports", "--no-ask")
     assert code == 0
     assert out.splitlines() == [
         "/dev/ttyACM0\tArduino Uno\tUSB 2341:0043\tlikely an Arduino",
@@ -427,7 +427,7 @@ def test_ports_marks_the_likely_arduinos(capsys, monkeypatch):
         "/dev/ttyS0\tn/a\t-"]
     monkeypatch.setattr(list_ports, "comports", lambda: [port("/dev/ttyS0", "n/a")])
     code, _, err = run(capsys, "ports")
-    assert code == 0 and "none of these looks like an Arduino" in err
+    assert code == 0 and "none of these looks like an Arduino or a Maestro" in err
 
 
 @pytest.mark.skipif(sys.platform == "win32", reason="COM3 is a port name on Windows")

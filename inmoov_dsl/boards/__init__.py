@@ -7,6 +7,7 @@ the one mapping from a value to a pulse width that every kind keeps."""
 from __future__ import annotations
 
 from ..profiles.data import Board, Profile
+from ..profiles.kinds import KINDS
 from .base import Controller
 
 
@@ -18,6 +19,9 @@ def _kinds() -> dict[str, type[Controller]]:
     return {k.kind: k for k in (RigController, MaestroController, PcaController)}
 
 
+__all__ = ["KINDS", "Controller", "by_id", "channels", "controller", "fault"]
+
+
 def controller(profile: Profile, board: Board) -> Controller:
     """``board`` of ``profile`` as its kind drives it."""
     return _kinds()[board.kind](profile, board)
@@ -26,3 +30,21 @@ def controller(profile: Profile, board: Board) -> Controller:
 def by_id(profile: Profile) -> dict[int, Controller]:
     """Each board of ``profile`` by its ID, as its kind drives it."""
     return {b.id: controller(profile, b) for b in profile.boards}
+
+
+
+def fault(kind: str, data: bytes) -> str | None:
+    """What in ``data`` breaks the framing of ``kind`` (a Maestro's or a PCA9685's), or
+    None (a rig's layout is ``protocol.frame_fault``)."""
+    from .maestro import commands
+    from .pca9685 import transactions
+
+    return (commands.fault if kind == "maestro" else transactions.fault)(data)
+
+
+def channels(kind: str, data: bytes) -> set[int]:
+    """The channels a Maestro's or a PCA9685's ``data`` sets."""
+    from .maestro import commands
+    from .pca9685 import transactions
+
+    return (commands.channels if kind == "maestro" else transactions.channels)(data)

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from .. import protocol
+from ..boards import channels
 from ..errors import Diagnostic, GestError, Pos
 from ..profiles.data import Board, Profile
 
@@ -119,15 +120,8 @@ class Compiled:
 
 
 def to_json(c: Compiled) -> str:
-    """The ``.gestc`` document of ``c``; times rounded to 1e-9 s. Its format carries a
-    rig's streams only: a gesture for another kind of board is played from its
-    ``.gest`` (GestError)."""
-    other = next((s for s in c.streams if s.kind != "rig"), None)
-    if other is not None:
-        raise GestError(Diagnostic(
-            "error", f"'{c.gesture}' is for board {other.board}, a {other.kind}: a compiled "
-            "file (.gestc, timed) carries the rig's streams only",
-            hint="play the .gest itself: gestplay GESTURE --profile PROFILE --port PORT"))
+    """The ``.gestc`` document of ``c``; times rounded to 1e-9 s. A stream for a board of
+    another kind than the rig says its ``kind``."""
     doc = {
         "format": FORMAT,
         "version": VERSION,
@@ -145,7 +139,7 @@ def to_json(c: Compiled) -> str:
             for s in c.steps
         ],
         "streams": [
-            {"board": s.board, "baud": s.baud,
+            {"board": s.board, "baud": s.baud, **({"kind": s.kind} if s.kind != "rig" else {}),
              "times": [round(t, 9) for t in s.times.tolist()], "bytes": list(s.data)}
             for s in c.streams
         ],
@@ -172,6 +166,20 @@ def check_profile(c: Compiled, profile: Profile) -> None:
                 "error", f"'{c.gesture}' has a stream for board {s.board}, and profile "
                 f"'{profile.name}' has no board {s.board} (its boards: "
                 f"{', '.join(str(b) for b in boards)})", _board_pos(profile, None), hint))
+            continue
+        if s.kind != board.kind:
+            errors.append(Diagnostic(
+                "error", f"'{c.gesture}' is for board {s.board} as a {s.kind}, and profile "
+                f"'{profile.name}' has a {board.kind} there", _board_pos(profile, board),
+                hint))
+            continue
+        if s.kind != "rig":
+            mine = {profile.servos[profile.index(n)].pin for n in board.servos}
+            if stray := sorted(channels(s.kind, s.data) - mine):
+                errors.append(Diagnostic(
+                    "error", f"'{c.gesture}' sets channel {stray[0]} of board {s.board}, "
+                    f"which profile '{profile.name}' gives no servo",
+                    _board_pos(profile, board), hint))
             continue
         ids = {profile.servos[profile.index(n)].id for n in board.servos}
         foreign = sorted(s.servo_ids - ids)

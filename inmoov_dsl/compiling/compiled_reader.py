@@ -13,7 +13,7 @@ import re
 
 import numpy as np
 
-from .. import protocol
+from .. import boards, protocol
 from ..errors import Diagnostic, GestError, counted, decode_utf8
 from ..resources import read_regular
 from .compiled import FORMAT, VERSION, Compiled, Cue, StepSummary, Stream
@@ -135,12 +135,18 @@ class CompiledReader(Fields):
         if len(times_list) != len(data_list):
             raise self.bad(f"board {board} has {counted(len(times_list), 'time')} for "
                            f"{counted(len(data_list), 'byte')}", (*path, "times"))
-        times = self.times(times_list, board, baud, (*path, "times"))
-        data = self.bytes(data_list, board, (*path, "bytes"))
-        return Stream(board, baud, times, data)
+        kind = s.get("kind", "rig")
+        if kind not in boards.KINDS:
+            raise self.bad(f"board {board}: 'kind' must be one of {', '.join(boards.KINDS)}, got "
+                           f"{shown(kind)}", (*path, "kind"))
+        times = self.times(times_list, board, baud, (*path, "times"), kind == "rig")
+        data = self.bytes(data_list, board, (*path, "bytes"), kind)
+        return Stream(board, baud, times, data, kind)
 
-    def times(self, values: list, board: int, baud: int, path: tuple) -> np.ndarray:
-        """Send times: finite, from 0, in order and at least a byte-time apart."""
+    def times(self, values: list, board: int, baud: int, path: tuple, rig: bool = True
+              ) -> np.ndarray:
+        """Send times: finite, in order, at least a byte-time apart, and a rig's from 0
+        (its CANCEL; another kind's first command goes when it is due)."""
         bad = next((n for n, t in enumerate(values) if isinstance(t, bool)
                     or not isinstance(t, int | float)), None)
         if bad is None:
@@ -158,7 +164,7 @@ class CompiledReader(Fields):
             if np.any(steps < 0):
                 raise self.bad(f"board {board}: send times go backwards",
                                (*path, int(np.argmax(steps < 0)) + 1))
-            if times[0] != 0:
+            if (times[0] != 0) if rig else (times[0] < 0):
                 raise self.bad(f"board {board}: the first byte goes at {times[0]:g} s, not 0",
                                (*path, 0))
             tau = protocol.byte_time(baud)
@@ -168,14 +174,19 @@ class CompiledReader(Fields):
                                (*path, int(np.argmax(steps < tau - _ROUNDING)) + 1))
         return times
 
-    def bytes(self, values: list, board: int, path: tuple) -> bytes:
-        """The bytes: CANCEL, then whole (servo ID, value) pairs, each 0..180."""
+    def bytes(self, values: list, board: int, path: tuple, kind: str = "rig") -> bytes:
+        """The bytes: a rig's CANCEL, then whole (servo ID, value) pairs, each 0..180;
+        another kind's, whole commands of its own (``boards.fault``)."""
         bad = next((n for n, b in enumerate(values) if not whole(b) or not 0 <= b <= 255),
                    None)
         if bad is not None:
             raise self.bad(f"board {board}: byte {bad + 1} is not a whole number in 0..255",
                            (*path, bad))
         data = bytes(values)
+        if kind != "rig":
+            if (wrong := boards.fault(kind, data)) is not None:
+                raise self.bad(f"board {board} ({kind}): {wrong}", path)
+            return data
         fault = protocol.frame_fault(data)
         if fault is None:
             return data

@@ -105,3 +105,22 @@ def describe(errors: int) -> str:
     """The error register's set bits in words."""
     found = [name for bit, name in enumerate(ERRORS) if errors >> bit & 1]
     return ", ".join(found) or f"error bits 0x{errors:04x}"
+
+
+def fault(data: bytes) -> str | None:
+    """What in ``data`` is not a whole command of Pololu's table (that a Maestro would
+    flag as a protocol error), or None."""
+    for first, stop in commands(data):
+        cmd = data[first:stop]
+        code = cmd[2] | 0x80 if cmd[0] == POLOLU and len(cmd) > 2 else cmd[0]
+        body = cmd[3:] if cmd[0] == POLOLU else cmd[1:]
+        if not cmd[0] & 0x80 or (code not in DATA and code != SET_MULTIPLE_TARGETS):
+            return f"byte {first + 1}: {cmd[0]} starts no Maestro command"
+        if stop - first != length(data + bytes(300), first) or any(b & 0x80 for b in body):
+            return f"byte {first + 1}: a Maestro command cut short"
+    return None
+
+
+def channels(data: bytes) -> set[int]:
+    """The channels the targets of ``data`` set."""
+    return {ch for ch, _ in targets(data)}

@@ -65,3 +65,13 @@ def fault(data: bytes) -> str | None:
         if len(t) < 3 or (t[0] == WRITE and (len(t) != 3 + t[2] or t[2] > MOST)):
             return f"byte {first}: a transaction cut short"
     return None
+
+
+def channels(data: bytes) -> set[int]:
+    """The LED channels whose registers the writes of ``data`` touch."""
+    found = set()
+    for kind, register, written in parse(data):
+        if kind == WRITE:
+            found |= {(r - 6) // 4 for r in range(register, register + len(written))
+                      if 6 <= r < 6 + 4 * 16}
+    return found

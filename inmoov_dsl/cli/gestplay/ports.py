@@ -1,30 +1,39 @@
-"""gestplay ports: the serial ports on this machine, the likely Arduinos marked."""
+"""gestplay ports: the serial ports on this machine, the likely boards marked, and
+(unless ``--no-ask``) what answers on each of them."""
 
 from __future__ import annotations
 
 import argparse
 import sys
 
+from ...wire.identify import answer
 from ...wire.ports import available
 from ..common import EXIT_OK
 
 
 def run(args: argparse.Namespace) -> int:
-    """One line per port: device, description, USB VID:PID, what it likely is."""
+    """One line per port: device, description, USB VID:PID, what it likely is, and what
+    answers on it."""
     found = available()
     for port in found:
         usb = f"USB {port.usb}" if port.usb else "-"
         likely = f"\tlikely {port.likely}" if port.likely else ""
-        print(f"{port.device}\t{port.description}\t{usb}{likely}")
+        said = f"\tanswers: {answer(port, args.baud)}" if args.ask and port.likely else ""
+        print(f"{port.device}\t{port.description}\t{usb}{likely}{said}", flush=True)
     if not found:
         print("no serial ports found (sim:// is the virtual board)", file=sys.stderr)
     elif not any(p.likely for p in found):
-        print("none of these looks like an Arduino: is the board plugged in, with a data "
-              "cable (some USB cables only charge)?", file=sys.stderr)
+        print("none of these looks like an Arduino or a Maestro: is the board plugged in, "
+              "with a data cable (some USB cables only charge)?", file=sys.stderr)
     return EXIT_OK
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestplay ports``."""
-    p = sub.add_parser("ports", help="the serial ports on this machine")
+    p = sub.add_parser("ports", help="the serial ports on this machine, and who answers")
+    p.add_argument("--no-ask", dest="ask", action="store_false",
+                   help="only list them (asking opens each likely board's port: an Uno "
+                   "resets, and keeps its pose)")
+    p.add_argument("--baud", type=int, default=9600,
+                   help="the baud a board of ours is asked at (default 9600)")
     p.set_defaults(func=run)

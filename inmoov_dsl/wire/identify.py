@@ -1,0 +1,69 @@
+"""Who answers on a serial port (``gestplay ports``): a board of ours or the original
+firmware (its ID and servos, from DUMP), a Pololu Maestro (its errors), or nothing
+known. Only ports whose USB IDs say Arduino or Maestro are asked: bytes sent to an
+unknown device could mean anything to it."""
+
+from __future__ import annotations
+
+from .. import clock
+from ..boards.maestro import commands as maestro
+from ..decode import Replies
+from ..errors import GestError
+from ..protocol import ASK_POSE, DEFAULT_BAUD
+from .player import DUMP_TIMEOUT, drain, wait_ready
+from .ports import PortInfo, open_port
+
+POLOLU = 0x1FFB  #: Pololu's USB vendor ID
+MAESTRO_BAUD = 115_200
+
+
+def answer(info: PortInfo, baud: int = DEFAULT_BAUD) -> str:
+    """What answers on ``info``'s port, in words (``baud``: a board of ours')."""
+    if info.vid == POLOLU:
+        return _maestro(info.device)
+    if info.likely is None:
+        return "not asked (not an Arduino's USB IDs)"
+    try:
+        port = open_port(info.device, baud)
+    except GestError as exc:
+        return f"cannot open it: {exc.first.message}"
+    try:
+        ready = wait_ready(port)  # an Uno resets as its port opens: it boots first
+        drain(port)
+        port.write(ASK_POSE)
+        replies, deadline = Replies(), clock.now() + DUMP_TIMEOUT
+        while clock.now() < deadline:
+            if (found := replies.feed(drain(port))) is not None:
+                board, values = found
+                return f"board {board}, {len(values)} servos (our firmware or the original)"
+            clock.sleep(0.005)
+        return "a board that sends WAIT but did not answer DUMP" if ready else \
+            f"nothing answered at {baud} baud"
+    except OSError as exc:
+        return f"the port failed: {exc}"
+    finally:
+        port.close()
+
+
+def _maestro(device: str) -> str:
+    """Get Errors on a Maestro's port: the Command Port answers it at once."""
+    try:
+        port = open_port(device, MAESTRO_BAUD)
+    except GestError as exc:
+        return f"cannot open it: {exc.first.message}"
+    try:
+        port.write(bytes([maestro.GET_ERRORS]))
+        got, deadline = b"", clock.now() + DUMP_TIMEOUT
+        while len(got) < 2 and clock.now() < deadline:
+            got += drain(port)
+            clock.sleep(0.005)
+        if len(got) < 2:
+            return "a Maestro's port that does not answer (its TTL Port, or the Maestro " \
+                "is not in USB Dual Port mode: docs/controllers.md)"
+        errors = got[0] | got[1] << 8
+        return "a Pololu Maestro's Command Port: " + \
+            (f"errors: {maestro.describe(errors)} (cleared now)" if errors else "no errors")
+    except OSError as exc:
+        return f"the port failed: {exc}"
+    finally:
+        port.close()
