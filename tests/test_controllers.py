@@ -317,3 +317,34 @@ def test_ports_says_who_answers_a_board_of_ours_a_maestro_and_its_errors(capsys,
         "now)")
     assert out["/dev/ttyS0"] == "n/a\t-"  # an unknown device is not sent a byte
     protocol_sim.power_off()
+
+
+@pytest.mark.parametrize("stops", [[0.7], [0.7, 0.703], [0.7, 0.75, 0.9]])
+@pytest.mark.parametrize("profile", [MAESTRO, PCA], ids=lambda p: p.name)
+def test_the_drive_loop_says_the_pose_a_maestro_or_a_pca9685_holds(profile, stops):
+    """The repl's, the service's and the ROS node's one drive loop on another kind: take
+    overs and stops at any moment, and the board holds the pose the loop reports; no
+    servo jumps."""
+    import itertools
+
+    from test_repl import ClockedPort, Timeline
+
+    from inmoov_dsl.live.drive import Drive, library_program
+    from inmoov_dsl.live.orders import Control, Order
+
+    timeline = Timeline([(0.0, Order("fingers 180, wrist 180 over 2s", "a")),
+                         (0.6, Order("index 0 over 2s", "b")),
+                         *[(t, Control("stop", f"s{k}")) for k, t in enumerate(stops)]])
+    c = controller(profile, profile.boards[0])
+    board = VirtualBoard(c.core(), 115200, chatty=False)
+    board.write(c.setup() + c.set_values({s.id: s.rest for s in c.servos}), 0.0)
+    loop = Drive([Link(181, ClockedPort(board, timeline), "timeline", c)], profile, {},
+                 library_program(), lambda note: None, now=timeline.now,
+                 sleep=timeline.sleep)
+    loop.run(timeline.next_line)
+    board.advance(timeline.t + 1)
+    assert board.positions() == {s.id: v for s, v in zip(profile.servos, loop.mirror.held(),
+                                                         strict=True)}
+    index = [w.angle for _, w in board.log if w.id == 2]  # the widths, us
+    assert len(index) > 20
+    assert max(abs(b - a) for a, b in itertools.pairwise(index)) <= 60  # a frame's motion

@@ -605,3 +605,26 @@ def test_the_image_resets_only_when_dtr_rises_and_keeps_its_pose(firmware_pty):
     assert wait_ready(port)  # DTR rose: it reset, and booted into the pose it stored
     assert ask_dump(port, 181, timeout=3) == peace
     port.close()
+
+
+@pytest.mark.parametrize("name", ["fist", "peace", "wave", "count"])
+def test_a_maestro_and_a_pca9685_end_in_the_widths_the_image_puts_on_the_pins(
+        simboard, build, name):
+    """The same gesture on the rig's image in simavr and on rhand-maestro and
+    rhand-pca9685 (test_controllers checks every gesture against the firmware's widths;
+    this, those widths against the pins): the Maestro within 2 us of each pin's last
+    pulse, the PCA9685 within that and half its tick."""
+    from test_controllers import MAESTRO, PCA, final_widths
+
+    from inmoov_dsl.boards import controller
+
+    compiled, _ = compile_program(load(str(LIBRARY[name].path)), name, RHAND)
+    result = simulate(simboard, build / "servo_rhand.elf", to_timed(compiled.stream()))
+    pins = {s.id: result["pins"][s.pin]["last"] for s in RHAND.servos
+            if s.pin in result["pins"]}
+    assert len(pins) == len(RHAND.servos)
+    half_tick = controller(PCA, PCA.boards[0]).tick * 1e6 / 2
+    for profile, bound in ((MAESTRO, 2.0), (PCA, 2.0 + half_tick)):
+        got = final_widths(profile, name)
+        worst = max(abs(got[i] - pins[i]) for i in pins)
+        assert worst <= bound, (profile.name, got, pins)

@@ -20,13 +20,18 @@ BITS_PER_BYTE = 9  #: eight data bits and the acknowledge
 
 
 class PcaCore:
-    """What a PCA9685 holds after the transactions it reads: the chip, and each servo's
-    value as its pulse says."""
+    """What a PCA9685 holds after the transactions it reads: the chip (by default as a
+    connect leaves it: at 50 Hz, auto-incrementing, awake), and each servo's value as
+    its registers say."""
 
     def __init__(self, controller: PcaController, chip: regs.Chip | None = None):
         self.controller, self.board_id = controller, controller.board.id
         self.servos, self.widths = controller.servos, controller.widths
-        self.chip = chip or regs.Chip(controller.oscillator)
+        if chip is None:
+            chip = regs.Chip(controller.oscillator)
+            for _, register, written in tx.parse(controller.setup()):
+                chip.write(register, written)
+        self.chip = chip
         self._buf = bytearray()
         self.values: list[int] = [s.rest for s in self.servos]
         self.asked = None  #: (a rig's stored gestures: a PCA9685 has none)
@@ -72,7 +77,7 @@ class PcaCore:
         writes = []
         for j, s in enumerate(self.servos):
             if register <= regs.led(s.pin) + 3 and regs.led(s.pin) < register + count:
-                us = self.chip.pulse(s.pin) * 1e6
+                us = self.chip.width(s.pin) * 1e6  # (asleep: what it sends once awake)
                 if us:
                     self.values[j] = self.widths[j].value(us)
                 writes.append(Write(s.id, self.values[j], round(us)))

@@ -66,8 +66,12 @@ class Chip:
 
     def pulse(self, channel: int) -> float:
         """The width (s) of ``channel``'s pulse now (0: no pulses; the chip asleep)."""
+        return 0.0 if self.registers[MODE1] & SLEEP else self.width(channel)
+
+    def width(self, channel: int) -> float:
+        """The width (s) ``channel``'s registers ask for (0: full off)."""
         r = self.registers[led(channel):led(channel) + 4]
-        if self.registers[MODE1] & SLEEP or r[3] & FULL:
+        if r[3] & FULL:
             return 0.0
         if r[1] & FULL:
             return TICKS * self.tick
