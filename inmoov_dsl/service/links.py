@@ -10,6 +10,7 @@ from collections.abc import Callable
 
 import serial
 
+from ..boards import controller
 from ..errors import GestError
 from ..live.orders import Rejoin
 from ..profiles.data import Profile
@@ -103,9 +104,13 @@ class Watcher:
             port = open_board(lost.name, self.profile, board)
         except GestError:
             return
-        values = ask_dump(port, lost.board) if wait_ready(port) else None
+        kind, heard = controller(self.profile, board), bytearray()
+        ready = wait_ready(port, controller=kind, heard=heard)
+        values = ask_dump(port, lost.board, controller=kind) if ready else None
         if values is None:
             port.close()
             return
+        if setup := kind.setup(bytes(heard)):
+            port.write(setup)
         lost.back(port)
         self.request(Rejoin(lost.board, values))

@@ -40,8 +40,10 @@ def run(args: argparse.Namespace) -> int:
     service = hub.Service(program, profile, functools.cache(
         lambda: _listing(program, profile, dirs)))  # compiled when first asked
     with hand.opened(PROG, profile, args.port, args.blind) as on:
+        kinds = [link.controller for link in on.links]
         ports = [links.Resilient(link, service.board_lost) for link in on.links]
-        on.links[:] = [Link(p.board, p, p.name) for p in ports]  # closed and cancelled too
+        on.links[:] = [Link(p.board, p, p.name, k)  # closed and cancelled too
+                       for p, k in zip(ports, kinds, strict=True)]
         watcher = links.Watcher(ports, profile, service.requests.put)
         speaker = sounds.speaker(args.audio, PROG, profile)
         service.drive = Drive(on.links, profile, on.pose, program, service.told,
