@@ -14,7 +14,7 @@ from inmoov_dsl.boards.maestro import commands as mc
 from inmoov_dsl.boards.maestro.device import MaestroCore
 from inmoov_dsl.boards.pca9685 import chip as regs
 from inmoov_dsl.boards.pca9685 import transactions as tx
-from inmoov_dsl.boards.pca9685.bus import I2CPort, VirtualBus, open_bus
+from inmoov_dsl.boards.pca9685.bus import I2CPort, open_bus
 from inmoov_dsl.boards.rig.core import BoardServo
 from inmoov_dsl.cli.hand import reach
 from inmoov_dsl.compiling.compiler import compile_program
@@ -137,8 +137,30 @@ def test_the_port_makes_each_transaction_a_block_write_of_at_most_32_bytes():
     assert calls == [(0x41, regs.led(0), 32), (0x41, regs.led(8), 32)]
 
 
+class ChipBus:
+    """A bus with one PCA9685 model at ``address``, called as ``smbus2.SMBus`` is."""
+
+    def __init__(self, chip, address=0x40):
+        self.chip, self.address = chip, address
+
+    def _check(self, address):
+        if address != self.address:
+            raise OSError(121, "Remote I/O error")  # nobody acknowledges the address
+
+    def write_i2c_block_data(self, address, register, data):
+        self._check(address)
+        self.chip.write(register, bytes(data))
+
+    def read_i2c_block_data(self, address, register, length):
+        self._check(address)
+        return list(self.chip.read(register, length))
+
+    def close(self):
+        pass
+
+
 def test_a_bus_that_does_not_answer_is_a_clear_error():
-    port = I2CPort(VirtualBus(regs.Chip(), address=0x40), 0x41, "i2c:1@0x41")
+    port = I2CPort(ChipBus(regs.Chip(), address=0x40), 0x41, "i2c:1@0x41")
     with pytest.raises(OSError, match="the PCA9685 at 0x41 did not answer"):
         port.write(tx.read(regs.MODE1, 1))
     for spec, message in [("COM3", "a PCA9685 is on an I2C bus"),

@@ -92,6 +92,11 @@ class Controller:
         ``restore``, ``dump``): a new one, at the servos' rests."""
         raise NotImplementedError
 
+    def twin(self) -> Any:
+        """The board's virtual twin's core: as ``core``, but as the board powers up
+        (a PCA9685 asleep, before a connect sets it up)."""
+        return self.core()
+
     def set_values(self, values: Mapping[int, int]) -> bytes:
         """Commands that leave servo ID -> value as given (a stop sends them again)."""
         raise NotImplementedError

@@ -91,8 +91,8 @@ def open_board(spec: str, profile: Profile, board: Board | None = None,
     ``timeout``: as ``ports.open_port``."""
     board = board or profile.boards[0]
     spec = protocol_sim.complete(spec, profile, board.id)
-    if board.kind == "pca9685":  # on an I2C bus, not a serial port
-        return open_bus(spec, controller(profile, board).oscillator)
+    if board.kind == "pca9685" and not spec.startswith("sim://"):  # on an I2C bus
+        return open_bus(spec)
     return open_port(spec, board.baud, timeout)
 
 

@@ -47,9 +47,17 @@ class PcaCore:
         return all(self.chip.pulse(s.pin) == 0 for s in self.servos)
 
     def restore(self, values: Sequence[int] | None) -> None:
-        """The board holds ``values`` (None: the rests)."""
-        self.values = list(values) if values is not None else [s.rest for s in self.servos]
+        """The board holds ``values`` (its registers set to them; None: the rests, and
+        the registers as they are)."""
         self._buf.clear()
+        if values is None:
+            self.values = [s.rest for s in self.servos]
+            return
+        self.values = list(values)
+        for j, s in enumerate(self.servos):
+            off = int(self.controller.ticks(j, [self.values[j]])[0])
+            self.chip.registers[regs.led(s.pin):regs.led(s.pin) + 4] = bytes(
+                [0, 0, off & 0xFF, off >> 8])
 
     def command(self, index: int, value: int) -> Write:
         """Servo ``index`` to ``value``."""
@@ -195,8 +203,12 @@ class PcaController(Controller):
         return np.asarray(times, dtype=float), bytes(data)
 
     def core(self) -> PcaCore:
-        """The chip as the board's transactions leave it."""
+        """The chip as the board's transactions leave it, from a connect's setup."""
         return PcaCore(self)
+
+    def twin(self) -> PcaCore:
+        """The virtual chip, as it powers up: asleep, every channel full off."""
+        return PcaCore(self, regs.Chip(self.oscillator))
 
     def set_values(self, values: Mapping[int, int]) -> bytes:
         """Writes for the servos' values."""
@@ -209,8 +221,10 @@ class PcaController(Controller):
         return self.leds(dict.fromkeys((s.pin for s in self.servos), None))
 
     def ask_pose(self) -> bytes:
-        """A read of each servo's LEDn registers."""
-        return b"".join(tx.read(regs.led(s.pin), 4) for s in self.servos)
+        """A read of each of each servo's four LEDn registers, one by one (a chip not
+        yet set up does not auto-increment)."""
+        return b"".join(tx.read(regs.led(s.pin) + k, 1) for s in self.servos
+                        for k in range(4))
 
     def pose_reader(self) -> PoseReader:
         """Reads the registers back as values."""

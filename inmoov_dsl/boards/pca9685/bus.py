@@ -1,11 +1,11 @@
 """The edge of a PCA9685: its I2C bus as a port the player writes transactions to.
 
 ``--port i2c:1`` is ``/dev/i2c-1`` at address 0x40 (``i2c:1@0x41`` another address),
-through ``smbus2``; a ``sim://`` port is the virtual chip (``chip.Chip``), kept for the
-life of the process. The port reads the framed transactions it is written
-(``transactions.py``), makes each a block write or a read, and keeps what reads
-answer for ``read``: the player, the drive loop and the tools use it as they use a
-serial port.
+through ``smbus2``. The port reads the framed transactions it is written
+(``transactions.py``), makes each a block write or a read, and keeps what reads answer
+for ``read``: the player, the drive loop and the tools use it as they use a serial
+port. (``sim://`` is the virtual chip on a virtual board's link, as every kind's twin
+is: ``wire/urlhandler/protocol_sim.py``.)
 """
 
 from __future__ import annotations
@@ -14,35 +14,10 @@ import re
 from collections.abc import Callable
 
 from ...errors import Diagnostic, GestError
-from . import chip as regs
 from . import transactions as tx
 
 ADDRESS = 0x40  #: a PCA9685's address with no jumper closed
 SPEC = re.compile(r"i2c:(\d+)(?:@(0x[0-9a-fA-F]{1,2}|\d{1,3}))?")
-
-
-class VirtualBus:
-    """A bus with one virtual PCA9685, as ``smbus2.SMBus`` is called."""
-
-    def __init__(self, chip: regs.Chip, address: int = ADDRESS):
-        self.chip, self.address = chip, address
-
-    def _check(self, address: int) -> None:
-        if address != self.address:
-            raise OSError(121, "Remote I/O error")  # nobody acknowledges the address
-
-    def write_i2c_block_data(self, address: int, register: int, data: list[int]) -> None:
-        """A block write."""
-        self._check(address)
-        self.chip.write(register, bytes(data))
-
-    def read_i2c_block_data(self, address: int, register: int, length: int) -> list[int]:
-        """A block read."""
-        self._check(address)
-        return list(self.chip.read(register, length))
-
-    def close(self) -> None:
-        """Nothing to release."""
 
 
 class I2CPort:
@@ -96,22 +71,8 @@ class I2CPort:
         self.is_open = False
 
 
-_DESK: dict[str, regs.Chip] = {}  #: the virtual chips of this process, by port
-
-
-def is_bus(spec: str) -> bool:
-    """Does ``spec`` name an I2C bus?"""
-    return spec.startswith("i2c:")
-
-
-def open_bus(spec: str, oscillator: int = regs.OSCILLATOR) -> I2CPort:
-    """The PCA9685 that ``spec`` names: ``i2c:N[@ADDRESS]`` through smbus2, or a
-    ``sim://`` port's virtual chip (its ``oscillator`` as the profile says)."""
-    if spec.startswith("sim://"):  # ``fresh``: a chip just powered up
-        if "fresh" in spec.partition("?")[2].split("&"):
-            _DESK.pop(spec, None)
-        chip = _DESK.setdefault(spec, regs.Chip(oscillator))
-        return I2CPort(VirtualBus(chip), ADDRESS, spec)
+def open_bus(spec: str) -> I2CPort:
+    """The PCA9685 that ``spec`` names, ``i2c:N[@ADDRESS]``, through smbus2."""
     found = SPEC.fullmatch(spec)
     if found is None:
         raise GestError(Diagnostic("error", f"cannot open port {spec}: a PCA9685 is on an "

@@ -105,7 +105,7 @@ def _board_from_url(url: str) -> tuple[VirtualBoard, Profile]:
     if board is None:
         raise SimError(url, f"profile '{profile.name}' has no board {board_id}",
                        f"its boards: {ids}")
-    core = controller(profile, board).core()
+    core = controller(profile, board).twin()
     stored = None if "fresh" in options else memory.recall(profile, core)
     if "flash" in options and board.kind != "rig":
         raise SimError(url, f"flash: board {board.id} is a {board.kind}, which stores no "
