@@ -242,7 +242,8 @@ def seeds() -> dict[str, list[Seed]]:
             for p in sorted(profiles_dir().glob("*.toml"))]
     gestc = []
     for name, profile in (("peace", "rhand"), ("count", "rhand"), ("wiggle", "lhand"),
-                          ("hello", "inmoov"), ("shrug", "inmoov")):
+                          ("hello", "inmoov"), ("shrug", "inmoov"),
+                          ("wave", "rhand-maestro"), ("peace", "rhand-pca9685")):
         program = load(str(library_dir() / _file_of(name)), search=[str(library_dir())])
         compiled, _ = compile_program(program, name, profile)
         gestc.append(Seed("gestc", f"{name}.gestc", to_json(compiled).encode(), profile))

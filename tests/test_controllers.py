@@ -370,3 +370,27 @@ def test_the_drive_loop_says_the_pose_a_maestro_or_a_pca9685_holds(profile, stop
     index = [w.angle for _, w in board.log if w.id == 2]  # the widths, us
     assert len(index) > 20
     assert max(abs(b - a) for a, b in itertools.pairwise(index)) <= 60  # a frame's motion
+
+
+def test_an_i2c_bus_that_fails_mid_gesture_is_one_clear_line(capsys, monkeypatch):
+    """A PCA9685 that stops answering (a loose wire): one error naming the bus, the
+    address and the cause; no traceback."""
+    from inmoov_dsl.cli import gestplay
+    from inmoov_dsl.wire import link
+
+    class Loose(ChipBus):
+        writes = 0
+
+        def write_i2c_block_data(self, address, register, data):
+            Loose.writes += 1
+            if Loose.writes > 40:
+                raise OSError(121, "Remote I/O error")
+            super().write_i2c_block_data(address, register, data)
+
+    monkeypatch.setattr(link, "open_bus", lambda spec: I2CPort(Loose(regs.Chip()), 0x40,
+                                                               spec))
+    assert gestplay.main(["wave", "--profile", "rhand-pca9685", "--port", "i2c:1"]) == 1
+    err = capsys.readouterr().err
+    assert "error: lost the link (board 181 on i2c:1): i2c:1: the PCA9685 at 0x40 did " \
+           "not answer (Remote I/O error)" in err
+    assert "Traceback" not in err

@@ -47,8 +47,8 @@ class I2CPort:
         try:
             call()
         except OSError as exc:
-            raise OSError(exc.errno, f"{self.name}: the PCA9685 at 0x{self.address:02x} "
-                          f"did not answer ({exc.strerror or exc})") from None
+            raise OSError(f"{self.name}: the PCA9685 at 0x{self.address:02x} did not "
+                          f"answer ({exc.strerror or exc})") from None
 
     def read(self, size: int = 1) -> bytes:
         """Up to ``size`` bytes of what reads answered."""
