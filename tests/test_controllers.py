@@ -394,3 +394,17 @@ def test_an_i2c_bus_that_fails_mid_gesture_is_one_clear_line(capsys, monkeypatch
     assert "error: lost the link (board 181 on i2c:1): i2c:1: the PCA9685 at 0x40 did " \
            "not answer (Remote I/O error)" in err
     assert "Traceback" not in err
+
+
+def test_a_servo_may_give_its_widths_in_microseconds():
+    from inmoov_dsl.profiles.profile import parse_profile
+
+    text = (ROOT / "gestures/profiles/rhand-maestro.toml").read_text()
+    text = text.replace("[servo.index]", "[servo.index]\npulse = [1000, 2000]", 1)
+    profile = parse_profile(text, "p.toml")
+    c = controller(profile, profile.boards[0])
+    index = [s.name for s in c.servos].index("index")
+    # reversed: 0 is 2000 us, 180 is 1000 us; halfway 1500 us, in quarter-us
+    assert c.quarters(index, [0, 90, 180, 45.5]).tolist() == [8000, 6000, 4000, 6989]
+    with pytest.raises(GestError, match=r"'pulse' must be \[width at 0, width at 180\]"):
+        parse_profile(text.replace("pulse = [1000, 2000]", "pulse = [1000, 9000]"), "p.toml")
