@@ -135,6 +135,20 @@ class Controller:
         probe), before anything moves."""
         return b""
 
+    #: us per step of the board's unit (None: the rig's whole command degrees)
+    unit_us: ClassVar[float | None] = None
+
+    def units(self, index: int, values) -> np.ndarray:
+        """Servo ``index``'s plan ``values`` (kept in its range) in the board's unit."""
+        raise NotImplementedError
+
+    def degrees(self, index: int, units) -> np.ndarray:
+        """Widths in the board's unit as degrees of servo ``index``'s span: linear in the
+        width, 0 and 180 at the widths of values 0 and 180 (for measuring)."""
+        table = self.widths[index].table
+        us = np.asarray(units, dtype=float) * self.unit_us
+        return (us - table[0]) / (table[-1] - table[0]) * 180
+
     def limit(self, values: np.ndarray, index: int) -> np.ndarray:
         """``values`` (a plan's) of servo ``index`` kept in its range."""
         s = self.servos[index]

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import protocol
+from ..boards import Controller, controller
 from ..boards.rig.encode import frame_ends, round_values
 from ..decode import BOARD, Pair, Reader
 from ..profiles.data import Board, Profile
@@ -63,8 +64,9 @@ class LinkReport:
 
 
 def writes(stream: Stream, ids: Collection[int]) -> list[tuple[float, int, int]]:
-    """(arrival time, servo ID, value) of every servo write a board with servos ``ids``
-    makes from the stream's bytes; a byte has arrived one byte-time after it was sent."""
+    """(arrival time, servo ID, value) of every servo write a rig board with servos
+    ``ids`` makes from the stream's bytes; a byte has arrived one byte-time after it was
+    sent."""
     tau = stream.byte_time
     reader = Reader(BOARD)
     out = []
@@ -73,6 +75,15 @@ def writes(stream: Stream, ids: Collection[int]) -> list[tuple[float, int, int]]
             if isinstance(event, Pair) and event.id in ids:
                 out.append((t + tau, event.id, event.value))
     return out
+
+
+def targets(stream: Stream, kind: Controller) -> list[tuple[float, int, int]]:
+    """(arrival time, servo ID, width in the board's unit) of every servo command of
+    another kind's stream (a command has arrived a byte-time after its last byte)."""
+    times = stream.times.tolist()
+    return [(times[stop - 1] + kind.tau, sid, unit)
+            for first, stop in kind.commands(stream.data)
+            for sid, unit in kind.moves(stream.data[first:stop])]
 
 
 def _board_ids(profile: Profile, board: Board) -> frozenset[int]:
@@ -87,7 +98,15 @@ def sent_values(plan: Plan, compiled: Compiled) -> dict[int, tuple[np.ndarray, n
     boards = {b.id: b for b in profile.boards}
     out: dict[int, tuple[list[float], list[int]]] = {}
     for stream in compiled.streams:
-        for t, sid, value in writes(stream, _board_ids(profile, boards[stream.board])):
+        board = boards[stream.board]
+        if stream.kind == "rig":
+            found = writes(stream, _board_ids(profile, board))
+        else:  # the widths as whole values (the firmware's widths nearest them)
+            kind = controller(profile, board)
+            j = {s.id: k for k, s in enumerate(kind.servos)}
+            found = [(t, sid, kind.widths[j[sid]].value(unit * kind.unit_us))
+                     for t, sid, unit in targets(stream, kind)]
+        for t, sid, value in found:
             times, values = out.setdefault(index[sid], ([], []))
             times.append(t)
             values.append(value)
@@ -112,8 +131,10 @@ def measure(plan: Plan, streams: tuple[Stream, ...]) -> tuple[LinkReport, ...]:
 def _measure_board(plan: Plan, stream: Stream) -> LinkReport:
     profile = plan.profile
     board = next(b for b in profile.boards if b.id == stream.board)
-    tau = stream.byte_time
-    events = writes(stream, _board_ids(profile, board))
+    kind = controller(profile, board)
+    tau = kind.tau
+    events = writes(stream, _board_ids(profile, board)) if stream.kind == "rig" else \
+        targets(stream, kind)
     end = float(stream.times[-1] + tau) if len(stream.times) else 0.0
     frames = int(max(end, plan.duration) / protocol.SERVO_FRAME) + 2
     ends = frame_ends(frames)
@@ -126,25 +147,38 @@ def _measure_board(plan: Plan, stream: Stream) -> LinkReport:
     needed = covered = 0
     worst = (0.0, "", 0.0)
     max_error = 0.0
-    for name in board.servos:
+    for j, name in enumerate(board.servos):
         i = profile.index(name)
         track = plan.tracks[i]
+        # in degrees: a rig's values; another kind's widths, and the plan's, as degrees of
+        # the servo's span (``Controller.degrees``)
+        if stream.kind == "rig":
+            unit, plain = round_values, track.position
+        else:
+            def unit(x, j=j):
+                return kind.units(j, x)
+
+            def plain(t, j=j, track=track):
+                return kind.degrees(j, kind.units(j, track.position(t)))
         got = by_id.get(profile.servos[i].id, [])
         at = np.asarray([t for t, _ in got], dtype=float)
-        values = np.asarray([plan.start[i]] + [v for _, v in got], dtype=float)
+        values = np.asarray([unit(np.asarray([plan.start[i]]))[0]] + [v for _, v in got],
+                            dtype=float)
         held_start = values[np.searchsorted(at, starts, side="right")]
         held_end = values[np.searchsorted(at, ends, side="right")]
-        need = round_values(track.position(starts)) != held_start
+        need = unit(track.position(starts)) != held_start
+        if stream.kind != "rig":
+            values, held_end = kind.degrees(j, values), kind.degrees(j, held_end)
         fresh = np.searchsorted(at, ends, side="right") > np.searchsorted(at, starts,
                                                                           side="right")
         needed += int(need.sum())
         covered += int((need & fresh).sum())
-        lag = np.abs(track.position(ends) - held_end)
+        lag = np.abs(plain(ends) - held_end)
         k = int(np.argmax(lag))
         if lag[k] > worst[0]:
             worst = (float(lag[k]), name, float(ends[k]))
         if len(at):
-            max_error = max(max_error, float(np.abs(values[1:] - track.position(at)).max()))
+            max_error = max(max_error, float(np.abs(values[1:] - plain(at)).max()))
 
     busy = np.bincount(np.minimum((stream.times / protocol.SERVO_FRAME).astype(int),
                                   frames - 1), minlength=frames)

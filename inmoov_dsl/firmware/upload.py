@@ -23,7 +23,7 @@ from ..profiles.profile import builtin_profiles, load_profile
 from ..resources import data_dir
 from ..wire.ports import not_found, permission_denied
 from ..wire.stored import StoredSet
-from .sketches import sketches
+from .sketches import sketch_names, sketches
 
 UNO_BAUD = 115200  #: Optiboot: an Uno, a Nano with the new bootloader
 OLD_NANO_BAUD = 57600  #: the old Nano bootloader (ATmegaBOOT)
@@ -73,7 +73,7 @@ def find_sketch(name: str) -> Profile:
     known: list[str] = []
     for profile_name in builtin_profiles():
         profile = load_profile(profile_name)
-        names = list(sketches(profile))
+        names = list(sketch_names(profile))  # (a Maestro's or a PCA9685's: none)
         if name in names:
             return profile
         known += names

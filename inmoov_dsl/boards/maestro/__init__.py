@@ -41,6 +41,7 @@ class MaestroController(Controller):
     next to each other), the Pololu protocol when the profile gives a device number."""
 
     kind = "maestro"
+    unit_us = 1 / c.QUARTERS
 
     @property
     def model(self) -> str:
@@ -66,6 +67,10 @@ class MaestroController(Controller):
         """(servo ID, quarter-us) of each target set for a servo of the board."""
         ids = {s.pin: s.id for s in self.servos}
         return [(ids[ch], q) for ch, q in c.targets(data) if ch in ids]
+
+    def units(self, index: int, values) -> np.ndarray:
+        """Quarter-microseconds."""
+        return self.quarters(index, values)
 
     def quarters(self, index: int, values) -> np.ndarray:
         """Servo ``index``'s ``values`` (kept in its range) as targets."""

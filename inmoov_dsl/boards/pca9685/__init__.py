@@ -161,6 +161,15 @@ class PcaController(Controller):
                     out.append((s.id, written[k + 2] | (written[k + 3] & 0x1F) << 8))
         return out
 
+    @property
+    def unit_us(self) -> float:  # type: ignore[override]
+        """A tick, in us."""
+        return self.tick * 1e6
+
+    def units(self, index: int, values) -> np.ndarray:
+        """Ticks."""
+        return self.ticks(index, values)
+
     def ticks(self, index: int, values) -> np.ndarray:
         """Servo ``index``'s ``values`` (kept in its range) as OFF counts."""
         us = self.widths[index].us(self.limit(np.asarray(values, dtype=float), index))
