@@ -408,3 +408,20 @@ def test_a_servo_may_give_its_widths_in_microseconds():
     assert c.quarters(index, [0, 90, 180, 45.5]).tolist() == [8000, 6000, 4000, 6989]
     with pytest.raises(GestError, match=r"'pulse' must be \[width at 0, width at 180\]"):
         parse_profile(text.replace("pulse = [1000, 2000]", "pulse = [1000, 9000]"), "p.toml")
+
+
+@pytest.mark.parametrize("name", ["wave", "count", "beckon"])
+def test_a_finer_controller_follows_the_plan_at_least_as_closely_as_the_rig(name):
+    """Measured from each stream's own commands (``measure``): every servo-frame that
+    needs a fresh width gets one, and the board holds the plan as closely as the rig's
+    whole degrees allow, or closer."""
+    from inmoov_dsl.compiling.metrics import measure
+
+    compiled, plan = compile_program(load(str(LIBRARY[name].path)), name, RHAND)
+    rig = measure(plan, compiled.streams)[0]
+    for profile in (MAESTRO, PCA):
+        compiled, plan = compile_program(load(str(LIBRARY[name].path)), name, profile)
+        report = measure(plan, compiled.streams)[0]
+        assert report.coverage == 1.0, (profile.name, report)
+        assert report.worst_lag <= rig.worst_lag + 1e-9, (profile.name, report, rig)
+        assert report.max_error <= 1.5  # a PCA9685's tick is about a degree
