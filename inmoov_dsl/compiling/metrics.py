@@ -128,6 +128,18 @@ def measure(plan: Plan, streams: tuple[Stream, ...]) -> tuple[LinkReport, ...]:
     return tuple(_measure_board(plan, s) for s in streams)
 
 
+def _scales(stream: Stream, kind: Controller, j: int, track):
+    """How servo ``j`` of the board is measured: its plan in the board's unit, its plan
+    in degrees, the board's units as degrees. A rig's are its whole values; another
+    kind's widths, and the plan's, are degrees of the servo's span
+    (``Controller.degrees``)."""
+    if stream.kind == "rig":
+        return round_values, track.position, lambda v: v
+    return (lambda x: kind.units(j, x),
+            lambda t: kind.degrees(j, kind.units(j, track.position(t))),
+            lambda v: kind.degrees(j, v))
+
+
 def _measure_board(plan: Plan, stream: Stream) -> LinkReport:
     profile = plan.profile
     board = next(b for b in profile.boards if b.id == stream.board)
@@ -150,16 +162,7 @@ def _measure_board(plan: Plan, stream: Stream) -> LinkReport:
     for j, name in enumerate(board.servos):
         i = profile.index(name)
         track = plan.tracks[i]
-        # in degrees: a rig's values; another kind's widths, and the plan's, as degrees of
-        # the servo's span (``Controller.degrees``)
-        if stream.kind == "rig":
-            unit, plain = round_values, track.position
-        else:
-            def unit(x, j=j):
-                return kind.units(j, x)
-
-            def plain(t, j=j, track=track):
-                return kind.degrees(j, kind.units(j, track.position(t)))
+        unit, plain, degrees = _scales(stream, kind, j, track)
         got = by_id.get(profile.servos[i].id, [])
         at = np.asarray([t for t, _ in got], dtype=float)
         values = np.asarray([unit(np.asarray([plan.start[i]]))[0]] + [v for _, v in got],
@@ -167,8 +170,7 @@ def _measure_board(plan: Plan, stream: Stream) -> LinkReport:
         held_start = values[np.searchsorted(at, starts, side="right")]
         held_end = values[np.searchsorted(at, ends, side="right")]
         need = unit(track.position(starts)) != held_start
-        if stream.kind != "rig":
-            values, held_end = kind.degrees(j, values), kind.degrees(j, held_end)
+        values, held_end = degrees(values), degrees(held_end)
         fresh = np.searchsorted(at, ends, side="right") > np.searchsorted(at, starts,
                                                                           side="right")
         needed += int(need.sum())

@@ -10,6 +10,7 @@ import numpy as np
 
 from ... import protocol
 from ..base import Controller, PlanLike, PoseReader
+from ..frames import per_frame
 from . import commands as c
 from .device import MaestroCore
 
@@ -97,26 +98,9 @@ class MaestroController(Controller):
         return c.set_targets(channels[0], [changed[ch] for ch in channels], self.device)
 
     def encode(self, plan: PlanLike) -> tuple[np.ndarray, bytes]:
-        """Every 20 ms frame, the targets that changed, the frame's plan in quarter-us
-        (not rounded to degrees), the command's last byte at the frame's end."""
-        frames = int(plan.duration / protocol.SERVO_FRAME) + 2
-        ends = (np.arange(frames) + 1) * protocol.SERVO_FRAME
-        index = [plan.profile.index(s.name) for s in self.servos]
-        track = np.stack([self.quarters(j, plan.tracks[i].position(ends))
-                          for j, i in enumerate(index)]) if index else np.empty((0, frames))
-        held = [int(self.quarters(j, [plan.start[i]])[0]) for j, i in enumerate(index)]
-        times: list[float] = []
-        data = bytearray()
-        for f in range(frames):
-            changed = {}
-            for j, s in enumerate(self.servos):
-                if track[j, f] != held[j]:
-                    changed[s.pin] = held[j] = int(track[j, f])
-            if changed:
-                cmd = self.targets(changed)
-                times += (ends[f] - (len(cmd) - np.arange(len(cmd))) * self.tau).tolist()
-                data += cmd
-        return np.asarray(times, dtype=float), bytes(data)
+        """Every 20 ms frame, the targets that changed (``frames.per_frame``): in
+        quarter-us, not rounded to degrees."""
+        return per_frame(self, plan, self.targets)
 
     def core(self) -> MaestroCore:
         """The virtual Maestro, its servos at rest."""

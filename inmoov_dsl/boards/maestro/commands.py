@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from ..frames import split
+
 SET_TARGET = 0x84  #: channel, target (lo7, hi7)
 SET_SPEED = 0x87  #: channel, speed (lo7, hi7): 0.25 us per 10 ms; 0 = no limit
 SET_ACCELERATION = 0x89  #: channel, acceleration (lo7, hi7): 0..255; 0 = no limit
@@ -77,12 +79,7 @@ def length(data: bytes, i: int) -> int:
 
 def commands(data: bytes) -> list[tuple[int, int]]:
     """(first, end) index of each command of ``data``."""
-    out, i = [], 0
-    while i < len(data):
-        n = length(data, i)
-        out.append((i, i + n))
-        i += n
-    return out
+    return split(data, length)
 
 
 def targets(data: bytes) -> list[tuple[int, int]]:

@@ -9,8 +9,8 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
-from ... import protocol
 from ..base import Controller, PlanLike, PoseReader, Write
+from ..frames import per_frame
 from . import chip as regs
 from . import transactions as tx
 
@@ -190,26 +190,8 @@ class PcaController(Controller):
         return bytes(out)
 
     def encode(self, plan: PlanLike) -> tuple[np.ndarray, bytes]:
-        """Every 20 ms frame, the counts that changed, the write ending at the frame's
-        end."""
-        frames = int(plan.duration / protocol.SERVO_FRAME) + 2
-        ends = (np.arange(frames) + 1) * protocol.SERVO_FRAME
-        index = [plan.profile.index(s.name) for s in self.servos]
-        track = [self.ticks(j, plan.tracks[i].position(ends)).tolist()
-                 for j, i in enumerate(index)]
-        held = [int(self.ticks(j, [plan.start[i]])[0]) for j, i in enumerate(index)]
-        times: list[float] = []
-        data = bytearray()
-        for f in range(frames):
-            changed = {}
-            for j, s in enumerate(self.servos):
-                if track[j][f] != held[j]:
-                    changed[s.pin] = held[j] = track[j][f]
-            if changed:
-                cmd = self.leds(changed)
-                times += (ends[f] - (len(cmd) - np.arange(len(cmd))) * self.tau).tolist()
-                data += cmd
-        return np.asarray(times, dtype=float), bytes(data)
+        """Every 20 ms frame, the counts that changed (``frames.per_frame``)."""
+        return per_frame(self, plan, self.leds)
 
     def core(self) -> PcaCore:
         """The chip as the board's transactions leave it, from a connect's setup."""

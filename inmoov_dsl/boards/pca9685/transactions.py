@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
+from ..frames import split
+
 WRITE, READ = 0x57, 0x52  #: "W", "R"
 MOST = 32  #: bytes a block write carries
 
@@ -35,13 +37,8 @@ def length(data: bytes, i: int) -> int:
 
 
 def commands(data: bytes) -> list[tuple[int, int]]:
-    """(first, end) of each transaction of ``data``."""
-    out, i = [], 0
-    while i < len(data):
-        n = length(data, i)
-        out.append((i, i + n))
-        i += n
-    return out
+    """(first, end) index of each transaction of ``data``."""
+    return split(data, length)
 
 
 def parse(data: bytes) -> Iterator[tuple[int, int, bytes | int]]:

@@ -1,0 +1,47 @@
+"""What the kinds finer than a degree share: a plan sampled once per 20 ms servo frame
+into the board's own unit, a command for the servos whose width changed (ending as the
+frame ends), and a stream cut into its commands by their lengths."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+
+import numpy as np
+
+from .. import protocol
+from .base import Controller, PlanLike
+
+
+def per_frame(kind: Controller, plan: PlanLike,
+              command: Callable[[Mapping[int, int]], bytes]) -> tuple[np.ndarray, bytes]:
+    """Every frame, ``command`` (channel -> width in ``kind``'s unit) for the servos of
+    ``kind``'s board whose width changed: the frame's plan at its end (not rounded to
+    degrees), the command's last byte sent a byte-time before the frame ends."""
+    frames = int(plan.duration / protocol.SERVO_FRAME) + 2
+    ends = (np.arange(frames) + 1) * protocol.SERVO_FRAME
+    index = [plan.profile.index(s.name) for s in kind.servos]
+    track = [kind.units(j, plan.tracks[i].position(ends)).tolist()
+             for j, i in enumerate(index)]
+    held = [int(kind.units(j, [plan.start[i]])[0]) for j, i in enumerate(index)]
+    times: list[float] = []
+    data = bytearray()
+    for f in range(frames):
+        changed = {}
+        for j, s in enumerate(kind.servos):
+            if track[j][f] != held[j]:
+                changed[s.pin] = held[j] = track[j][f]
+        if changed:
+            cmd = command(changed)
+            times += (ends[f] - (len(cmd) - np.arange(len(cmd))) * kind.tau).tolist()
+            data += cmd
+    return np.asarray(times, dtype=float), bytes(data)
+
+
+def split(data: bytes, length: Callable[[bytes, int], int]) -> list[tuple[int, int]]:
+    """(first, end) index of each command of ``data``, ``length(data, i)`` bytes each."""
+    out, i = [], 0
+    while i < len(data):
+        n = length(data, i)
+        out.append((i, i + n))
+        i += n
+    return out
