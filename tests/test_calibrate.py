@@ -2,6 +2,7 @@
 
 import os
 import sys
+from pathlib import Path
 
 import pytest
 from terminal import AtTerminal
@@ -9,6 +10,8 @@ from terminal import AtTerminal
 from inmoov_dsl.errors import GestError
 from inmoov_dsl.live.calibrate import HELP, Ends, edit_profile, found
 from inmoov_dsl.profiles.profile import find_profile, load_profile, parse_profile
+
+ROOT = Path(__file__).resolve().parent.parent
 
 RHAND_TEXT = find_profile("rhand").read_text(encoding="utf-8")
 RHAND = load_profile("rhand")
@@ -189,3 +192,18 @@ def test_an_unknown_servo_is_named_with_a_suggestion(capsys):
     err = capsys.readouterr().err
     assert err.startswith("gestplay: error: profile 'rhand' has no servo 'indx'")
     assert "did you mean 'index'?" in err
+
+
+@POSIX
+def test_a_maestro_s_servo_is_calibrated_with_the_same_keys(tmp_path):
+    """On a Maestro (the host maps each value to a width: the tool connects to it as
+    gestplay does, by its own commands) the same keys find the same ends."""
+    mine = tmp_path / "mine.toml"
+    mine.write_text((ROOT / "gestures/profiles/rhand-maestro.toml").read_text(),
+                    encoding="utf-8")
+    code, out = calibrate(tmp_path, [RIGHT] + [UP] * 5 + [PGUP, "\r"] + [PGUP] * 7
+                          + [SHIFT_UP, "\r", "s"], "--servo", "index", "--profile", str(mine))
+    assert code == 0, out
+    assert "index: value  95  angle 102  |  straight 146  curled 102" in out
+    index = load_profile(str(mine)).servos[2]
+    assert index.calibration == (102, 146) and index.reversed

@@ -168,13 +168,15 @@ def status_line(text: str) -> None:
     sys.stdout.flush()
 
 
-def send_value(port, servo_id: int, value: int) -> None:
-    """Move one servo now: CANCEL (the board may be mid-command), then the pair; the
-    board's WAIT bytes are read off, so a pulled cable raises here."""
+def send_value(port, servo_id: int, value: int, controller=None) -> None:
+    """Move one servo now: on a rig, CANCEL (the board may be mid-command), then the
+    pair; another kind, its ``controller``'s command. What the board sent is read off,
+    so a pulled cable raises here."""
     from ..protocol import frame
     from ..wire.player import drain
 
-    port.write(frame([(servo_id, value)]))
+    port.write(controller.set_values({servo_id: value}) if controller else
+               frame([(servo_id, value)]))
     drain(port)
 
 

@@ -5,12 +5,14 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 from pathlib import Path
 
+from ...boards import Controller, controller
 from ...boards.rig.core import BoardServo
 from ...errors import Diagnostic, GestError, did_you_mean
 from ...live.calibrate import HELP, Ends, edit_profile, found
-from ...profiles.data import Servo
+from ...profiles.data import Board, Profile, Servo
 from ...profiles.profile import find_profile, load_profile, parse_profile
 from ...protocol import CANCEL_PENDING, MAX_VALUE
 from ...resources import profiles_dir
@@ -20,6 +22,20 @@ from ..common import EXIT_OK, send_value, status_line, status_of, warn, why
 from ..keys import key_reader
 
 PROG = "gestplay calibrate"
+
+
+def _kind(profile: Profile, servo: Servo, board: Board, full_range: bool
+          ) -> Controller | None:
+    """The board as its kind drives it (None: a rig, whose firmware maps the values); a
+    Maestro's or a PCA9685's servo with ``full_range`` is driven as if its calibration
+    were 0..180, so that a value is the servo's angle."""
+    if board.kind == "rig":
+        return None
+    if full_range:
+        plain = replace(servo, calibration=(0, MAX_VALUE), reversed=False, pulse=None)
+        profile = replace(profile, servos=tuple(plain if s.name == servo.name else s
+                                                for s in profile.servos))
+    return controller(profile, board)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -36,10 +52,13 @@ def run(args: argparse.Namespace) -> int:
     # how the board maps values to angles while we calibrate
     mapping = BoardServo(servo.id) if args.full_range else \
         BoardServo(servo.id, servo.calibration, servo.reversed)
+    kind = _kind(profile, servo, board, args.full_range)
     port = open_board(args.port, profile, board)
     try:
-        wait_ready(port)
-        values = ask_dump(port, board.id)
+        heard = bytearray()
+        if wait_ready(port, controller=kind, heard=heard) and kind is not None:
+            port.write(kind.setup(bytes(heard)))
+        values = ask_dump(port, board.id, controller=kind)
         if values is None or servo.id not in values:
             warn(f"no DUMP reply from board {board.id}: starting at the rest value "
                  f"{servo.rest}", PROG)
@@ -47,12 +66,12 @@ def run(args: argparse.Namespace) -> int:
                     mapping.angle)
         with key_reader() as keys:
             print(HELP)
-            send_value(port, servo.id, ends.value)
+            send_value(port, servo.id, ends.value, kind)
             status_line(ends.line())
             for key in keys:
                 action = ends.press(key)
                 if action == "send":
-                    send_value(port, servo.id, ends.value)
+                    send_value(port, servo.id, ends.value, kind)
                 elif action == "save":
                     break
                 elif action == "quit":
@@ -63,7 +82,7 @@ def run(args: argparse.Namespace) -> int:
                 print(f"\n{PROG}: input ended: nothing written")
                 return EXIT_OK
     except KeyboardInterrupt as exc:
-        port.write(CANCEL_PENDING)
+        port.write(kind.cancel() if kind else CANCEL_PENDING)
         print(f"\n{PROG}: {why(exc)}: nothing written", file=sys.stderr)
         return status_of(exc)
     finally:

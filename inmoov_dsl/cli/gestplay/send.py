@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from ... import clock
+from ...boards import controller
 from ...errors import Diagnostic, GestError
 from ...profiles.profile import load_profile
 from ...protocol import MAX_VALUE, Signal
@@ -40,8 +41,10 @@ def run(args: argparse.Namespace) -> int:
     data = to_bytes(args.bytes)
     profile = load_profile(args.profile or "rhand")
     port = open_board(args.port, profile)
-    try:
-        wait_ready(port)  # an Uno or Nano resets when its port opens
+    board = profile.boards[0]
+    try:  # an Uno or Nano resets when its port opens; another kind answers its probe
+        wait_ready(port, controller=controller(profile, board) if board.kind != "rig"
+                   else None)
         port.write(data)
         clock.sleep(args.listen)
         reply = drain(port)

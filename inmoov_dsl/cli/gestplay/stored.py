@@ -41,9 +41,20 @@ def ask_catalog(link: Link, baud: int) -> Catalog | None:
     return None
 
 
+def _rig_only(profile) -> None:
+    """Only our firmware stores gestures: another kind of board is an error."""
+    other = next((b for b in profile.boards if b.kind != "rig"), None)
+    if other is not None:
+        raise GestError(Diagnostic(
+            "error", f"board {other.id} of profile '{profile.name}' is a {other.kind}: it "
+            "stores no gestures of ours", hint="play them from the computer: gestplay "
+            f"GESTURE --profile {profile.name} --port PORT"))
+
+
 def run(args: argparse.Namespace) -> int:
     """List what each board stores: number, name, duration, what starts it."""
     profile = load_profile(args.profile or "rhand")
+    _rig_only(profile)
     with hand.opened(PROG, profile, args.port, args.blind, "listing anyway") as on:
         for link in on.links:
             board = next(b for b in profile.boards if b.id == link.board)
@@ -72,6 +83,7 @@ def play_stored(args: argparse.Namespace) -> int:
     name = args.gesture or (Path(args.target).stem if args.target.endswith(".gest")
                             else args.target)
     profile = load_profile(args.profile or "rhand")
+    _rig_only(profile)
     if not args.port:
         raise GestError(Diagnostic("error", "no port given", hint="--port COM3, or "
                                    "--port 'sim://?flash=DIR/servo_rhand' for a virtual board"))

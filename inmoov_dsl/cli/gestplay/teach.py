@@ -40,7 +40,8 @@ def teach_on(on: hand.Hand, name: str, output: Path) -> int:
             action = teach.press(key)
             if action == "send":
                 servo = profile.servos[teach.selected]
-                send_value(link_of[servo.board].port, servo.id, teach.pose[teach.selected])
+                link = link_of[servo.board]
+                send_value(link.port, servo.id, teach.pose[teach.selected], link.controller)
             elif action == "play":
                 _play_back(teach, name, links)
             elif action == "save":
