@@ -103,8 +103,6 @@ class Outbox:
             rig = self.kinds[k].kind == "rig"
             for first, stop in self.kinds[k].commands(data):
                 self.pacers[k].add(origin + times[first], data[first:stop])
-                if not rig:  # its values are read when they arrive; a stop resends them
-                    self._touched[k] |= {s for s, _ in self.kinds[k].moves(data[first:stop])}
                 for i in range(first, stop):
                     pair = rig and stop - first == PAIR_BYTES and i > first
                     events.append((origin + times[i], k, data[i],
@@ -143,16 +141,26 @@ class Outbox:
         ones to the drop, so with ``resync`` each board is sent CANCEL and the value of
         every servo it has been sent (a value sent twice changes nothing; at most a pair
         a servo): it then holds what ``held`` said, as the Mirror does, however often
-        stops come."""
-        self._mirror(t + self.reach())
+        stops come. A kind with no filler (a Maestro, a PCA9685) is written whole
+        commands when they are due and its port drops nothing: what is due by ``t`` is
+        written now, the rest never, and the board holds what the Mirror does."""
+        for k, out in enumerate(self.pacers):
+            if self.kinds[k].fill is None:
+                out.pump(t)
+        self._mirror(t)
+        reach = t + self.reach()
+        for due, k, byte, servo in self.events:  # a rig's bytes that may yet arrive
+            if due <= reach and self.kinds[k].fill is not None:
+                self.mirror.feed(k, byte)
+                if servo is not None:
+                    self._touched[k].add(servo)
         again = [{servo: self.mirror.value(servo) for servo in touched}
                  for touched in self._touched]
         self.events = []
         for k, out in enumerate(self.pacers):
             out.discard()
-            data = self.kinds[k].set_values(again[k])
-            if resync and data:
-                out.add(t, data)
+            if resync and self.kinds[k].fill is not None:
+                out.add(t, self.kinds[k].set_values(again[k]))
                 out.pump(t)
 
     def send(self, t: float) -> None:
