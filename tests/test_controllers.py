@@ -425,3 +425,25 @@ def test_a_finer_controller_follows_the_plan_at_least_as_closely_as_the_rig(name
         assert report.coverage == 1.0, (profile.name, report)
         assert report.worst_lag <= rig.worst_lag + 1e-9, (profile.name, report, rig)
         assert report.max_error <= 1.5  # a PCA9685's tick is about a degree
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_rubbish_never_breaks_a_virtual_device_or_a_reader(seed):
+    """Seeded random bytes into the virtual Maestro and the PCA9685 (their cores) and
+    into the readers of their answers: no exception, no target outside a channel's
+    limits, and the Maestro flags what it cannot read."""
+    rng = np.random.default_rng(seed)
+    data = bytes(rng.integers(0, 256, 20_000, dtype=np.uint8).tolist())
+    core = maestro()
+    for byte in data:
+        core.feed(byte)
+    assert all(q == 0 or core.low <= q <= core.high for q in core.targets)
+    assert core.errors & mc.PROTOCOL_ERROR
+    pca = controller(PCA, PCA.boards[0]).core()
+    for byte in data:
+        pca.feed(byte)
+    for profile in (MAESTRO, PCA):
+        c = controller(profile, profile.boards[0])
+        pose = c.pose_reader().feed(data[:64])
+        assert pose is not None and all(0 <= v <= 180 for v in pose.values())
+        assert mc.fault(data) is not None and tx.fault(data) is not None

@@ -72,7 +72,7 @@ class MaestroCore:
 
     def feed(self, byte: int) -> tuple[Write | tuple[Write, ...] | None, bytes]:
         """Read one byte: the servo writes a command it completes does, and the reply."""
-        if byte & 0x80 and self._buf and not self._pololu_head():
+        if byte & 0x80 and self._buf:
             self._error()  # a command cut short by the next
             self._buf.clear()
         if not byte & 0x80 and not self._buf:
@@ -87,10 +87,6 @@ class MaestroCore:
                 return None, b""  # for another device on the line
             cmd = bytes([cmd[2] | 0x80]) + cmd[3:]
         return self._run(cmd)
-
-    def _pololu_head(self) -> bool:
-        """Is the command byte after 0xAA still due (its top bit is then cleared)?"""
-        return self._buf[0] == c.POLOLU and len(self._buf) < 3
 
     def _run(self, cmd: bytes) -> tuple[Write | tuple[Write, ...] | None, bytes]:
         code = cmd[0]
