@@ -447,3 +447,14 @@ def test_rubbish_never_breaks_a_virtual_device_or_a_reader(seed):
         pose = c.pose_reader().feed(data[:64])
         assert pose is not None and all(0 <= v <= 180 for v in pose.values())
         assert mc.fault(data) is not None and tx.fault(data) is not None
+
+
+def test_a_compiled_gesture_that_leaves_a_controller_still_reads_back():
+    """Found by the fuzzer: another kind's stream with no bytes (nothing moves)."""
+    from inmoov_dsl.compiling.compiled import to_json
+    from inmoov_dsl.compiling.compiled_reader import from_json
+    from inmoov_dsl.compiling.compiler import compile_source
+
+    compiled = compile_source("g: hold 0.5s\n", "g", MAESTRO)
+    assert compiled.streams[0].idle
+    assert from_json(to_json(compiled), "g.gestc").streams[0].data == b""

@@ -1,8 +1,8 @@
 """The kinds of board a profile's ``[[board]]`` may name (``kind``), one folder each:
-``rig`` (our firmware and the original), ``maestro`` (Pololu Maestro), ``pca9685``
-(a PCA9685 on an I2C bus). ``controller`` gives a board's ``Controller``
-(``base.py``), which is all the rest of the package knows of a kind; ``pulses.py`` is
-the one mapping from a value to a pulse width that every kind keeps."""
+``rig`` (our firmware and the original), ``maestro`` (Pololu Maestro), ``pca9685`` (a
+PCA9685 on an I2C bus), ``mrlcomm`` (MyRobotLab's firmware). ``controller`` gives a
+board's ``Controller`` (``base.py``), which is all the rest of the package knows of a
+kind; ``pulses.py`` is the one mapping from a value to a pulse width every kind keeps."""
 
 from __future__ import annotations
 
@@ -13,10 +13,12 @@ from .base import Controller
 
 def _kinds() -> dict[str, type[Controller]]:
     from .maestro import MaestroController
+    from .mrlcomm import MrlCommController
     from .pca9685 import PcaController
     from .rig import RigController
 
-    return {k.kind: k for k in (RigController, MaestroController, PcaController)}
+    return {k.kind: k for k in (RigController, MaestroController, PcaController,
+                                MrlCommController)}
 
 
 __all__ = ["KINDS", "Controller", "by_id", "channels", "controller", "fault"]
@@ -37,14 +39,21 @@ def fault(kind: str, data: bytes) -> str | None:
     """What in ``data`` breaks the framing of ``kind`` (a Maestro's or a PCA9685's), or
     None (a rig's layout is ``protocol.frame_fault``)."""
     from .maestro import commands
+    from .mrlcomm import messages
     from .pca9685 import transactions
 
-    return (commands.fault if kind == "maestro" else transactions.fault)(data)
+    return {"maestro": commands.fault, "pca9685": transactions.fault,
+            "mrlcomm": messages.fault}[kind](data)
 
 
 def channels(kind: str, data: bytes) -> set[int]:
-    """The channels a Maestro's or a PCA9685's ``data`` sets."""
+    """What a Maestro's or a PCA9685's ``data`` sets (channels), or an MrlComm board's
+    (device numbers)."""
     from .maestro import commands
+    from .mrlcomm import messages
     from .pca9685 import transactions
 
+    if kind == "mrlcomm":
+        return {args[0] for method, args in messages.Reader().feed(data)
+                if method == messages.SERVO_MOVE_TO_MICROSECONDS and args}
     return (commands.channels if kind == "maestro" else transactions.channels)(data)

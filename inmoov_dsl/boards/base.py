@@ -130,9 +130,14 @@ class Controller:
         None."""
         return None
 
-    def setup(self, answer: bytes = b"") -> bytes:
+    def refusal(self, answer: bytes) -> str | None:
+        """Why a board that answered ``answer`` to its ``probe`` cannot be driven (a
+        firmware of another version), or None."""
+        return None
+
+    def setup(self, answer: bytes = b"", pose: Mapping[int, int] | None = None) -> bytes:
         """What goes to the board once it is ready (``answer``: what it answered the
-        probe), before anything moves."""
+        probe; ``pose``: servo ID -> the value it holds), before anything moves."""
         return b""
 
     #: us per step of the board's unit (None: the rig's whole command degrees)

@@ -13,10 +13,13 @@ from .base import Controller, PlanLike
 
 
 def per_frame(kind: Controller, plan: PlanLike,
-              command: Callable[[Mapping[int, int]], bytes]) -> tuple[np.ndarray, bytes]:
+              command: Callable[[Mapping[int, int]], bytes], most: int | None = None
+              ) -> tuple[np.ndarray, bytes]:
     """Every frame, ``command`` (channel -> width in ``kind``'s unit) for the servos of
     ``kind``'s board whose width changed: the frame's plan at its end (not rounded to
-    degrees), the command's last byte sent a byte-time before the frame ends."""
+    degrees), the command's last byte sent a byte-time before the frame ends. With
+    ``most``, that many servos a frame at most, those furthest from their width first
+    (the others follow in the frames after)."""
     frames = int(plan.duration / protocol.SERVO_FRAME) + 2
     ends = (np.arange(frames) + 1) * protocol.SERVO_FRAME
     index = [plan.profile.index(s.name) for s in kind.servos]
@@ -26,10 +29,11 @@ def per_frame(kind: Controller, plan: PlanLike,
     times: list[float] = []
     data = bytearray()
     for f in range(frames):
+        behind = sorted((j for j in range(len(index)) if track[j][f] != held[j]),
+                        key=lambda j: -abs(track[j][f] - held[j]))[:most]
         changed = {}
-        for j, s in enumerate(kind.servos):
-            if track[j][f] != held[j]:
-                changed[s.pin] = held[j] = track[j][f]
+        for j in sorted(behind):
+            changed[kind.servos[j].pin] = held[j] = track[j][f]
         if changed:
             cmd = command(changed)
             times += (ends[f] - (len(cmd) - np.arange(len(cmd))) * kind.tau).tolist()

@@ -56,10 +56,14 @@ def reach(link: Link, profile: Profile, blind: bool, going_on: str) -> dict[int,
     c = link.controller
     heard = bytearray()
     ready = wait_ready(link.port, controller=c, heard=heard)
+    if ready and c is not None and (refused := c.refusal(bytes(heard))):
+        raise GestError(Diagnostic("error", f"{refused} (on {link.name})",
+                                   hint="flash the MrlComm of that release, or ours: "
+                                   "docs/controllers.md"))
     if ready and c is not None and (said := c.greeting(bytes(heard))):
         warn(said, "gestplay")
     values = ask_dump(link.port, link.board, controller=c)
-    if ready and c is not None and (setup := c.setup(bytes(heard))):
+    if ready and c is not None and (setup := c.setup(bytes(heard), values)):
         link.port.write(setup)
     where = f"board {link.board} on {link.name}"
     if values is None and not ready:

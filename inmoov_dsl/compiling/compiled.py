@@ -174,10 +174,12 @@ def check_profile(c: Compiled, profile: Profile) -> None:
                 hint))
             continue
         if s.kind != "rig":
-            mine = {profile.servos[profile.index(n)].pin for n in board.servos}
+            mine = {profile.servos[profile.index(n)].pin for n in board.servos} \
+                if s.kind != "mrlcomm" else set(range(1, len(board.servos) + 1))
             if stray := sorted(channels(s.kind, s.data) - mine):
+                what = "device" if s.kind == "mrlcomm" else "channel"
                 errors.append(Diagnostic(
-                    "error", f"'{c.gesture}' sets channel {stray[0]} of board {s.board}, "
+                    "error", f"'{c.gesture}' sets {what} {stray[0]} of board {s.board}, "
                     f"which profile '{profile.name}' gives no servo",
                     _board_pos(profile, board), hint))
             continue

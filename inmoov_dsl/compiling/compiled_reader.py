@@ -207,7 +207,7 @@ class CompiledReader(Fields):
             if s.board in boards:
                 raise self.bad(f"board {s.board} has two streams", ("streams", k, "board"))
             boards.add(s.board)
-            if s.times[-1] > duration + 2 * protocol.SERVO_FRAME + _SLACK:
+            if len(s.times) and s.times[-1] > duration + 2 * protocol.SERVO_FRAME + _SLACK:
                 raise self.bad(f"board {s.board}: a byte goes at {s.times[-1]:g} s, after "
                                f"the gesture's {duration:g} s",
                                ("streams", k, "times", len(s.times) - 1))

@@ -5,6 +5,8 @@ the channels its servos take: read once here, for every kind (``boards/`` drives
 - ``maestro``: a Pololu Maestro; ``model`` (``micro6``, ``mini12``, ``mini18``,
   ``mini24``; ``mini12``), ``device`` (its device number: the Pololu protocol; none:
   the compact protocol), ``baud`` (115200: the pace its commands are timed at).
+- ``mrlcomm``: an Arduino (an InMoov's Mega) running MyRobotLab's MrlComm; ``baud``
+  (115200).
 - ``pca9685``: a PCA9685 on an I2C bus; ``oscillator`` (Hz, the chip's measured clock,
   25,000,000), ``bus_speed`` (Hz, the bus's clock, 100,000 or 400,000).
 
@@ -20,10 +22,10 @@ from ..errors import did_you_mean
 from . import fields as check
 from .fields import Problem, shown
 
-KINDS = ("rig", "maestro", "pca9685")
+KINDS = ("rig", "maestro", "pca9685", "mrlcomm")
 MODELS = ("micro6", "mini12", "mini18", "mini24")
 CHANNELS = {"micro6": 6, "mini12": 12, "mini18": 18, "mini24": 24}
-DEFAULT_BAUD = {"rig": 9600, "maestro": 115_200, "pca9685": 115_200}
+DEFAULT_BAUD = {"rig": 9600, "maestro": 115_200, "pca9685": 115_200, "mrlcomm": 115_200}
 
 
 def kind(key: str, value: Any) -> str:
@@ -60,7 +62,7 @@ def channels(what: str, opts: Sequence[tuple[str, int]]) -> int:
     """How many channels a board of kind ``what`` has (0: pins, not channels)."""
     if what == "maestro":
         return CHANNELS[MODELS[dict(opts).get("model", 1)]]
-    return 16 if what == "pca9685" else 0
+    return {"pca9685": 16, "mrlcomm": 70}.get(what, 0)  # a Mega's pins: 0..69
 
 
 def pulse(key: str, value: Any) -> tuple[int, int]:

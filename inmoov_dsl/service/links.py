@@ -110,7 +110,7 @@ class Watcher:
         if values is None:
             port.close()
             return
-        if setup := kind.setup(bytes(heard)):
+        if setup := kind.setup(bytes(heard), values):
             port.write(setup)
         lost.back(port)
         self.request(Rejoin(lost.board, values))

@@ -70,6 +70,7 @@ class VirtualBoard:
     resets: int = 0
     flash: StoredSet | None = None  #: the gestures stored in its flash
     chatty: bool = True  #: it sends WAIT when booted and idle (a rig; not a Maestro)
+    hello: bytes = b""  #: what one not chatty sends as it boots (MrlComm: its banner)
 
     def __post_init__(self) -> None:
         self.tau = byte_time(self.baud)
@@ -141,7 +142,7 @@ class VirtualBoard:
         if not self._booted and now >= self.ready_at:
             self._booted = True
             self._clock = self._quiet = self.ready_at
-            self._send(self.ready_at, bytes([Signal.WAIT]) if self.chatty else b"")
+            self._send(self.ready_at, bytes([Signal.WAIT]) if self.chatty else self.hello)
             if self.flash is not None and self.flash.boot is not None:
                 self._boot_at = self.ready_at + BOOT_QUIET
         while True:
@@ -249,9 +250,8 @@ class VirtualBoard:
 
     def _send(self, at: float, data: bytes) -> float:
         for b in data:
-            ready = max(at, self._out_free) + self.tau
-            self._out_free = ready
-            self._outbox.append((ready, b))
+            self._out_free = max(at, self._out_free) + self.tau
+            self._outbox.append((self._out_free, b))
         return self._out_free
 
     def positions(self) -> dict[int, int]:

@@ -142,7 +142,7 @@ class MaestroController(Controller):
         return f"the Maestro on board {self.board.id} reported {c.describe(errors)} " \
                f"(cleared now)"
 
-    def setup(self, answer: bytes = b"") -> bytes:
+    def setup(self, answer: bytes = b"", pose: Mapping[int, int] | None = None) -> bytes:
         """Speed and acceleration 0 on its channels: the plan is the motion."""
         return b"".join(c.command(code, [s.pin, 0, 0], self.device) for s in self.servos
                         for code in (c.SET_SPEED, c.SET_ACCELERATION))

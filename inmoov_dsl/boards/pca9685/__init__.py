@@ -229,7 +229,7 @@ class PcaController(Controller):
         """Both came."""
         return len(answer) >= 2
 
-    def setup(self, answer: bytes = b"") -> bytes:
+    def setup(self, answer: bytes = b"", pose: Mapping[int, int] | None = None) -> bytes:
         """The prescale for 50 Hz, written while the chip sleeps, and auto-increment,
         unless the chip has both already (no glitch on the pulses then)."""
         mode, scale = (answer[0], answer[1]) if len(answer) >= 2 else (regs.SLEEP, -1)

@@ -112,7 +112,22 @@ def _board_from_url(url: str) -> tuple[VirtualBoard, Profile]:
                        "gestures", "leave flash= out")
     flash = _flash(url, options["flash"][0], core) if "flash" in options else None
     return VirtualBoard(core, board.baud, stored=stored, flash=flash,
-                        chatty=board.kind == "rig"), profile
+                        chatty=board.kind == "rig", hello=hello(board.kind)), profile
+
+
+def resets(board: VirtualBoard) -> bool:
+    """Does ``board`` reset when DTR rises (an Arduino: a rig, an MrlComm board; not a
+    Maestro, nor a PCA9685 behind its bus)?"""
+    return board.chatty or bool(board.hello)
+
+
+def hello(kind: str) -> bytes:
+    """What a board of ``kind`` sends as it starts (MrlComm: its banner and begin)."""
+    if kind != "mrlcomm":
+        return b""
+    from ...boards.mrlcomm import messages
+
+    return messages.BANNER + messages.message(messages.BEGIN, messages.VERSION)
 
 
 def _flash(url: str, path: str, core: BoardCore) -> StoredSet:
@@ -164,10 +179,10 @@ class Serial(SerialBase):
         if board is None:  # powered up: the board boots, with DTR rising
             board, _Desk.profiles[url] = _board_from_url(url)
             _Desk.boards[url] = board
-            board.ready_at = clock.now() + (boot if board.chatty else 0.0)
+            board.ready_at = clock.now() + (boot if resets(board) else 0.0)
             _Desk.lines[url] = DtrLine()
             _Desk.lines[url].opened()
-        elif _Desk.lines[url].opened() and board.chatty:  # DTR rose: an Uno resets
+        elif _Desk.lines[url].opened() and resets(board):  # DTR rose: an Uno resets
             # (a Maestro's USB port does not reset it)
             board.reset(clock.now(), boot)
         self.board = board

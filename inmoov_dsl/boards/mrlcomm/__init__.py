@@ -1,0 +1,150 @@
+"""A board running MyRobotLab's MrlComm (most InMoov Megas): a plan as one
+``servoMoveToMicroseconds`` per moving servo per frame, in the firmware's widths, the
+board's own messages (``messages.py``) and its virtual twin (``device.py``)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+
+from ... import protocol
+from ..base import Controller, PlanLike, PoseReader
+from ..frames import per_frame
+from . import messages as m
+from .device import MrlCommCore
+
+#: moves a frame at most: MrlComm followed 6 servos moving every frame with nothing
+#: lost, in simavr; 8 lagged and 12 lost bytes (facts); the furthest behind go first
+MOVES_PER_FRAME = 6
+
+
+class _Stopped:
+    """The answers to ``servoStop``, one per servo in order: a stopped event (where it
+    is) or an error (no such device: the servo's rest, as the board cannot say)."""
+
+    def __init__(self, controller: MrlCommController):
+        self.controller, self.reader, self.pose = controller, m.Reader(), {}
+        self.pending = list(range(len(controller.servos)))
+
+    def feed(self, data: bytes) -> dict[int, int] | None:
+        """The pose once every servo is answered for."""
+        c = self.controller
+        for method, args in self.reader.feed(data):
+            if not self.pending or args is None:
+                continue
+            if method == m.SERVO_EVENT and args[1] == m.STOPPED and args[0] in c.devices:
+                j = c.devices.index(args[0])
+                self.pose[c.servos[j].id] = c.widths[j].value(args[2])
+                self.pending.remove(j)
+            elif method == m.ERROR and b"does not exist" in args[0]:
+                j = self.pending.pop(0)
+                self.pose[c.servos[j].id] = c.servos[j].rest
+        return None if self.pending else self.pose
+
+
+class MrlCommController(Controller):
+    """A Mega (or any Arduino) running MrlComm at its release's version."""
+
+    kind = "mrlcomm"
+    unit_us = 1.0
+
+    @property
+    def devices(self) -> list[int]:
+        """The device number of each servo of the board (1, 2, ... in its order)."""
+        return list(range(1, len(self.servos) + 1))
+
+    @property
+    def tau(self) -> float:
+        """One byte at the board's baud."""
+        return protocol.byte_time(self.board.baud)
+
+    def commands(self, data: bytes) -> list[tuple[int, int]]:
+        """Its messages."""
+        return m.commands(data)
+
+    def moves(self, data: bytes) -> list[tuple[int, int]]:
+        """(servo ID, us) of each move of ``data`` to a servo of the board."""
+        ids = dict(zip(self.devices, (s.id for s in self.servos), strict=True))
+        return [(ids[args[0]], args[1]) for method, args in m.Reader().feed(data)
+                if method == m.SERVO_MOVE_TO_MICROSECONDS and args and args[0] in ids]
+
+    def units(self, index: int, values) -> np.ndarray:
+        """Whole microseconds (what a move carries)."""
+        us = self.widths[index].us(self.limit(np.asarray(values, dtype=float), index))
+        return np.round(us).astype(np.int64)
+
+    def _moves(self, changed: Mapping[int, int]) -> bytes:
+        by_pin = {s.pin: d for s, d in zip(self.servos, self.devices, strict=True)}
+        return b"".join(m.message(m.SERVO_MOVE_TO_MICROSECONDS, by_pin[pin], us)
+                        for pin, us in sorted(changed.items()))
+
+    def encode(self, plan: PlanLike) -> tuple[np.ndarray, bytes]:
+        """Every frame, a move for each servo whose width changed (at most
+        ``MOVES_PER_FRAME``, the furthest behind first)."""
+        return per_frame(self, plan, self._moves, MOVES_PER_FRAME)
+
+    def core(self) -> MrlCommCore:
+        """The board's account: its servos attached and pulsing at their rests, acks
+        off (as a connect leaves it)."""
+        core = self.twin()
+        for byte in self.setup(b"", {s.id: s.rest for s in self.servos}):
+            core.feed(byte)
+        return core
+
+    def twin(self) -> MrlCommCore:
+        """The virtual board as it starts: no devices, acks on."""
+        return MrlCommCore(self.board.id, self.servos, self.widths, self.devices)
+
+    def set_values(self, values: Mapping[int, int]) -> bytes:
+        """Moves for the servos' values."""
+        j = {s.id: k for k, s in enumerate(self.servos)}
+        return b"".join(m.message(m.SERVO_MOVE_TO_MICROSECONDS, self.devices[j[sid]],
+                                  int(self.units(j[sid], [v])[0]))
+                        for sid, v in sorted(values.items()) if sid in j)
+
+    def relax(self) -> bytes:
+        """Each servo's pin detached: no pulses."""
+        return b"".join(m.message(m.SERVO_DETACH_PIN, d) for d in self.devices)
+
+    def ask_pose(self) -> bytes:
+        """``servoStop`` for each servo: it answers where it is."""
+        return b"".join(m.message(m.SERVO_STOP, d) for d in self.devices)
+
+    def pose_reader(self) -> PoseReader:
+        """Reads the stopped events as values."""
+        return _Stopped(self)
+
+    def probe(self) -> bytes:
+        """``getBoardInfo``, as MyRobotLab asks."""
+        return m.message(m.GET_BOARD_INFO)
+
+    def ready(self, answer: bytes) -> bool:
+        """Its board info came."""
+        return any(method == m.BOARD_INFO for method, _ in m.Reader().feed(answer))
+
+    def refusal(self, answer: bytes) -> str | None:
+        """A board of another MrlComm version than the one supported."""
+        for method, args in m.Reader().feed(answer):
+            if method == m.BOARD_INFO and args and args[0] != m.VERSION:
+                return f"board {self.board.id} runs MrlComm version {args[0]}; this " \
+                       f"speaks version {m.VERSION}, as {m.RELEASE} ships it"
+        return None
+
+    def setup(self, answer: bytes = b"", pose: Mapping[int, int] | None = None) -> bytes:
+        """Acks off; each servo not yet attached attached at its pin, from ``pose``
+        (else its rest), velocity -1 (the plan is the motion), its pulses started."""
+        attached = set()
+        for method, args in m.Reader().feed(answer):
+            if method == m.BOARD_INFO and args:
+                attached = set(args[5])
+        out = bytearray(m.message(m.ENABLE_ACK, 0))
+        for s, d, j in zip(self.servos, self.devices, range(len(self.servos)), strict=True):
+            if d in attached:
+                continue
+            value = (pose or {}).get(s.id, s.rest)
+            out += m.message(m.SERVO_ATTACH, d, s.pin or 0, int(self.units(j, [value])[0]),
+                             -1, s.name.encode()[:20])
+            out += m.message(m.SERVO_SET_VELOCITY, d, -1)
+            out += m.message(m.SERVO_ATTACH_PIN, d, s.pin or 0)
+        return bytes(out)

@@ -1,0 +1,162 @@
+"""A board running MrlComm, as its messages leave it: a pure state machine fed one byte
+at a time, the heart of the virtual MrlComm board behind ``sim://`` and of the drive
+loop's account of what such a board holds.
+
+Modelled from MrlComm's source (the release ``messages.RELEASE`` names): it reads a
+message as its ``Msg::readMsg`` does (a first byte other than 170 is an "error serial"
+and starts again; a size over 64 is dropped), acknowledges every message while acks are
+on (``publishAck`` after the method ran), answers ``getBoardInfo`` with its version,
+board type (a Mega) and the devices attached, and keeps servos: ``servoAttach`` makes
+one (at its initial width, no pulses), ``servoAttachPin`` starts its pulses,
+``servoMoveToMicroseconds`` publishes a started event, and at velocity -1 its next
+update writes the width and publishes a stopped event; ``servoStop`` a stopped event
+with where it is; ``servoDetachPin`` stops the pulses. A velocity limit is kept but
+not simulated (the plan is the motion: gestplay sets -1). Not modelled: the 64-byte
+receive buffer and the loop's time, which limit how fast a real board reads (the
+controller paces its moves for it: ``MOVES_PER_FRAME``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+from ..base import Write
+from ..pulses import Widths
+from . import messages as m
+
+BOARD_MEGA = 1  #: MrlComm's board type for a Mega 2560
+
+
+@dataclass
+class Servo:
+    """An MrlServo: its pin, width (us), whether it pulses, its velocity."""
+
+    pin: int
+    us: int
+    pulsing: bool = False
+    velocity: int = -1
+
+
+class MrlCommCore:
+    """One board running MrlComm: its devices and the message being read."""
+
+    def __init__(self, board_id: int, servos: Sequence, widths: Sequence[Widths],
+                 devices: Sequence[int]):
+        self.board_id, self.servos, self.widths = board_id, tuple(servos), tuple(widths)
+        self._index = {d: j for j, d in enumerate(devices)}
+        self.devices: dict[int, Servo] = {}
+        self.acks = True
+        self.version = m.VERSION  #: the MRLCOMM_VERSION it reports
+        self._buf = bytearray()
+        self.values: list[int] = []
+        self.asked = None  #: (a rig's stored gestures: MrlComm has none)
+        self.restore(None)
+
+    @property
+    def pending(self) -> int | None:
+        """The size of a message half read, if any."""
+        return len(self._buf) or None
+
+    @property
+    def relaxed(self) -> bool:
+        """None of its servos pulses."""
+        return not any(s.pulsing for s in self.devices.values())
+
+    def restore(self, values: Sequence[int] | None) -> None:
+        """A reset: no devices, acks on; the servos (limp) where ``values`` says."""
+        self.values = list(values) if values is not None else [s.rest for s in self.servos]
+        self.devices.clear()
+        self.acks = True
+        self._buf.clear()
+
+    def command(self, index: int, value: int) -> Write:
+        """Servo ``index`` to ``value`` (attached and pulsing, if it was not)."""
+        device = next(d for d, j in self._index.items() if j == index)
+        us = round(float(self.widths[index].us(value)))
+        servo = self.devices.setdefault(device, Servo(self.servos[index].pin, us))
+        servo.us, servo.pulsing = us, True
+        return self._wrote(device)
+
+    def feed(self, byte: int) -> tuple[tuple[Write, ...] | None, bytes]:
+        """Read one byte: the writes a whole message makes, and what the board sends."""
+        self._buf.append(byte)
+        if len(self._buf) == 1 and byte != m.MAGIC:
+            self._buf.clear()
+            return None, m.message(m.ERROR, b"error serial")
+        if len(self._buf) == 2 and byte > m.MOST:
+            self._buf.clear()
+            return None, b""
+        if len(self._buf) < 2 or len(self._buf) < 2 + self._buf[1]:
+            return None, b""
+        body, self._buf = bytes(self._buf[2:]), bytearray()
+        writes, before, after = self._run(body)
+        ack = m.message(m.ACK, body[0] if body else 0) if self.acks else b""
+        return writes, before + ack + after
+
+    def _run(self, body: bytes) -> tuple[tuple[Write, ...] | None, bytes, bytes]:
+        """What a message does: writes, what it publishes, what the next update does."""
+        args = m.arguments(body)
+        if args is None:
+            return None, m.message(m.ERROR, b"unknown method"), b""
+        method = body[0]
+        if method == m.GET_BOARD_INFO:
+            return None, m.message(m.BOARD_INFO, self.version, BOARD_MEGA, 100, 5000, 0,
+                                   bytes(sorted(self.devices))), b""
+        if method == m.ENABLE_ACK:
+            self.acks = bool(args[0])
+        elif method == m.SOFT_RESET:
+            self.devices.clear()
+            self.acks = True
+        elif method == m.DEVICE_DETACH:
+            self.devices.pop(args[0], None)
+        elif method == m.SERVO_ATTACH:
+            return self._attach(*args)
+        elif method in (m.SERVO_ATTACH_PIN, m.SERVO_DETACH_PIN, m.SERVO_SET_VELOCITY,
+                        m.SERVO_MOVE_TO_MICROSECONDS, m.SERVO_STOP):
+            return self._servo(method, args)
+        return None, b"", b""
+
+    def _attach(self, device: int, pin: int, us: int, velocity: int, name: bytes):
+        if device in self.devices:
+            return None, m.message(m.ERROR, b"device already exists"), b""
+        self.devices[device] = Servo(pin, us, False, velocity)
+        return None, m.message(m.ERROR, b"servo need name") if not name else b"", b""
+
+    def _servo(self, method: int, args: tuple):
+        servo = self.devices.get(args[0])
+        if servo is None:
+            return None, m.message(m.ERROR, b"device does not exist"), b""
+        device = args[0]
+        if method == m.SERVO_ATTACH_PIN:
+            servo.pin, servo.pulsing = args[1], True
+            return (self._wrote(device),), b"", b""
+        if method == m.SERVO_DETACH_PIN:
+            servo.pulsing = False
+        elif method == m.SERVO_SET_VELOCITY:
+            servo.velocity = args[1]
+        elif method == m.SERVO_STOP:
+            return None, m.message(m.SERVO_EVENT, device, m.STOPPED, servo.us, servo.us), b""
+        elif method == m.SERVO_MOVE_TO_MICROSECONDS:
+            started = m.message(m.SERVO_EVENT, device, m.STARTED, servo.us, args[1])
+            if servo.us == args[1]:
+                return None, started, m.message(m.SERVO_EVENT, device, m.STOPPED,
+                                                servo.us, servo.us)
+            servo.us = args[1]
+            stopped = m.message(m.SERVO_EVENT, device, m.STOPPED, servo.us, servo.us)
+            return ((self._wrote(device),) if servo.pulsing else None), started, stopped
+        return None, b"", b""
+
+    def _wrote(self, device: int) -> Write:
+        """Servo ``device`` now sends its width: its value as the widths say."""
+        j = self._index.get(device)
+        servo = self.devices[device]
+        if j is None:
+            return Write(device, 0, servo.us)
+        self.values[j] = self.widths[j].value(servo.us)
+        return Write(self.servos[j].id, self.values[j], servo.us)
+
+    def dump(self) -> bytes:
+        """Each of its servos' stopped event (what ``servoStop`` answers), in order."""
+        return b"".join(m.message(m.SERVO_EVENT, d, m.STOPPED, s.us, s.us)
+                        for d, s in sorted(self.devices.items()))

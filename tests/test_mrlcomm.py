@@ -1,0 +1,150 @@
+"""The ``mrlcomm`` kind: MyRobotLab's MrlComm messages laid out as its schema says, the
+virtual MrlComm board, MyRobotLab's handshake, and the right hand's library played on
+``rhand-mrlcomm`` ending in the firmware's widths with no message lost."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from conftest import WHOLE_ROBOT
+
+from inmoov_dsl import load_profile
+from inmoov_dsl.boards import controller
+from inmoov_dsl.boards.mrlcomm import MOVES_PER_FRAME
+from inmoov_dsl.boards.mrlcomm import messages as m
+from inmoov_dsl.boards.rig.core import BoardServo
+from inmoov_dsl.cli.hand import reach
+from inmoov_dsl.compiling.compiler import compile_program
+from inmoov_dsl.errors import GestError
+from inmoov_dsl.language.library import scan_library
+from inmoov_dsl.language.load import load
+from inmoov_dsl.wire.link import connect, parse_ports
+from inmoov_dsl.wire.player import ask_dump, play, relax_all
+from inmoov_dsl.wire.urlhandler import protocol_sim
+
+ROOT = Path(__file__).resolve().parent.parent
+LIBRARY = scan_library([ROOT / "gestures"])
+HAND = sorted(n for n, e in LIBRARY.items() if e.path.name not in WHOLE_ROBOT)
+MRL = load_profile("rhand-mrlcomm")
+RHAND = load_profile("rhand")
+KIND = controller(MRL, MRL.boards[0])
+
+
+def test_messages_are_laid_out_as_the_schema_says():
+    # > servoAttach/deviceId/pin/b16 initPos/b16 initVelocity/str name: id 35
+    assert m.message(m.SERVO_ATTACH, 1, 3, 1500, -1, b"index") == bytes(
+        [170, 13, 35, 1, 3, 0x05, 0xDC, 0xFF, 0xFF, 5, *b"index"])
+    # > servoMoveToMicroseconds/deviceId/b16 target: id 41
+    assert m.message(m.SERVO_MOVE_TO_MICROSECONDS, 2, 2400) == bytes([170, 4, 41, 2, 9, 96])
+    assert m.message(m.GET_BOARD_INFO) == bytes([170, 1, 2])
+    assert m.message(m.ENABLE_ACK, 0) == bytes([170, 2, 8, 0])
+    # < publishBoardInfo/version/boardType/b16 microsPerLoop/b16 sram/activePins/[] ...
+    info = m.message(m.BOARD_INFO, 68, 1, 100, 5000, 0, bytes([1, 2]))
+    assert list(m.Reader().feed(b"MRLComm Reset.   " + info)) == [
+        (m.BOARD_INFO, (68, 1, 100, 5000, 0, bytes([1, 2])))]
+    assert m.fault(info[:-1]) == "byte 1: an MrlComm message cut short"
+
+
+def test_the_virtual_board_reads_as_mrlcomm_does():
+    core = KIND.twin()
+    out = bytearray()
+    for byte in b"\x01" + m.message(m.SERVO_STOP, 1):  # a stray byte, then a stop
+        out += core.feed(byte)[1]
+    said = list(m.Reader().feed(bytes(out)))
+    assert said[0] == (m.ERROR, (b"error serial",))
+    assert said[1] == (m.ERROR, (b"device does not exist",))
+    assert said[2] == (m.ACK, (m.SERVO_STOP,))  # acks are on as it starts
+    out = b"".join(core.feed(b)[1] for b in m.message(m.SERVO_ATTACH, 1, 3, 1500, -1, b"i")
+                   + m.message(m.SERVO_ATTACH_PIN, 1, 3)
+                   + m.message(m.SERVO_MOVE_TO_MICROSECONDS, 1, 1600))
+    events = [a for meth, a in m.Reader().feed(out) if meth == m.SERVO_EVENT]
+    assert events == [(1, m.STARTED, 1500, 1600), (1, m.STOPPED, 1600, 1600)]
+    assert core.devices[1].us == 1600 and core.devices[1].pulsing
+
+
+def test_connect_as_myrobotlab_does_and_refuse_another_version():
+    protocol_sim.power_off()
+    links = connect(parse_ports(["sim://?fresh"], MRL), MRL)
+    try:
+        pose = reach(links[0], MRL, False, "")  # begin, board info, acks off, attach
+        assert pose == {s.id: s.rest for s in MRL.servos}  # a board just reset: the rests
+        assert ask_dump(links[0].port, 181, controller=KIND) == pose  # now it can say
+    finally:
+        links[0].port.close()
+    protocol_sim.power_off()
+    links = connect(parse_ports(["sim://?fresh"], MRL), MRL)
+    links[0].port.board.core.version = 67  # an older MrlComm on the board
+    try:
+        with pytest.raises(GestError, match="runs MrlComm version 67; this speaks "
+                                            "version 68, as MyRobotLab 1.1"):
+            reach(links[0], MRL, False, "")
+    finally:
+        links[0].port.close()
+
+
+@pytest.mark.parametrize("name", HAND)
+def test_every_hand_gesture_ends_in_the_firmware_s_widths_with_no_message_lost(name):
+    compiled, _ = compile_program(load(str(LIBRARY[name].path)), name, MRL)
+    core = KIND.core()
+    moves = 0
+    for first, stop in KIND.commands(compiled.streams[0].data):
+        for byte in compiled.streams[0].data[first:stop]:
+            core.feed(byte)
+        moves += 1
+    assert moves == len(KIND.moves(compiled.streams[0].data))  # each one a whole move
+    final = dict(zip(MRL.names, compiled.final, strict=True))
+    for s, d in zip(KIND.servos, KIND.devices, strict=True):
+        firmware = BoardServo(s.id, s.calibration, s.reversed).pulse(final[s.name])
+        assert abs(core.devices[d].us - firmware) <= 0.5, (name, s.name)
+
+
+def test_twelve_servos_get_six_moves_a_frame_and_all_end_where_planned():
+    """A Mega's dozen servos moving at once: at most MOVES_PER_FRAME moves a frame (what
+    MrlComm kept up with), the furthest behind first, and every servo still ends at its
+    planned width."""
+    from inmoov_dsl.compiling.compiler import compile_source
+    from inmoov_dsl.profiles.profile import parse_profile
+
+    servos = "".join(f"[servo.s{k}]\nid = {k}\npin = {k + 2}\nmax_velocity = 400\n"
+                     f"max_acceleration = 8000\nmax_jerk = 160000\n" for k in range(12))
+    text = ('name = "mega"\n[[board]]\nid = 181\nkind = "mrlcomm"\nservos = ['
+            + ", ".join(f'"s{k}"' for k in range(12)) + "]\n" + servos)
+    mega = parse_profile(text, "mega.toml")
+    compiled = compile_source("g: all 180 over 1s\n", "g", mega)
+    kind = controller(mega, mega.boards[0])
+    stream, core = compiled.streams[0], kind.core()
+    frames: dict[int, int] = {}
+    for _, stop in kind.commands(stream.data):
+        f = round(stream.times[stop - 1] / 0.02)
+        frames[f] = frames.get(f, 0) + 1
+    assert max(frames.values()) == MOVES_PER_FRAME
+    for byte in stream.data:
+        core.feed(byte)
+    assert all(abs(core.devices[d].us - 2400) <= 0.5 for d in kind.devices)
+
+
+def test_relax_detaches_every_pin_and_a_play_on_sim_ends_where_planned():
+    protocol_sim.power_off()
+    links = connect(parse_ports(["sim://?fresh"], MRL), MRL)
+    try:
+        reach(links[0], MRL, False, "")
+        compiled, _ = compile_program(load(str(LIBRARY["peace"].path)), "peace", MRL)
+        play(compiled, links)
+        held = ask_dump(links[0].port, 181, controller=KIND)
+        assert held == dict(zip((s.id for s in MRL.servos), compiled.final, strict=True))
+        relax_all(links)
+        board = links[0].port.board
+        board.advance(board.sending_until() + 0.01)
+        assert board.core.relaxed
+    finally:
+        links[0].port.close()
+    protocol_sim.power_off()
+
+
+def test_a_profile_s_mrlcomm_servo_needs_a_pin_of_the_mega():
+    from inmoov_dsl.profiles.profile import parse_profile
+
+    text = (ROOT / "gestures/profiles/rhand-mrlcomm.toml").read_text()
+    with pytest.raises(GestError, match=r"has channels 0\.\.69"):
+        parse_profile(text.replace("pin = 7", "pin = 70"), "p.toml")
+    assert np.isfinite(KIND.tau)
