@@ -148,3 +148,20 @@ def test_a_profile_s_mrlcomm_servo_needs_a_pin_of_the_mega():
     with pytest.raises(GestError, match=r"has channels 0\.\.69"):
         parse_profile(text.replace("pin = 7", "pin = 70"), "p.toml")
     assert np.isfinite(KIND.tau)
+
+
+def test_ports_names_a_board_running_mrlcomm(capsys, monkeypatch):
+    from serial.tools import list_ports, list_ports_common
+
+    from inmoov_dsl.cli import gestplay
+
+    info = list_ports_common.ListPortInfo("sim://rhand-mrlcomm?fresh",
+                                          skip_link_detection=True)
+    info.description, info.vid, info.pid = "Arduino Mega 2560", 0x2341, 0x0042
+    monkeypatch.setattr(list_ports, "comports", lambda: [info])
+    protocol_sim.power_off()
+    assert gestplay.main(["ports"]) == 0
+    out = capsys.readouterr().out
+    assert out.rstrip().endswith("answers: MyRobotLab's MrlComm, version 68: profile kind "
+                                 "mrlcomm")
+    protocol_sim.power_off()

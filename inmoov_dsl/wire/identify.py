@@ -1,16 +1,18 @@
 """Who answers on a serial port (``gestplay ports``): a board of ours or the original
-firmware (its ID and servos, from DUMP), a Pololu Maestro (its errors), or nothing
-known. Only ports whose USB IDs say Arduino or Maestro are asked: bytes sent to an
-unknown device could mean anything to it."""
+firmware (its ID and servos, from DUMP), an Arduino running MyRobotLab's MrlComm (its
+version), a Pololu Maestro (its errors), or nothing known. Only ports whose USB IDs
+say Arduino or Maestro are asked: bytes sent to an unknown device could mean anything
+to it."""
 
 from __future__ import annotations
 
 from .. import clock
 from ..boards.maestro import commands as maestro
+from ..boards.mrlcomm import messages as mrl
 from ..decode import Replies
 from ..errors import GestError
 from ..protocol import ASK_POSE, DEFAULT_BAUD
-from .player import DUMP_TIMEOUT, drain, wait_ready
+from .player import DUMP_TIMEOUT, PROBE, READY_TIMEOUT, drain, wait_ready
 from .ports import PortInfo, open_port
 
 POLOLU = 0x1FFB  #: Pololu's USB vendor ID
@@ -37,12 +39,41 @@ def answer(info: PortInfo, baud: int = DEFAULT_BAUD) -> str:
                 board, values = found
                 return f"board {board}, {len(values)} servos (our firmware or the original)"
             clock.sleep(0.005)
-        return "a board that sends WAIT but did not answer DUMP" if ready else \
-            f"nothing answered at {baud} baud"
+        if ready:
+            return "a board that sends WAIT but did not answer DUMP"
     except OSError as exc:
         return f"the port failed: {exc}"
     finally:
         port.close()
+    return _mrlcomm(info.device) or f"nothing answered at {baud} baud, nor MrlComm at " \
+        f"{mrl.BAUD}"
+
+
+def _mrlcomm(device: str) -> str | None:
+    """MrlComm's board info, asked as MyRobotLab asks it (the board resets as its port
+    opens, then prints its banner and begin message): its version, or None."""
+    try:
+        port = open_port(device, mrl.BAUD)
+    except GestError:
+        return None
+    try:
+        reader, deadline, probe = mrl.Reader(), clock.now() + READY_TIMEOUT, 0.0
+        while clock.now() < deadline:
+            if clock.now() >= probe:
+                port.write(mrl.message(mrl.GET_BOARD_INFO))
+                probe = clock.now() + PROBE
+            for method, args in reader.feed(drain(port)):
+                if method == mrl.BOARD_INFO and args:
+                    known = "" if args[0] == mrl.VERSION else \
+                        f" (gestplay speaks {mrl.VERSION}: {mrl.RELEASE})"
+                    return f"MyRobotLab's MrlComm, version {args[0]}{known}: profile " \
+                           "kind mrlcomm"
+            clock.sleep(0.005)
+    except OSError:
+        return None
+    finally:
+        port.close()
+    return None
 
 
 def _maestro(device: str) -> str:

@@ -16,6 +16,7 @@ from ..frames import split
 
 MAGIC = 170
 MOST = 64  #: the largest size a board reads
+BAUD = 115_200  #: what MrlComm runs at
 VERSION = 68  #: the MRLCOMM_VERSION supported
 RELEASE = "MyRobotLab 1.1 (MrlComm 68, message numbers of August 2021 and after)"
 BANNER = b"MRLComm Reset." + b" " * 49  #: what a board prints as it starts
