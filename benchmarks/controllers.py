@@ -4,8 +4,10 @@ of a board's servos, and what one command degree is in each controller's unit.
 A frame's time is counted from the bytes the library's right-hand gestures really send
 (the encoder's streams, cut into commands by the virtual devices' own parsers), at each
 link's rate: a Maestro at 115200 (the Command Port is USB; this is the pace the
-commands are timed at), with and without Set Multiple Targets (a Micro 6 has none); a
-PCA9685 at 100 and 400 kHz (nine clocks a byte, plus start, address and stop).
+commands are timed at), with and without Set Multiple Targets (a Micro 6 has none);
+MrlComm's moves and our firmware's pairs at 115200 (the rig's stream is one continuous
+run: only its commands count here, not the filler between them); a PCA9685 at 100 and
+400 kHz (nine clocks a byte, plus start, address and stop).
 
     python benchmarks/controllers.py
 """
@@ -25,6 +27,10 @@ I2C_OVERHEAD = 2 + 9 + 9  #: bits of a block write besides its register and data
 #: stop, the address byte and its acknowledge (the register byte is counted as data)
 
 
+def at_baud(profile, baud):
+    return replace(profile, boards=tuple(replace(b, baud=baud) for b in profile.boards))
+
+
 def variants():
     maestro = load_profile("rhand-maestro")
     pca = load_profile("rhand-pca9685")
@@ -36,6 +42,8 @@ def variants():
 
     yield "Maestro Mini, Set Multiple Targets", maestro, 115_200, 10
     yield "Maestro Micro 6, Set Target each", board(maestro, model=0), 115_200, 10
+    yield "MrlComm on a Mega, 115200", load_profile("rhand-mrlcomm"), 115_200, 10
+    yield "our firmware (rig), 115200", at_baud(load_profile("rhand"), 115_200), 115_200, 10
     yield "PCA9685 at 100 kHz", pca, 100_000, 9
     yield "PCA9685 at 400 kHz", board(pca, bus=400_000), 400_000, 9
 
