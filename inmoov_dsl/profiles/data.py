@@ -41,7 +41,7 @@ class Board:
     baud: int
     servos: tuple[str, ...]
     pos: Pos | None = field(default=None, compare=False)  #: its ``id`` in the profile
-    kind: str = "rig"  #: what drives its servos: ``rig``, ``maestro``, ``pca9685``
+    kind: str = "rig"  #: what drives its servos: ``rig``, ``maestro``, ``pca9685``, ``mrlcomm``
     #: what its kind needs to know of it (a Maestro's model and device number, a
     #: PCA9685's address, oscillator and bus speed), as ``profiles.kinds`` reads them
     options: tuple[tuple[str, int], ...] = ()
