@@ -165,3 +165,24 @@ def test_ports_names_a_board_running_mrlcomm(capsys, monkeypatch):
     assert out.rstrip().endswith("answers: MyRobotLab's MrlComm, version 68: profile kind "
                                  "mrlcomm")
     protocol_sim.power_off()
+
+
+def test_a_port_where_nothing_answers_is_one_clear_error(capsys, monkeypatch):
+    from inmoov_dsl.cli import gestplay
+    from inmoov_dsl.wire import link
+
+    class Silent:
+        def write(self, data):
+            return len(data)
+
+        def read(self, size=1):
+            return b""
+
+        def close(self):
+            pass
+
+    monkeypatch.setattr(link, "open_port", lambda name, baud, timeout=0: Silent())
+    assert gestplay.main(["wave", "--profile", "rhand-mrlcomm", "--port", "COM4"]) == 1
+    err = capsys.readouterr().err
+    assert "error: no board answered on COM4 (board 181, mrlcomm at 115200 baud)" in err
+    assert "Traceback" not in err

@@ -88,6 +88,11 @@ def no_answer(link: Link, profile: Profile) -> Diagnostic:
             hint="give the Maestro's Command Port (the first of its two ports), set its "
             "serial mode to USB Dual Port in Maestro Control Center (docs/controllers.md), "
             "or list the ports: gestplay ports")
+    if board.kind != "rig":
+        return Diagnostic(
+            "error", f"no board answered on {link.name} (board {link.board}, {board.kind} "
+            f"at {board.baud} baud)", hint="try another port ('gestplay ports' asks each "
+            "one who it is), or --blind to play anyway on a link that cannot answer")
     sketch = next(n for n, i in sketch_names(profile).items() if i == board.id)
     return Diagnostic(
         "error", f"no board answered on {link.name} (board {link.board}, {board.baud} baud)",
