@@ -97,6 +97,10 @@ class Controller:
         (a PCA9685 asleep, before a connect sets it up)."""
         return self.core()
 
+    def hello(self) -> bytes:
+        """What the board sends as it starts (a rig's WAIT aside): MrlComm's banner."""
+        return b""
+
     def set_values(self, values: Mapping[int, int]) -> bytes:
         """Commands that leave servo ID -> value as given (a stop sends them again)."""
         raise NotImplementedError

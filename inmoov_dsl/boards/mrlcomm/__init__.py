@@ -96,6 +96,10 @@ class MrlCommController(Controller):
         """The virtual board as it starts: no devices, acks on."""
         return MrlCommCore(self.board.id, self.servos, self.widths, self.devices)
 
+    def hello(self) -> bytes:
+        """Its banner, then its begin message with its version."""
+        return m.BANNER + m.message(m.BEGIN, m.VERSION)
+
     def set_values(self, values: Mapping[int, int]) -> bytes:
         """Moves for the servos' values."""
         j = {s.id: k for k, s in enumerate(self.servos)}

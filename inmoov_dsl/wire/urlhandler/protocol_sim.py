@@ -105,29 +105,21 @@ def _board_from_url(url: str) -> tuple[VirtualBoard, Profile]:
     if board is None:
         raise SimError(url, f"profile '{profile.name}' has no board {board_id}",
                        f"its boards: {ids}")
-    core = controller(profile, board).twin()
+    kind = controller(profile, board)
+    core = kind.twin()
     stored = None if "fresh" in options else memory.recall(profile, core)
     if "flash" in options and board.kind != "rig":
         raise SimError(url, f"flash: board {board.id} is a {board.kind}, which stores no "
                        "gestures", "leave flash= out")
     flash = _flash(url, options["flash"][0], core) if "flash" in options else None
     return VirtualBoard(core, board.baud, stored=stored, flash=flash,
-                        chatty=board.kind == "rig", hello=hello(board.kind)), profile
+                        chatty=board.kind == "rig", hello=kind.hello()), profile
 
 
 def resets(board: VirtualBoard) -> bool:
     """Does ``board`` reset when DTR rises (an Arduino: a rig, an MrlComm board; not a
     Maestro, nor a PCA9685 behind its bus)?"""
     return board.chatty or bool(board.hello)
-
-
-def hello(kind: str) -> bytes:
-    """What a board of ``kind`` sends as it starts (MrlComm: its banner and begin)."""
-    if kind != "mrlcomm":
-        return b""
-    from ...boards.mrlcomm import messages
-
-    return messages.BANNER + messages.message(messages.BEGIN, messages.VERSION)
 
 
 def _flash(url: str, path: str, core: BoardCore) -> StoredSet:
