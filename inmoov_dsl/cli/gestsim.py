@@ -86,7 +86,7 @@ def _serve(args: argparse.Namespace, profile, board_cfg, glove, views: list, web
             busy = (f" (port {args.http_port} is busy)"
                     if args.http_port not in (0, web.port) else "")
             print(f"{PROG}: the hand in 3-D at {web.url}{busy}", file=sys.stderr, flush=True)
-        kind = controller(profile, board_cfg)
+        kind = None if glove else controller(profile, board_cfg)  # (a glove: no board)
         Pty(master, args.boot, glove and glove.stream, views, log,
              lambda ready_at: VirtualBoard(kind.twin(), board_cfg.baud, ready_at=ready_at,
                                            flash=flash, chatty=board_cfg.kind == "rig",
