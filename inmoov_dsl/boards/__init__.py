@@ -21,18 +21,12 @@ def _kinds() -> dict[str, type[Controller]]:
                                 MrlCommController)}
 
 
-__all__ = ["KINDS", "Controller", "by_id", "channels", "controller", "fault"]
+__all__ = ["KINDS", "Controller", "channels", "controller", "fault"]
 
 
 def controller(profile: Profile, board: Board) -> Controller:
     """``board`` of ``profile`` as its kind drives it."""
     return _kinds()[board.kind](profile, board)
-
-
-def by_id(profile: Profile) -> dict[int, Controller]:
-    """Each board of ``profile`` by its ID, as its kind drives it."""
-    return {b.id: controller(profile, b) for b in profile.boards}
-
 
 
 def fault(kind: str, data: bytes) -> str | None:

@@ -89,7 +89,7 @@ class Controller:
 
     def core(self) -> Any:
         """What the board holds after the bytes it reads (``feed``, ``values``,
-        ``restore``, ``dump``): a new one, at the servos' rests."""
+        ``restore``, ``command``): a new one, at the servos' rests."""
         raise NotImplementedError
 
     def twin(self) -> Any:

@@ -139,8 +139,3 @@ class MaestroCore:
         self.errors |= c.PROTOCOL_ERROR
         self._home()
         return None, b""
-
-    def dump(self) -> bytes:
-        """Each of its servos' position (Get Position's answer), in the board's order."""
-        return b"".join(bytes([q & 0xFF, q >> 8]) for q in
-                        (self.targets[s.pin] for s in self.servos))

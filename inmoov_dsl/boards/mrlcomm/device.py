@@ -155,8 +155,3 @@ class MrlCommCore:
             return Write(device, 0, servo.us)
         self.values[j] = self.widths[j].value(servo.us)
         return Write(self.servos[j].id, self.values[j], servo.us)
-
-    def dump(self) -> bytes:
-        """Each of its servos' stopped event (what ``servoStop`` answers), in order."""
-        return b"".join(m.message(m.SERVO_EVENT, d, m.STOPPED, s.us, s.us)
-                        for d, s in sorted(self.devices.items()))

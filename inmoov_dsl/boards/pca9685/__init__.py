@@ -91,10 +91,6 @@ class PcaCore:
                 writes.append(Write(s.id, self.values[j], round(us)))
         return tuple(writes)
 
-    def dump(self) -> bytes:
-        """Each servo's four LEDn registers."""
-        return b"".join(self.chip.read(regs.led(s.pin), 4) for s in self.servos)
-
 
 class _Leds:
     """The LEDn registers read back as a pose."""
