@@ -18,6 +18,7 @@ from typing import Any, ClassVar, Protocol
 import numpy as np
 
 from ..profiles.data import Board, Profile, Servo
+from ..protocol import byte_time
 from .pulses import Widths, widths
 
 
@@ -72,8 +73,9 @@ class Controller:
 
     @property
     def tau(self) -> float:
-        """Seconds one byte of its stream takes on the link."""
-        raise NotImplementedError
+        """Seconds one byte of its stream takes on the link: on a serial link, 8N1 at
+        the board's baud."""
+        return byte_time(self.board.baud)
 
     def commands(self, data: bytes) -> list[tuple[int, int]]:
         """(first, end) index of each command of ``data``: what goes whole."""

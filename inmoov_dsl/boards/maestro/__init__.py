@@ -8,7 +8,6 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from ... import protocol
 from ..base import Controller, PlanLike, PoseReader
 from ..frames import per_frame
 from . import commands as c
@@ -54,11 +53,6 @@ class MaestroController(Controller):
         """The device number of the Pololu protocol (None: the compact protocol)."""
         d = self.board.option("device", -1)
         return None if d < 0 else d
-
-    @property
-    def tau(self) -> float:
-        """One byte at the board's baud."""
-        return protocol.byte_time(self.board.baud)
 
     def commands(self, data: bytes) -> list[tuple[int, int]]:
         """Its commands, by Pololu's table."""

@@ -8,7 +8,6 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from ... import protocol
 from ..base import Controller, PlanLike, PoseReader
 from ..frames import per_frame
 from . import messages as m
@@ -53,11 +52,6 @@ class MrlCommController(Controller):
     def devices(self) -> list[int]:
         """The device number of each servo of the board (1, 2, ... in its order)."""
         return list(range(1, len(self.servos) + 1))
-
-    @property
-    def tau(self) -> float:
-        """One byte at the board's baud."""
-        return protocol.byte_time(self.board.baud)
 
     def commands(self, data: bytes) -> list[tuple[int, int]]:
         """Its messages."""

@@ -48,11 +48,6 @@ class RigController(Controller):
     kind = "rig"
     fill = protocol.Signal.CANCEL
 
-    @property
-    def tau(self) -> float:
-        """One byte at the board's baud (8N1)."""
-        return protocol.byte_time(self.board.baud)
-
     def commands(self, data: bytes) -> list[tuple[int, int]]:
         """The rig's commands (``commands``)."""
         return commands(data)
