@@ -375,8 +375,8 @@ def test_the_drive_loop_says_the_pose_a_maestro_or_a_pca9685_holds(profile, stop
 def test_an_i2c_bus_that_fails_mid_gesture_is_one_clear_line(capsys, monkeypatch):
     """A PCA9685 that stops answering (a loose wire): one error naming the bus, the
     address and the cause; no traceback."""
+    from inmoov_dsl.boards.pca9685 import bus
     from inmoov_dsl.cli import gestplay
-    from inmoov_dsl.wire import link
 
     class Loose(ChipBus):
         writes = 0
@@ -387,8 +387,8 @@ def test_an_i2c_bus_that_fails_mid_gesture_is_one_clear_line(capsys, monkeypatch
                 raise OSError(121, "Remote I/O error")
             super().write_i2c_block_data(address, register, data)
 
-    monkeypatch.setattr(link, "open_bus", lambda spec: I2CPort(Loose(regs.Chip()), 0x40,
-                                                               spec))
+    monkeypatch.setattr(bus, "open_bus", lambda spec: I2CPort(Loose(regs.Chip()), 0x40,
+                                                              spec))
     assert gestplay.main(["wave", "--profile", "rhand-pca9685", "--port", "i2c:1"]) == 1
     err = capsys.readouterr().err
     assert "error: lost the link (board 181 on i2c:1): i2c:1: the PCA9685 at 0x40 did " \

@@ -21,7 +21,7 @@ def _kinds() -> dict[str, type[Controller]]:
                                 MrlCommController)}
 
 
-__all__ = ["KINDS", "Controller", "channels", "controller", "fault"]
+__all__ = ["KINDS", "Controller", "controller", "fault"]
 
 
 def controller(profile: Profile, board: Board) -> Controller:
@@ -38,16 +38,3 @@ def fault(kind: str, data: bytes) -> str | None:
 
     return {"maestro": commands.fault, "pca9685": transactions.fault,
             "mrlcomm": messages.fault}[kind](data)
-
-
-def channels(kind: str, data: bytes) -> set[int]:
-    """What a Maestro's or a PCA9685's ``data`` sets (channels), or an MrlComm board's
-    (device numbers)."""
-    from .maestro import commands
-    from .mrlcomm import messages
-    from .pca9685 import transactions
-
-    if kind == "mrlcomm":
-        return {args[0] for method, args in messages.Reader().feed(data)
-                if method == messages.SERVO_MOVE_TO_MICROSECONDS and args}
-    return (commands.channels if kind == "maestro" else transactions.channels)(data)

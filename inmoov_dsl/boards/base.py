@@ -64,6 +64,13 @@ class Controller:
     #: the byte that fills the gaps of a continuous run (None: the link is idle between
     #: commands, and each command is written when it is due)
     fill: ClassVar[int | None] = None
+    #: it runs our firmware (or the original): it sends WAIT when booted and idle, maps
+    #: values to angles itself, has a sketch and may store gestures
+    ours: ClassVar[bool] = False
+    #: it is on a serial port (a PCA9685 is on an I2C bus: ``open``)
+    serial: ClassVar[bool] = True
+    #: what one place of ``addressed`` is called in messages ("channel")
+    address: ClassVar[str] = "channel"
 
     def __init__(self, profile: Profile, board: Board):
         self.profile, self.board = profile, board
@@ -80,6 +87,24 @@ class Controller:
     def commands(self, data: bytes) -> list[tuple[int, int]]:
         """(first, end) index of each command of ``data``: what goes whole."""
         raise NotImplementedError
+
+    def addresses(self) -> set[int]:
+        """What its commands address its servos by: their channels (a pin each)."""
+        return {s.pin for s in self.servos}
+
+    def addressed(self, data: bytes) -> set[int]:
+        """What the commands of ``data`` address (``addresses``' kind of number)."""
+        raise NotImplementedError
+
+    def open(self, spec: str):
+        """The board's port ``spec`` opened by the kind itself, or None: a serial port,
+        which the link edge opens."""
+        return None
+
+    def unanswered(self) -> str:
+        """What to try when nothing answers on its port."""
+        return "try another port ('gestplay ports' asks each one who it is), or --blind " \
+               "to play anyway on a link that cannot answer"
 
     def moves(self, data: bytes) -> list[tuple[int, int]]:
         """(servo ID, its value in the board's unit) of each servo command of ``data``."""

@@ -89,7 +89,7 @@ def _serve(args: argparse.Namespace, profile, board_cfg, glove, views: list, web
         kind = None if glove else controller(profile, board_cfg)  # (a glove: no board)
         Pty(master, args.boot, glove and glove.stream, views, log,
              lambda ready_at: VirtualBoard(kind.twin(), board_cfg.baud, ready_at=ready_at,
-                                           flash=flash, chatty=board_cfg.kind == "rig",
+                                           flash=flash, chatty=kind.ours,
                                            hello=kind.hello())).serve()
     except KeyboardInterrupt:
         return EXIT_OK
@@ -118,10 +118,10 @@ def _board(profile, board_id: int | None):
     if board_cfg is None:
         raise GestError(Diagnostic("error", f"profile '{profile.name}' has no board "
                                    f"{board_id}"))
-    if board_cfg.kind == "pca9685":
+    if not controller(profile, board_cfg).serial:
         raise GestError(Diagnostic("error", f"board {board_cfg.id} of profile "
-                                   f"'{profile.name}' is a PCA9685, on an I2C bus, not a "
-                                   "serial port", hint=f"play on its virtual chip: gestplay "
+                                   f"'{profile.name}' is a {board_cfg.kind}, on a bus, not a "
+                                   "serial port", hint=f"play on its virtual twin: gestplay "
                                    f"GESTURE --profile {profile.name} --port sim://"))
     return board_cfg
 

@@ -16,6 +16,7 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 
 from .. import clock
+from ..boards import controller
 from ..errors import Diagnostic, GestError
 from ..profiles.data import Profile
 from ..wire.link import close, connect, parse_ports
@@ -82,17 +83,11 @@ def no_answer(link: Link, profile: Profile) -> Diagnostic:
     from ..firmware.sketches import sketch_names
 
     board = next(b for b in profile.boards if b.id == link.board)
-    if board.kind == "maestro":
-        return Diagnostic(
-            "error", f"no Maestro answered on {link.name} (board {link.board})",
-            hint="give the Maestro's Command Port (the first of its two ports), set its "
-            "serial mode to USB Dual Port in Maestro Control Center (docs/controllers.md), "
-            "or list the ports: gestplay ports")
-    if board.kind != "rig":
+    kind = link.controller or controller(profile, board)
+    if not kind.ours:
         return Diagnostic(
             "error", f"no board answered on {link.name} (board {link.board}, {board.kind} "
-            f"at {board.baud} baud)", hint="try another port ('gestplay ports' asks each "
-            "one who it is), or --blind to play anyway on a link that cannot answer")
+            f"at {board.baud} baud)", hint=kind.unanswered())
     sketch = next(n for n, i in sketch_names(profile).items() if i == board.id)
     return Diagnostic(
         "error", f"no board answered on {link.name} (board {link.board}, {board.baud} baud)",

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from .. import protocol
-from ..boards import channels
+from ..boards import controller
 from ..errors import Diagnostic, GestError, Pos
 from ..profiles.data import Board, Profile
 
@@ -173,14 +173,12 @@ def check_profile(c: Compiled, profile: Profile) -> None:
                 f"'{profile.name}' has a {board.kind} there", _board_pos(profile, board),
                 hint))
             continue
-        if s.kind != "rig":
-            mine = {profile.servos[profile.index(n)].pin for n in board.servos} \
-                if s.kind != "mrlcomm" else set(range(1, len(board.servos) + 1))
-            if stray := sorted(channels(s.kind, s.data) - mine):
-                what = "device" if s.kind == "mrlcomm" else "channel"
+        kind = controller(profile, board)
+        if not kind.ours:
+            if stray := sorted(kind.addressed(s.data) - kind.addresses()):
                 errors.append(Diagnostic(
-                    "error", f"'{c.gesture}' sets {what} {stray[0]} of board {s.board}, "
-                    f"which profile '{profile.name}' gives no servo",
+                    "error", f"'{c.gesture}' sets {kind.address} {stray[0]} of board "
+                    f"{s.board}, which profile '{profile.name}' gives no servo",
                     _board_pos(profile, board), hint))
             continue
         ids = {profile.servos[profile.index(n)].id for n in board.servos}

@@ -13,6 +13,7 @@ from __future__ import annotations
 import re
 from collections.abc import Mapping
 
+from ..boards import controller
 from ..errors import Diagnostic, GestError
 from ..profiles.data import Board, Glove, Profile
 from ..wire.stored import StoredSet
@@ -100,7 +101,7 @@ def sketch_names(profile: Profile) -> dict[str, int]:
     board of kind ``rig`` (a Maestro or a PCA9685 runs no sketch of ours), each glove."""
     several = len(profile.boards) > 1
     names = {sketch_name(profile, "servo", b.name, several): b.id for b in profile.boards
-             if b.kind == "rig"}
+             if controller(profile, b).ours}
     gloves = len(profile.gloves) > 1
     names.update({sketch_name(profile, "glove", g.name, gloves): g.id for g in profile.gloves})
     return names

@@ -100,7 +100,7 @@ class Outbox:
         events = []
         for stream in streams:
             k, times, data = by_board[stream.board], stream.times.tolist(), stream.data
-            rig = self.kinds[k].kind == "rig"
+            rig = self.kinds[k].ours  # its pairs are read ahead (``held``)
             for first, stop in self.kinds[k].commands(data):
                 self.pacers[k].add(origin + times[first], data[first:stop])
                 for i in range(first, stop):

@@ -18,7 +18,6 @@ from dataclasses import dataclass
 import serial
 
 from ..boards import controller
-from ..boards.pca9685.bus import open_bus
 from ..errors import Diagnostic, GestError
 from ..profiles.data import Board, Glove, Profile
 from .player import Link
@@ -91,9 +90,8 @@ def open_board(spec: str, profile: Profile, board: Board | None = None,
     ``timeout``: as ``ports.open_port``."""
     board = board or profile.boards[0]
     spec = protocol_sim.complete(spec, profile, board.id)
-    if board.kind == "pca9685" and not spec.startswith("sim://"):  # on an I2C bus
-        return open_bus(spec)
-    return open_port(spec, board.baud, timeout)
+    port = controller(profile, board).open(spec)  # a bus, which its kind opens
+    return port if port is not None else open_port(spec, board.baud, timeout)
 
 
 def connect(ports: Mapping[int, str], profile: Profile) -> list[Link]:

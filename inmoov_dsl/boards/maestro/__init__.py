@@ -58,6 +58,16 @@ class MaestroController(Controller):
         """Its commands, by Pololu's table."""
         return c.commands(data)
 
+    def addressed(self, data: bytes) -> set[int]:
+        """The channels its targets set."""
+        return c.channels(data)
+
+    def unanswered(self) -> str:
+        """The Command Port, and the serial mode that lets it answer."""
+        return "give the Maestro's Command Port (the first of its two ports), set its " \
+               "serial mode to USB Dual Port in Maestro Control Center " \
+               "(docs/controllers.md), or list the ports: gestplay ports"
+
     def moves(self, data: bytes) -> list[tuple[int, int]]:
         """(servo ID, quarter-us) of each target set for a servo of the board."""
         ids = {s.pin: s.id for s in self.servos}

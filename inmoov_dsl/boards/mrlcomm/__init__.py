@@ -47,6 +47,7 @@ class MrlCommController(Controller):
 
     kind = "mrlcomm"
     unit_us = 1.0
+    address = "device"
 
     @property
     def devices(self) -> list[int]:
@@ -56,6 +57,15 @@ class MrlCommController(Controller):
     def commands(self, data: bytes) -> list[tuple[int, int]]:
         """Its messages."""
         return m.commands(data)
+
+    def addresses(self) -> set[int]:
+        """Its servos' device numbers."""
+        return set(self.devices)
+
+    def addressed(self, data: bytes) -> set[int]:
+        """The device numbers its moves address."""
+        return {args[0] for method, args in m.Reader().feed(data)
+                if method == m.SERVO_MOVE_TO_MICROSECONDS and args}
 
     def moves(self, data: bytes) -> list[tuple[int, int]]:
         """(servo ID, us) of each move of ``data`` to a servo of the board."""

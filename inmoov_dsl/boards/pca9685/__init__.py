@@ -120,6 +120,7 @@ class PcaController(Controller):
     other in one block write."""
 
     kind = "pca9685"
+    serial = False
 
     @property
     def oscillator(self) -> int:
@@ -144,6 +145,17 @@ class PcaController(Controller):
     def commands(self, data: bytes) -> list[tuple[int, int]]:
         """Its transactions."""
         return tx.commands(data)
+
+    def addressed(self, data: bytes) -> set[int]:
+        """The channels whose registers its writes set."""
+        return tx.channels(data)
+
+    def open(self, spec: str):
+        """Its I2C bus (``bus.open_bus``); a ``sim://`` port is its virtual chip on a
+        virtual link, as every kind's twin is (None: the link edge opens it)."""
+        from .bus import open_bus
+
+        return None if spec.startswith("sim://") else open_bus(spec)
 
     def moves(self, data: bytes) -> list[tuple[int, int]]:
         """(servo ID, OFF count) of each servo whose registers a write sets."""

@@ -47,10 +47,20 @@ class RigController(Controller):
 
     kind = "rig"
     fill = protocol.Signal.CANCEL
+    ours = True
+    address = "servo ID"
 
     def commands(self, data: bytes) -> list[tuple[int, int]]:
         """The rig's commands (``commands``)."""
         return commands(data)
+
+    def addresses(self) -> set[int]:
+        """Its servos' IDs."""
+        return {s.id for s in self.servos}
+
+    def addressed(self, data: bytes) -> set[int]:
+        """The servo IDs the pairs of ``data`` command."""
+        return {sid for sid, _ in protocol.pairs(data)}
 
     def moves(self, data: bytes) -> list[tuple[int, int]]:
         """The stream's (servo ID, value) pairs."""

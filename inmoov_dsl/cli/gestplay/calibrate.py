@@ -29,7 +29,7 @@ def _kind(profile: Profile, servo: Servo, board: Board, full_range: bool
     """The board as its kind drives it (None: a rig, whose firmware maps the values); a
     Maestro's or a PCA9685's servo with ``full_range`` is driven as if its calibration
     were 0..180, so that a value is the servo's angle."""
-    if board.kind == "rig":
+    if controller(profile, board).ours:
         return None
     if full_range:
         plain = replace(servo, calibration=(0, MAX_VALUE), reversed=False, pulse=None)

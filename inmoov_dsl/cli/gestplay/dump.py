@@ -31,7 +31,7 @@ def _dump(name: str, port, profile: Profile, boards: tuple[Board, ...]) -> None:
     """Print the first of ``boards`` that answers DUMP on ``port``, and close it."""
     try:
         kinds = {b.id: controller(profile, b) for b in boards}
-        wait_ready(port, controller=kinds[boards[0].id] if boards[0].kind != "rig" else None)
+        wait_ready(port, controller=kinds[boards[0].id])
         found = ((b, ask_dump(port, b.id, controller=kinds[b.id])) for b in boards)
         b, values = next(((b, v) for b, v in found if v is not None), (None, None))
         if values is None:

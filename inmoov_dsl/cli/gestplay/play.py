@@ -9,6 +9,7 @@ import shlex
 import sys
 from collections.abc import Callable
 
+from ...boards import controller
 from ...compiling.actions import Action
 from ...compiling.compiled import Compiled, to_timed
 from ...compiling.compiler import compile_program
@@ -109,7 +110,7 @@ def watch(args: argparse.Namespace, profile: Profile, boards: set[int],
     a pseudo-terminal), or elsewhere the one that draws it."""
     name = args.target
     again = ["--profile", args.profile] if args.profile else []  # else the file's robot
-    if not posix or any(b.kind == "pca9685" for b in profile.boards):
+    if not posix or not all(controller(profile, b).serial for b in profile.boards):
         # gestc preview draws a gesture as written: on its own side (a PCA9685 is on a
         # bus, which gestsim cannot serve)
         return f"'{shlex.join(['gestc', 'preview', name, *again, '-o', f'{name}.gif'])}' " \

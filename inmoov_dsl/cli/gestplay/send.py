@@ -43,8 +43,7 @@ def run(args: argparse.Namespace) -> int:
     port = open_board(args.port, profile)
     board = profile.boards[0]
     try:  # an Uno or Nano resets when its port opens; another kind answers its probe
-        wait_ready(port, controller=controller(profile, board) if board.kind != "rig"
-                   else None)
+        wait_ready(port, controller=controller(profile, board))
         port.write(data)
         clock.sleep(args.listen)
         reply = drain(port)

@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 from ... import clock
+from ...boards import controller
 from ...errors import Diagnostic, GestError, did_you_mean
 from ...profiles.profile import load_profile
 from ...protocol import CANCEL_PENDING, CATALOG, PLAY, Signal, byte_time
@@ -43,7 +44,7 @@ def ask_catalog(link: Link, baud: int) -> Catalog | None:
 
 def _rig_only(profile) -> None:
     """Only our firmware stores gestures: another kind of board is an error."""
-    other = next((b for b in profile.boards if b.kind != "rig"), None)
+    other = next((b for b in profile.boards if not controller(profile, b).ours), None)
     if other is not None:
         raise GestError(Diagnostic(
             "error", f"board {other.id} of profile '{profile.name}' is a {other.kind}: it "

@@ -108,12 +108,12 @@ def _board_from_url(url: str) -> tuple[VirtualBoard, Profile]:
     kind = controller(profile, board)
     core = kind.twin()
     stored = None if "fresh" in options else memory.recall(profile, core)
-    if "flash" in options and board.kind != "rig":
+    if "flash" in options and not kind.ours:
         raise SimError(url, f"flash: board {board.id} is a {board.kind}, which stores no "
                        "gestures", "leave flash= out")
     flash = _flash(url, options["flash"][0], core) if "flash" in options else None
     return VirtualBoard(core, board.baud, stored=stored, flash=flash,
-                        chatty=board.kind == "rig", hello=kind.hello()), profile
+                        chatty=kind.ours, hello=kind.hello()), profile
 
 
 def resets(board: VirtualBoard) -> bool:
