@@ -150,10 +150,16 @@ def test_a_body_gesture_on_a_hand_names_the_robot_it_is_for():
 
 def test_hand_gestures_play_on_the_robots_right_hand():
     rhand, _ = compiled_for("peace", "rhand")
-    robot, _ = compiled_for("peace", "inmoov")
-    assert robot.streams[0].board == 181
-    assert robot.streams[0].data == rhand.streams[0].data
-    assert all(len(s.data) == 1 for s in robot.streams[1:])  # CANCEL only
+    six, _ = compiled_for("peace", "inmoov-six")  # the right hand's own board, at 9600
+    assert six.streams[0].board == 181
+    assert six.streams[0].data == rhand.streams[0].data
+    assert all(len(s.data) == 1 for s in six.streams[1:])  # CANCEL only
+    inmoov = load_profile("inmoov")  # the right Mega: the hand among the arm's servos
+    robot, _ = compiled_for("peace", inmoov)
+    final = decoded_final(inmoov, robot)
+    assert [final[f"r_{n}"] for n in load_profile("rhand").names] == \
+        list(decoded_final(load_profile("rhand"), rhand).values())
+    assert len(robot.streams[1].data) == 1  # the left Mega: CANCEL only
 
 
 def test_left_hand_is_its_own_board_and_ids():
@@ -168,10 +174,13 @@ def test_left_hand_is_its_own_board_and_ids():
             (servo.id, servo.board, servo.calibration, servo.max_velocity)
 
 
-def test_the_whole_robot_plays_in_lockstep_on_virtual_boards(virtual_clock):
-    inmoov = load_profile("inmoov")
+@pytest.mark.parametrize(("name", "on"), [("inmoov", dict(r=181, head=183, l=183, arm=181)),
+                                          ("inmoov-six", dict(r=181, head=184, l=183,
+                                                              arm=186))])
+def test_the_whole_robot_plays_in_lockstep_on_virtual_boards(virtual_clock, name, on):
+    inmoov = load_profile(name)
     ports = hand.parse_ports(["sim://?boot=0"], inmoov)
-    assert ports[184] == "sim://inmoov?boot=0&board=184"
+    assert ports[on["head"]] == f"sim://{name}?boot=0&board={on['head']}"
     links = hand.connect(ports, inmoov)
     try:
         program = load("t.gest", "g: r_index 90, neck 110, l_thumb 45, r_shoulder 40 "
@@ -181,10 +190,10 @@ def test_the_whole_robot_plays_in_lockstep_on_virtual_boards(virtual_clock):
         boards = {link.board: link.port.board for link in links}
         for board in boards.values():
             board.advance(clock.now())
-        assert boards[181].positions()[2] == 90
-        assert boards[184].positions()[12] == 110
-        assert boards[183].positions()[7] == 45
-        assert boards[186].positions()[22] == 40
+        assert boards[on["r"]].positions()[2] == 90
+        assert boards[on["head"]].positions()[12] == 110
+        assert boards[on["l"]].positions()[7] == 45
+        assert boards[on["arm"]].positions()[22] == 40
         # one clock: every pair reached its board at its planned time plus one offset
         offsets = []
         for stream in compiled.streams:

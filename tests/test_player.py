@@ -375,10 +375,12 @@ def test_blind_plays_on_a_link_that_cannot_answer(capsys, monkeypatch, virtual_c
      "gestplay: error: profile 'two' has 2 boards: give a port for each"),
     (["both.gest", "--profile", str(TWO), "--port", "181=sim://"],
      "gestplay: error: no port for board 183"),
-    (["both.gest", "--profile", "inmoov", "--port", "loop://"],
+    (["both.gest", "--profile", "inmoov", "--port", "right=loop://"],  # a board's name
+     "gestplay: error: no port for board 183"),
+    (["both.gest", "--profile", "inmoov-six", "--port", "loop://"],
      "gestplay: error: this needs 2 boards: give a port for each\n"
      "  hint: --port 181=PORT --port 183=PORT"),
-    (["once.gest", "--profile", "inmoov", "--port", "loop://"],  # the boards of 'a & b'
+    (["once.gest", "--profile", "inmoov-six", "--port", "loop://"],  # the boards of 'a & b'
      "gestplay: error: this needs 3 boards: give a port for each\n"
      "  hint: --port 181=PORT --port 183=PORT --port 184=PORT"),
     (["peace", "--port", "sim://nosuchprofile"],
@@ -560,3 +562,13 @@ def test_gestsim_shows_the_servos_live_on_a_terminal():
     assert [r[:2] for r in rows] == [["wrist", "0"], ["thumb", "180"], ["index", "0"],
                                      ["middle", "0"], ["ring", "180"], ["pinky", "180"]]
     assert rows[1][2] == "#" * 30  # a bar as long as the value
+
+
+def test_a_board_s_port_is_given_by_its_id_or_its_name_one_option_or_several():
+    from inmoov_dsl.wire.link import board_ports
+
+    inmoov = load_profile("inmoov")
+    for specs in (["left=COM3,right=COM4"], ["right=COM4", "left=COM3"],
+                  ["181=COM4", "left=COM3"]):
+        assert board_ports(specs, inmoov) == {181: "COM4", 183: "COM3"}
+    assert board_ports(["sim://a,b"], load_profile("rhand")) == {181: "sim://a,b"}

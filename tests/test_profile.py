@@ -607,3 +607,46 @@ def test_every_key_and_item_of_the_built_in_profiles_is_found_where_it_is():
             else:
                 assert there.startswith(str(value) if isinstance(value, int)
                                         else f'"{value}"'), path
+
+
+def test_the_inmoov_is_two_megas_on_the_pins_myrobotlab_gives_it():
+    inmoov = load_profile("inmoov")
+    assert [(b.name, b.baud, b.kind, len(b.servos)) for b in inmoov.boards] == \
+        [("right", 115200, "rig", 10), ("left", 115200, "rig", 18)]
+    pin = {s.name: s.pin for s in inmoov.servos}
+    assert [pin[n] for n in ("r_thumb", "r_index", "r_middle", "r_ring", "r_pinky",
+                             "r_wrist", "r_bicep", "r_rotate", "r_shoulder",
+                             "r_omoplate")] == list(range(2, 12))
+    assert [pin[n] for n in ("neck", "rothead", "eye_x", "eye_y", "jaw", "top_stom",
+                             "mid_stom", "low_stom")] == [12, 13, 22, 24, 26, 27, 28, 29]
+    # the same robot, whatever carries it: every servo as in the six-board layout but
+    # its pin, and the same on MrlComm
+    for other in ("inmoov-six", "inmoov-mrlcomm"):
+        them = load_profile(other)
+        assert sorted(s.name for s in them.servos) == sorted(s.name for s in inmoov.servos)
+        for mine in inmoov.servos:
+            theirs = them.servos[them.index(mine.name)]
+            assert mine == theirs.__class__(**{**theirs.__dict__, "pin": mine.pin,
+                                               "board": mine.board})
+    assert {b.kind for b in load_profile("inmoov-mrlcomm").boards} == {"mrlcomm"}
+
+
+@pytest.mark.parametrize(("board", "pin", "message"), [
+    ("", 26, "servo 'index' of board 181: pin 26 cannot drive a servo: an Arduino Uno has "
+             "pins 2..19"),
+    ('arduino = "mega"\n', 1, "servo 'index' of board 181: pin 1 cannot drive a servo: "
+                              "pins 0 and 1 are the board's serial port"),
+    ('arduino = "mega"\n', 70, "an Arduino Mega has pins 2..69"),
+    ('arduino = "mgea"\n', 4, "'arduino' must be one of uno, nano, mega, got 'mgea'"),
+])
+def test_a_servo_is_on_a_pin_its_arduino_has(board, pin, message):
+    text = (f'[[board]]\nid = 181\n{board}servos = ["index"]\n'
+            f"[servo.index]\nid = 2\npin = {pin}\nmax_velocity = 400\n"
+            "max_acceleration = 8000\nmax_jerk = 160000\n")
+    with pytest.raises(GestError) as info:
+        parse_profile(text, "p.toml")
+    assert message in info.value.first.message
+    if pin == 26:
+        assert info.value.first.hint == 'on a Mega? say arduino = "mega" in its [[board]]'
+    assert parse_profile(text.replace(f"pin = {pin}", "pin = 9"), "p.toml") \
+        if "mgea" not in board else True

@@ -30,7 +30,7 @@ def board_blocks(out):
 
 # -- idle boards ---------------------------------------------------------------------------
 def test_show_says_a_board_the_gesture_does_not_move_is_idle(capsys):
-    code, out, _ = run(capsys, "show", "hello", "--profile", "inmoov")
+    code, out, _ = run(capsys, "show", "hello", "--profile", "inmoov-six")
     assert code == 0
     blocks = board_blocks(out)
     assert sorted(blocks) == [181, 183, 184, 185, 186, 187]
@@ -49,7 +49,7 @@ def test_show_of_a_gesture_that_moves_nothing_from_rest(capsys):
 
 def test_compile_summary_lists_idle_boards_apart(capsys, tmp_path):
     out = tmp_path / "hello.gestc"
-    code, _, err = run(capsys, "compile", "hello", "--profile", "inmoov", "-o", str(out))
+    code, _, err = run(capsys, "compile", "hello", "--profile", "inmoov-six", "-o", str(out))
     assert code == 0
     assert err == (f"wrote {out}: hello, 11.80 s, board 181: 1,029 bytes, board 184: "
                    f"117 bytes, board 186: 1,323 bytes; boards 183, 185, 187 idle\n")
@@ -59,7 +59,7 @@ def test_compile_summary_lists_idle_boards_apart(capsys, tmp_path):
 
 def test_link_use_is_over_the_whole_gesture():
     program = load(str(ROOT / "gestures" / "body.gest"))
-    compiled, plan = compile_program(program, "hello", "inmoov")
+    compiled, plan = compile_program(program, "hello", "inmoov-six")
     reports = {r.board: r for r in measure(plan, compiled.streams)}
     assert [b for b, r in reports.items() if r.idle] == [183, 185, 187]
     for r in reports.values():

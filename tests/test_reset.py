@@ -110,8 +110,8 @@ def test_sim_remembers_its_pose_from_one_program_to_the_next():
 
 
 def test_each_board_of_a_profile_remembers_its_own_pose():
-    assert gestplay_cmd("hello", "--profile", "inmoov", "--port", "sim://").returncode == 0
-    head = dumped(gestplay_cmd("dump", "--profile", "inmoov", "--port", "184=sim://"))
+    assert gestplay_cmd("hello", "--profile", "inmoov-six", "--port", "sim://").returncode == 0
+    head = dumped(gestplay_cmd("dump", "--profile", "inmoov-six", "--port", "184=sim://"))
     assert head["neck"] == 90 and set(head) == {"neck", "rothead", "jaw", "eye_x", "eye_y"}
     assert dumped(gestplay_cmd("dump", "--port", "sim://")) == dict.fromkeys(PEACE, 0)
 

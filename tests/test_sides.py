@@ -73,7 +73,7 @@ def test_right_brings_a_left_hand_gesture_to_the_right():
 
 def test_a_side_moves_arms_too_and_leaves_the_head_alone():
     source = "g: r_bicep 90, neck 120\n"
-    assert moves(source, side="left") == {187: {24: 90}, 184: {12: 120}}
+    assert moves(source, side="left") == {183: {24: 90, 12: 120}}  # the left Mega
 
 
 @pytest.mark.parametrize(("source", "profile", "side", "message"), [
@@ -119,7 +119,8 @@ def test_fmt_keeps_the_side():
 
 def test_a_side_moves_each_part_of_a_step_at_once():
     source = PEACE + "nod: neck 120 over 0.5s\nboth: peace & nod\ng: left both\n"
-    assert set(moves(source)) == {183, 184}  # the left hand and the head, not the right
+    assert set(moves(source)) == {183}  # the left Mega (hand and head), not the right
+    assert set(moves(source, profile="inmoov-six")) == {183, 184}
 
 
 def test_a_compiled_file_stays_on_its_side(tmp_path, capsys):

@@ -42,14 +42,18 @@ def named_boards(specs: Sequence[str]) -> set[int]:
 def board_ports(specs: Sequence[str], profile: Profile, needed: Collection[int] | None = None,
                 names: Mapping[int, str] | None = None) -> dict[int, str]:
     """Board ID -> its port, as ``--port`` says: ``--port COM3`` when one board is
-    needed, ``--port BOARD=PORT`` for each of several (BOARD: its ID, or its name in
-    ``names``); a bare ``sim://`` alone is the virtual board of every needed board.
+    needed, ``--port BOARD=PORT`` for each of several (BOARD: its ID or its name, or its
+    name in ``names``), or several in one: ``left=COM3,right=COM4``; a bare ``sim://``
+    alone is the virtual board of every needed board.
     ``names``: what may take a port, by ID (default: the profile's boards, named by
     their IDs); ``needed``: those that must have one (default all); one given a port
     without being needed has it too. The ports as given (``parse_ports`` completes
     ``sim://``)."""
     label = dict(names) if names else {b.id: str(b.id) for b in profile.boards}
     keys = {**{str(i): i for i in label}, **{n: i for i, n in label.items()}}
+    if not names:
+        keys.update({b.name: b.id for b in profile.boards if b.name not in keys})
+    specs = [part for spec in specs for part in _split(spec, keys)]
     needed = [i for i in label if needed is None or i in needed] or list(label)
     ports: dict[int, str] = {}
     for spec in specs:
@@ -74,6 +78,13 @@ def board_ports(specs: Sequence[str], profile: Profile, needed: Collection[int] 
         raise GestError(Diagnostic("error", f"no port for {what}{', '.join(missing)}",
                                    hint=f"add --port {missing[0]}=PORT"))
     return ports
+
+
+def _split(spec: str, keys: Collection[str]) -> list[str]:
+    """``left=COM3,right=COM4`` as two ports, when each part names a board."""
+    parts = spec.split(",")
+    named = len(parts) > 1 and all(p.partition("=")[0] in keys for p in parts)
+    return parts if named else [spec]
 
 
 def parse_ports(specs: Sequence[str], profile: Profile,
