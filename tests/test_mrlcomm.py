@@ -145,7 +145,8 @@ def test_a_profile_s_mrlcomm_servo_needs_a_pin_of_the_mega():
     from inmoov_dsl.profiles.profile import parse_profile
 
     text = (ROOT / "gestures/profiles/rhand-mrlcomm.toml").read_text()
-    with pytest.raises(GestError, match=r"pin 70 cannot drive a servo: an Arduino Mega has pins 2\.\.69"):
+    with pytest.raises(GestError, match=r"pin 70 cannot drive a servo: an Arduino Mega "
+                       r"has pins 2\.\.69"):
         parse_profile(text.replace("pin = 7", "pin = 70"), "p.toml")
     assert np.isfinite(KIND.tau)
 
