@@ -7,6 +7,7 @@ Tests that need a toolchain skip without it, except under CI=true, where a missi
 toolchain is a failure.
 """
 
+import itertools
 import json
 import re
 import subprocess
@@ -131,9 +132,20 @@ def test_settings_say_what_the_board_needs():
     glove = files["glove_rhand"]["settings.h"]
     assert "{1, 14, 579, 713, 0},  // thumb" in glove
     assert "const long BOARD_BAUD = 115200;" in glove
-    assert set(sketches(load_profile("inmoov"))) == {
-        "servo_inmoov_right_hand", "servo_inmoov_left_hand", "servo_inmoov_head",
-        "servo_inmoov_torso", "servo_inmoov_right_arm", "servo_inmoov_left_arm"}
+    assert set(sketches(load_profile("inmoov-six"))) == {
+        "servo_inmoov_six_right_hand", "servo_inmoov_six_left_hand", "servo_inmoov_six_head",
+        "servo_inmoov_six_torso", "servo_inmoov_six_right_arm", "servo_inmoov_six_left_arm"}
+    megas = sketches(load_profile("inmoov"))
+    assert set(megas) == {"servo_inmoov_right", "servo_inmoov_left"}
+    left = megas["servo_inmoov_left"]
+    assert left["board.mk"].endswith("\nMCU = atmega2560\n")  # make builds it for a Mega
+    assert "const uint8_t SERVO_COUNT = 18;" in left["settings.h"]
+    assert "{14, 26, 10, 25, 0, 0},  // jaw" in left["settings.h"]
+    # the Arduino IDE refuses it for any other board, and says which to choose
+    assert ('#if defined(__AVR__) && !defined(__AVR_ATmega2560__)\n#error "board 183 (left) '
+            'is an Arduino Mega 2560: choose Tools > Board > Arduino Mega or Mega 2560"') in \
+        left["settings.h"]
+    assert "board.mk" not in files["servo_rhand"] and "#error" not in servo
 
 
 # -- the core on this computer --------------------------------------------------------
@@ -335,8 +347,12 @@ def test_every_board_builds_and_says_what_it_uses(build, boards):
     names = sorted(folder for name in SHIPPED for folder in sketches(load_profile(name)))
     for name in names:
         assert (build / f"{name}.elf").is_file() and (build / f"{name}.hex").is_file()
-        assert re.search(rf"^{name}: flash \d+ of 30720 bytes \(\d+%\), RAM \d+ of 2048 "
+        flash, ram = (253952, 8192) if "inmoov" in name else (30720, 2048)  # Megas, Unos
+        assert re.search(rf"^{name}: flash \d+ of {flash} bytes \(\d+%\), RAM \d+ of {ram} "
                          rf"bytes \(\d+%\)$", boards, re.M), (name, boards)
+    # built for the microcontroller of its board: the ELF header's machine flags
+    for name, mach in (("servo_rhand", 5), ("servo_inmoov_left", 6)):  # avr5, avr6
+        assert (build / f"{name}.elf").read_bytes()[36] & 0x7F == mach
     # the right hand's board, servo driver and stored pose included, is smaller than the
     # original firmware was with the Arduino Servo library, and leaves RAM to spare
     flash, ram = map(int, re.search(r"^servo_rhand: flash (\d+) of \d+ bytes \(\d+%\), "
@@ -443,11 +459,85 @@ def test_a_burst_at_wire_speed_loses_no_byte(simboard, build):
 def test_the_head_of_the_whole_robot_nods(simboard, build):
     inmoov = load_profile("inmoov")
     compiled, _ = compile_program(load(str(LIBRARY["nod"].path)), "nod", inmoov)
-    result = simulate(simboard, build / "servo_inmoov_head.elf",
-                      to_timed(compiled.stream(184)))
-    head = [s for s in inmoov.servos if s.board == 184]
-    assert result["dump"] == (184, {s.id: compiled.final[inmoov.index(s.name)] for s in head})
+    result = simulate(simboard, build / "servo_inmoov_left.elf",
+                      to_timed(compiled.stream(183)), baud=115200)
+    left = [s for s in inmoov.servos if s.board == 183]
+    assert result["dump"] == (183, {s.id: compiled.final[inmoov.index(s.name)] for s in left})
     assert result["read"] == result["sent"]
+
+
+# -- the Megas of the InMoov ---------------------------------------------------------
+INMOOV = load_profile("inmoov")
+MEGA_JITTER = 10.0  # us: two timers' interrupts and the serial port's may meet
+
+
+def mega_servos(board: int) -> dict[int, BoardServo]:
+    """Pin -> the servo on it, of the InMoov's Mega ``board``."""
+    return {s.pin: BoardServo(s.id, s.calibration, s.reversed, s.rest)
+            for s in INMOOV.servos if s.board == board}
+
+
+def every_servo(board: int, step: int = 0) -> str:
+    """A gesture that moves every servo of Mega ``board`` to a value of its own."""
+    moves = ", ".join(f"{s.name} {(37 * k + 20 + step) % 170 + 5}"
+                      for k, s in enumerate(s for s in INMOOV.servos if s.board == board))
+    return f"g: {moves} over 1s\n"
+
+
+def assert_mega_pins(pins, board: int, pose: dict[int, int], which="last"):
+    """Every servo pin of the Mega pulses the width its value maps to, within
+    MEGA_JITTER, a pulse every 20 ms; no other pin pulses."""
+    servos = mega_servos(board)
+    assert set(pins) == set(servos)
+    for pin, servo in servos.items():
+        width = servo.pulse(pose[servo.id])
+        assert abs(pins[pin][which] - width) <= MEGA_JITTER, (pin, pins[pin], width)
+        if pins[pin]["pulses"] > 1:
+            shortest, longest = pins[pin]["period"]
+            assert shortest >= 17.5 and longest <= 22.5, (pin, pins[pin])
+
+
+@pytest.mark.parametrize("board", [181, 183])
+def test_a_mega_pulses_every_servo_of_its_board_at_its_width(simboard, build, board):
+    """Both Megas of the InMoov (10 and 18 servos: one and two of its timers), every
+    servo moved at once at 115200 baud: each pin ends at its width, the widths the
+    virtual board gives, a pulse every 20 ms, and the first servo of each timer exactly
+    every 20 ms."""
+    compiled, _ = compile_program(load("m.gest", every_servo(board)), "g", INMOOV)
+    name = "servo_inmoov_left" if board == 183 else "servo_inmoov_right"
+    result = simulate(simboard, build / f"{name}.elf", to_timed(compiled.stream(board)),
+                      "--pulses", baud=115200)
+    ours = {s.id: compiled.final[INMOOV.index(s.name)] for s in INMOOV.servos
+            if s.board == board}
+    assert result["dump"] == (board, ours) and result["read"] == result["sent"]
+    assert_mega_pins(result["pins"], board, ours)
+    servos = [s for s in INMOOV.servos if s.board == board]
+    for first in servos[::12]:  # the first channel of each timer starts its frame
+        starts = [t for pin, t, _ in result["pulses"] if pin == first.pin]
+        gaps = [b - a for a, b in itertools.pairwise(starts)]
+        assert all(abs(g - 0.020) < 1e-5 for g in gaps), first.name
+    # every pulse on the way is within the jitter of a width some value maps to
+    widths = {pin: sorted(s.pulse(v) for v in range(181))
+              for pin, s in mega_servos(board).items()}
+    worst = max(min(abs(w - x) for x in widths[pin]) for pin, _, w in result["pulses"])
+    assert worst <= MEGA_JITTER
+
+
+def test_a_mega_keeps_its_pose_across_a_reset(simboard, build, tmp_path):
+    elf, eeprom = build / "servo_inmoov_left.elf", tmp_path / "eeprom.bin"
+    compiled, _ = compile_program(load("m.gest", every_servo(183, 7)), "g", INMOOV)
+    first = simulate(simboard, elf, to_timed(compiled.stream(183)), "--eeprom", eeprom,
+                     "--run-on", 1.2, baud=115200)
+    rest = {s.id: s.rest for s in INMOOV.servos if s.board == 183}
+    assert_mega_pins(first["pins"], 183, rest, "first")  # a new board: its rest, at once
+    assert len(eeprom.read_bytes()) == 4096  # the Mega's EEPROM
+    pose = {s.id: compiled.final[INMOOV.index(s.name)] for s in INMOOV.servos
+            if s.board == 183}
+    again = simulate(simboard, elf, "", "--eeprom", eeprom, baud=115200)
+    assert again["dump"] == (183, pose)
+    assert_mega_pins(again["pins"], 183, pose, "first")  # from its first pulse
+    relax = simulate(simboard, elf, timed_bytes([255, 248, 255]), "--pulses", baud=115200)
+    assert not [t for _, t, _ in relax["pulses"] if t > 0.1]  # RELAX: every pin quiet
 
 
 def timed_bytes(data, start=0.0, gap=0.01) -> str:

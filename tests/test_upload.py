@@ -10,12 +10,13 @@ from pathlib import Path
 
 import pytest
 from stk500 import Bootloader
+from stk500v2 import MegaBootloader
 from toolchain import need
 
 from inmoov_dsl import load_profile
 from inmoov_dsl.cli import gestc
 from inmoov_dsl.errors import GestError
-from inmoov_dsl.firmware.upload import build, explain, read_hex
+from inmoov_dsl.firmware.upload import MEGA, OLD_NANO, build, explain, read_hex
 
 POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
 LINUX = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="Linux port names")
@@ -56,6 +57,49 @@ def test_the_flash_the_bootloader_receives_is_the_hex_built(tmp_path):
     assert all(flash[address] == byte for address, byte in image.items())
     assert flash[max(image) + 1:].count(0xFF) == len(flash) - max(image) - 1
     assert bootloader.commands.count(0x64) == -(-len(image) // 128)  # one write a page
+
+
+@POSIX
+def test_a_mega_is_flashed_through_its_stk500v2_bootloader(tmp_path):
+    """servo_inmoov_left, built for the ATmega2560, reaches the flash of a Mega's
+    bootloader (STK500v2, avrdude's wiring programmer) byte for byte."""
+    need("make", "avr-gcc", "avrdude", "/usr/share/arduino/hardware/arduino/avr/cores")
+    with MegaBootloader() as mega:
+        done = gestc_run("upload", "servo_inmoov_left", "--port", mega.path)
+        assert done.returncode == 0, done.stderr
+        assert done.stderr.rstrip().endswith(f"gestc: uploaded servo_inmoov_left to "
+                                             f"{mega.path}")
+        hex_file = build(load_profile("inmoov"), ["servo_inmoov_left"],
+                         tmp_path)["servo_inmoov_left"]
+        image = read_hex(hex_file)
+        flash = bytes(mega.flash)
+        assert all(flash[address] == byte for address, byte in image.items())
+        assert flash[max(image) + 1:].count(0xFF) == len(flash) - max(image) - 1
+        assert mega.bad == 0 and mega.messages[0] == 0x01  # signed on, no bad checksum
+        assert {length for _, length in mega.pages} == {256}  # the Mega's flash pages
+        assert mega.messages.count(0x13) == -(-(max(image) + 1) // 256)
+        assert mega.left  # it leaves the bootloader: the sketch starts
+        # a Mega's board refuses the old Nano's bootloader
+        refused = gestc_run("upload", "servo_inmoov_left", "--port", mega.path,
+                            "--old-bootloader")
+    assert refused.returncode == 1
+    assert "error: --old-bootloader is an old Nano's, and board 183 (left) is a Mega" in \
+        refused.stderr
+
+
+def test_a_mega_that_does_not_answer_says_what_to_try(capsys, port):
+    said = ("avrdude error: timeout\navrdude error: timeout communicating with programmer\n"
+            "avrdude error: unable to open programmer wiring on port /dev/ttyACM0\n")
+    d = explain(said, "/dev/ttyACM0", MEGA)
+    assert d.message == "no bootloader answered on /dev/ttyACM0 at 115200 baud"
+    assert d.hint.startswith("is it the board's port ('gestplay ports')? is it a Mega 2560 "
+                             "with its bootloader?")
+    assert gestc.main(["upload", "--profile", "inmoov", "--port", f"left={port},right={port}",
+                       "--dry-run"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[1] == "make -C firmware servo_inmoov_right servo_inmoov_left"
+    assert lines[2] == (f"avrdude -p atmega2560 -c wiring -P {port} -b 115200 -D -U "
+                        "flash:w:firmware/build/servo_inmoov_right.hex:i")
 
 
 @POSIX
@@ -103,27 +147,26 @@ def test_a_port_where_no_bootloader_answers(tmp_path, capsys):
 def test_no_answer_says_what_to_try(capsys):
     said = ("avrdude warning: attempt 1 of 1: not in sync: resp=0x00\n"
             "avrdude error: unable to open programmer arduino on port /dev/ttyUSB0\n")
-    d = explain(said, "/dev/ttyUSB0", 115200)
+    d = explain(said, "/dev/ttyUSB0")
     assert d.message == "no bootloader answered on /dev/ttyUSB0 at 115200 baud"
     assert d.hint == ("is it the board's port ('gestplay ports')? an old Nano needs 57600 "
                       "baud (--old-bootloader); a board without the Arduino bootloader "
                       "needs an ISP programmer")
-    assert "115200 baud (no --old-bootloader)" in explain(said, "COM3", 57600).hint
+    assert "115200 baud (no --old-bootloader)" in explain(said, "COM3", OLD_NANO).hint
 
 
 def test_avrdudes_other_failures_are_ours():
     d = explain("avrdude OS error: cannot open port /dev/ttyUSB7: No such file or directory\n",
-                "/dev/ttyUSB7", 115200)
+                "/dev/ttyUSB7")
     assert d.message.startswith("port /dev/ttyUSB7 not found; ports on this machine: ")
     assert d.hint == "'gestplay ports' lists them (and marks the likely Arduinos)"
     d = explain("avrdude OS error: cannot open port /dev/ttyUSB0: Permission denied\n",
-                "/dev/ttyUSB0", 115200)
+                "/dev/ttyUSB0")
     assert d.message == "permission denied on port /dev/ttyUSB0"
     assert d.hint.startswith("add yourself to the dialout group: sudo usermod -a -G dialout")
-    d = explain("avrdude error: verification error, first mismatch at byte 0x0040\n", "COM3",
-                115200)
+    d = explain("avrdude error: verification error, first mismatch at byte 0x0040\n", "COM3")
     assert d.message == "the flash read back from the board on COM3 is not what was written"
-    d = explain("avrdude: something new\navrdude error: it broke\n", "COM3", 115200)
+    d = explain("avrdude: something new\navrdude error: it broke\n", "COM3")
     assert d.message == "avrdude failed on COM3: avrdude error: it broke"
 
 

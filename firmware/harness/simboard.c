@@ -1,4 +1,5 @@
-/* simboard: a built board image (ATmega328P, 16 MHz) running in simavr, fed bytes on
+/* simboard: a built board image (ATmega328P or ATmega2560 as its ELF says, 16 MHz) running
+ * in simavr, fed bytes on
  * its serial port (UART0) at a real link's pace, its pins watched as a servo sees them.
  *
  *   simboard FIRMWARE.elf [options] < timed
@@ -82,7 +83,16 @@ static uint32_t rx_addr;               /* RAM address of the bytes-read counter,
 static int xoff;                       /* simavr's UART cannot take another byte yet */
 
 /* -- the pins, as a servo sees them ------------------------------------------------ */
-#define PINS 20 /* Arduino pins 0..19: PORTD 0..7, PORTB 8..13, PORTC 14..19 (A0..A5) */
+#define PINS 70 /* Arduino pins: 0..19 on an Uno, 0..69 on a Mega */
+/* Each Arduino pin's port and bit, as the core's variants (standard, mega) map them */
+static const char UNO_PORTS[] = "DDDDDDDDBBBBBBCCCCCC";
+static const char UNO_BITS[] = "01234567012345012345";
+static const char MEGA_PORTS[] =
+    "EEEEGEHHHHBBBBJJHHDDDDAAAAAAAACCCCCCCCDGGGLLLLLLLLBBBBFFFFFFFFKKKKKKKK";
+static const char MEGA_BITS[] =
+    "0145533456456710103210012345677654321072107654321032100123456701234567";
+static const char *pin_ports = UNO_PORTS, *pin_bits = UNO_BITS;
+static int pin_count = 20;
 static struct {
   int high;
   avr_cycle_count_t rose; /* the last rising edge */
@@ -100,7 +110,6 @@ static long pulse_count;
 
 /* -- the EEPROM ------------------------------------------------------------------------ */
 #define MAX_EEPROM_LOG 100000
-#define EEPROM_SIZE 1024 /* ATmega328P */
 static uint8_t *eeprom;      /* simavr's own bytes */
 static uint16_t eeprom_size;
 static uint8_t shadow[4096]; /* what they were at the last look */
@@ -154,7 +163,7 @@ static double since_ready(avr_cycle_count_t c) { return ((double)c - (double)rea
 static void on_pin(struct avr_irq_t *irq, uint32_t value, void *param) {
   (void)irq;
   int pin = (int)(intptr_t)param;
-  if (pin < 0 || pin >= PINS || button[pin] || (int)(value & 1) == pins[pin].high) return;
+  if (pin < 0 || pin >= pin_count || button[pin] || (int)(value & 1) == pins[pin].high) return;
   pins[pin].high = value & 1;
   avr_cycle_count_t now = avr->cycle;
   if (pins[pin].high) {
@@ -250,14 +259,14 @@ static void on_xon(struct avr_irq_t *irq, uint32_t value, void *param) {
 }
 
 /* A level from outside on Arduino pin `pin` (a button's contact, or its pull-up). */
-static void drive_pin(int pin, int level) {
-  char port = pin < 8 ? 'D' : pin < 14 ? 'B' : 'C';
-  int bit = pin < 8 ? pin : pin < 14 ? pin - 8 : pin - 14;
-  avr_raise_irq(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(port), bit), level);
+static avr_irq_t *pin_irq(int pin) {
+  return avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(pin_ports[pin]), pin_bits[pin] - '0');
 }
 
+static void drive_pin(int pin, int level) { avr_raise_irq(pin_irq(pin), level); }
+
 static void release_buttons(void) {
-  for (int pin = 0; pin < PINS; pin++)
+  for (int pin = 0; pin < pin_count; pin++)
     if (button[pin]) drive_pin(pin, 1);
 }
 
@@ -336,12 +345,22 @@ static uint32_t find_symbol(elf_firmware_t *fw, const char *name) {
   return 0;
 }
 
-/* INT0 and INT1 sit on pins 2 and 3, which drive servos: held low between pulses, a
- * "strict" level trigger has simavr poll them on every cycle (6x slower). The images use
- * no external interrupt. (A reset sets them strict again.) */
+/* External interrupts sit on pins that drive servos (INT0 and INT1 on an Uno's 2 and 3,
+ * INT4 and INT5 on a Mega's): held low between pulses, a "strict" level trigger has
+ * simavr poll them on every cycle (6x slower). The images use no external interrupt.
+ * (A reset sets them strict again.) */
 static void relax_level_triggers(void) {
-  avr_extint_set_strict_lvl_trig(avr, 0, 0);
-  avr_extint_set_strict_lvl_trig(avr, 1, 0);
+  for (uint8_t k = 0; k < EXTINT_COUNT; k++) avr_extint_set_strict_lvl_trig(avr, k, 0);
+}
+
+/* The microcontroller an ELF image is built for, from its header's flags (avr-gcc's
+ * EF_AVR_MACH: 5 for an ATmega328P, 6 for an ATmega2560). */
+static const char *mcu_of(const char *path) {
+  unsigned char head[40];
+  FILE *f = fopen(path, "rb");
+  size_t n = f ? fread(head, 1, sizeof head, f) : 0;
+  if (f) fclose(f);
+  return n == sizeof head && (head[36] & 0x7F) == 6 ? "atmega2560" : "atmega328p";
 }
 
 /* A reset (power-up, or DTR): the board starts again; RAM and registers do not survive,
@@ -362,8 +381,18 @@ static int load(const char *path, elf_firmware_t *fw) {
     fprintf(stderr, "simboard: cannot read %s\n", path);
     return -1;
   }
-  avr = avr_make_mcu_by_name("atmega328p");
+  const char *mcu = mcu_of(path);
+  avr = avr_make_mcu_by_name(mcu);
   if (!avr) return -1;
+  int mega = strcmp(mcu, "atmega2560") == 0;
+  pin_ports = mega ? MEGA_PORTS : UNO_PORTS;
+  pin_bits = mega ? MEGA_BITS : UNO_BITS;
+  pin_count = mega ? 70 : 20;
+  for (int pin = pin_count; pin < PINS; pin++)
+    if (button[pin]) {
+      fprintf(stderr, "simboard: %s has no pin %d\n", path, pin);
+      return -1;
+    }
   avr_init(avr);
   avr->log = 0;
   avr_load_firmware(avr, fw);
@@ -394,16 +423,12 @@ static int load(const char *path, elf_firmware_t *fw) {
     avr->flash[at + pokes[k].offset] = pokes[k].byte;
   }
   release_buttons();
-  for (int pin = 0; pin < PINS; pin++) {
-    char port = pin < 8 ? 'D' : pin < 14 ? 'B' : 'C';
-    int bit = pin < 8 ? pin : pin < 14 ? pin - 8 : pin - 14;
-    avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ(port), bit), on_pin,
-                            (void *)(intptr_t)pin);
-  }
+  for (int pin = 0; pin < pin_count; pin++)
+    avr_irq_register_notify(pin_irq(pin), on_pin, (void *)(intptr_t)pin);
   avr_eeprom_desc_t desc = {.ee = NULL, .offset = 0, .size = 0};
   avr_ioctl(avr, AVR_IOCTL_EEPROM_GET, &desc);
   eeprom = desc.ee;
-  eeprom_size = EEPROM_SIZE;
+  eeprom_size = mega ? 4096 : 1024;
   memset(eeprom, 0xFF, eeprom_size); /* a new chip */
   FILE *f = eeprom_path ? fopen(eeprom_path, "rb") : NULL;
   if (f) {

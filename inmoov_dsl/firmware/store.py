@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 from .. import protocol
 from ..compiling.compiled import Compiled
 from ..errors import Diagnostic, GestError
+from ..profiles import kinds
 from ..profiles.data import Board, Profile
 from ..wire.stored import (
     DEFAULT_IDLE_AFTER,
@@ -55,12 +56,12 @@ class Request:
         return tuple(out)
 
 
-def parse_pin(text: str) -> int:
+def parse_pin(text: str, analog: int = 14) -> int:
     """An Arduino pin as a user writes it (``8``, ``D8``, ``A0``): its number."""
     word = text.strip().upper()
     try:
         if word.startswith("A"):
-            return 14 + int(word[1:])
+            return analog + int(word[1:])
         return int(word[1:] if word.startswith("D") else word)
     except ValueError:
         raise GestError(Diagnostic("error", f"--button {text}: not a pin", hint="--button "
@@ -71,17 +72,20 @@ def check_pins(buttons: Sequence[tuple[int, str]], profile: Profile, board: Boar
     """Each button's pin is free on ``board``: not the serial port's, a servo's, the
     LED's or an analog-only one, and not two buttons'."""
     servos = {profile.servos[profile.index(n)].pin: n for n in board.servos}
+    _, _, count, analog = kinds.arduino_of(board)
+    nano = analog == 14  # a pin of an Uno is one of a Nano's
     seen: set[int] = set()
     for pin, gesture in buttons:
-        where = f"--button {pin_name(pin)}={gesture}"
+        where = f"--button {pin_name(pin, analog)}={gesture}"
         problem = ("it is the serial port's (D0, D1)" if pin in (0, 1) else
                    f"servo {servos[pin]} is on it" if pin in servos else
-                   "the board's LED holds it low on a Nano" if pin == LED_PIN else
-                   "it reads no digital input on a Nano" if pin in ANALOG_ONLY else
-                   "there is no such pin" if not 0 <= pin <= 19 else
+                   "the board's LED holds it low on a Nano" if pin == LED_PIN and nano else
+                   "it reads no digital input on a Nano" if pin in ANALOG_ONLY and nano else
+                   "there is no such pin" if not 0 <= pin < count else
                    "another button is on it" if pin in seen else None)
         if problem:
-            free = [pin_name(p) for p in range(2, 20) if p not in servos and p != LED_PIN]
+            free = [pin_name(p, analog) for p in range(2, count)
+                    if p not in servos and (p != LED_PIN or not nano)]
             raise GestError(Diagnostic("error", f"{where}: {problem}",
                                        hint=f"free pins on board {board.id}: "
                                        f"{', '.join(free)}"))
@@ -176,7 +180,8 @@ def stored_header(flash: StoredSet, profile: Profile, board: Board) -> str:
         starts = [("power-up", flash.boot == k), (f"idle {flash.idle_after} s",
                                                    flash.idle == k)]
         why = [w for w, yes in starts if yes]
-        why += [f"button {pin_name(p)}" for p, n in flash.buttons if n == k]
+        why += [f"button {pin_name(p, kinds.arduino_of(board)[3])}" for p, n in flash.buttons
+                if n == k]
         rows.append(f"//   {k:>3}  {g.name:<16} {g.frames * FRAME:7.2f} s  "
                     f"{len(g.data):>6,} bytes  {', '.join(why)}".rstrip())
     data = ",\n".join("    " + ", ".join(f"0x{b:02x}" for b in blob[k:k + 12])

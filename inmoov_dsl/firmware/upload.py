@@ -4,7 +4,8 @@ A sketch is generated from its profile (``firmware.sketches``) into a sketchbook
 own, with the InmoovDsl library and the Makefile beside it, built with ``make`` (gcc-avr,
 avr-libc, Debian's Arduino core), and flashed with avrdude through the Arduino
 bootloader: STK500v1 (``-c arduino``) at 115200 baud for an Uno or a new Nano, 57600 for
-the old Nano bootloader. avrdude resets the board into its bootloader itself (DTR).
+the old Nano bootloader; STK500v2 (``-c wiring``) at 115200 for a Mega. avrdude resets
+the board into its bootloader itself (DTR).
 What avrdude says goes to the user as it comes; a failure becomes one of our messages.
 """
 
@@ -15,9 +16,11 @@ import shutil
 import subprocess
 import sys
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 from ..errors import Diagnostic, GestError, did_you_mean
+from ..profiles import kinds
 from ..profiles.data import Profile
 from ..profiles.profile import builtin_profiles, load_profile
 from ..resources import data_dir
@@ -27,6 +30,39 @@ from .sketches import sketch_names, sketches
 
 UNO_BAUD = 115200  #: Optiboot: an Uno, a Nano with the new bootloader
 OLD_NANO_BAUD = 57600  #: the old Nano bootloader (ATmegaBOOT)
+
+
+@dataclass(frozen=True)
+class Loader:
+    """An Arduino's bootloader, as avrdude talks to it."""
+
+    part: str  #: avrdude's -p: the microcontroller
+    programmer: str  #: avrdude's -c: the protocol (arduino: STK500v1, wiring: STK500v2)
+    baud: int  #: avrdude's -b
+
+    @property
+    def mega(self) -> bool:
+        """Is it a Mega's?"""
+        return self.part == "atmega2560"
+
+
+OPTIBOOT = Loader("atmega328p", "arduino", UNO_BAUD)  #: an Uno's, a new Nano's
+OLD_NANO = Loader("atmega328p", "arduino", OLD_NANO_BAUD)  #: an old Nano's
+MEGA = Loader("atmega2560", "wiring", 115200)  #: a Mega 2560's (STK500v2)
+
+
+def loader(profile: Profile, ident: int, old_bootloader: bool = False) -> Loader:
+    """The bootloader of the board (or glove: an Uno-class board) ``ident`` of
+    ``profile``; ``old_bootloader``: an old Nano's, refused for a Mega."""
+    board = next((b for b in profile.boards if b.id == ident), None)
+    if board is None or kinds.mcu(board.options) == "atmega328p":
+        return OLD_NANO if old_bootloader else OPTIBOOT
+    if old_bootloader:
+        raise GestError(Diagnostic("error", f"--old-bootloader is an old Nano's, and board "
+                                   f"{board.id} ({board.name}) is a Mega",
+                                   hint="leave it out: a Mega's bootloader speaks STK500v2 "
+                                   "at 115200 baud"))
+    return MEGA
 BUILD_TOOLS = ("make", "avr-gcc", "avr-g++")
 SHIPPED = ("libraries", "harness", "host", "Makefile", "size.awk")  #: beside the sketches
 
@@ -143,27 +179,30 @@ def build(profile: Profile, names: Sequence[str], where: Path, baud: int | None 
     return {name: where / "build" / f"{name}.hex" for name in names}
 
 
-def avrdude_command(hex_file: Path, port: str, baud: int = UNO_BAUD,
+def avrdude_command(hex_file: Path, port: str, boot: Loader = OPTIBOOT,
                     avrdude: str = "avrdude", options: Sequence[str] = ()) -> list[str]:
-    """The avrdude command line that flashes ``hex_file`` through the Arduino bootloader
-    on ``port`` (an ATmega328P; -D: the bootloader erases each page as it writes it)."""
-    return [avrdude, "-p", "atmega328p", "-c", "arduino", "-P", port, "-b", str(baud), "-D",
-            *options, "-U", f"flash:w:{hex_file}:i"]
+    """The avrdude command line that flashes ``hex_file`` through the bootloader ``boot``
+    on ``port`` (-D: the bootloader erases each page as it writes it)."""
+    return [avrdude, "-p", boot.part, "-c", boot.programmer, "-P", port, "-b",
+            str(boot.baud), "-D", *options, "-U", f"flash:w:{hex_file}:i"]
 
 
-def explain(output: str, port: str, baud: int) -> Diagnostic:
+def explain(output: str, port: str, boot: Loader = OPTIBOOT) -> Diagnostic:
     """avrdude's failure, from what it printed, as a message with what to try."""
+    baud = boot.baud
     if re.search(r"cannot open port|can't open device|ser_open\(\)", output):
         if re.search(r"[Pp]ermission denied|[Aa]ccess is denied", output):
             return permission_denied(port)
         return not_found(port, virtual=False)
-    if re.search(r"not in sync|not responding|programmer is not responding", output):
+    if re.search(r"not in sync|not responding|programmer is not responding|"
+                 r"timeout|failed to sync|cannot get sync", output):
         other = OLD_NANO_BAUD if baud != OLD_NANO_BAUD else UNO_BAUD
         option = "--old-bootloader" if other == OLD_NANO_BAUD else "no --old-bootloader"
+        board = ("is it a Mega 2560 with its bootloader?" if boot.mega
+                 else f"an old Nano needs {other} baud ({option})")
         return Diagnostic("error", f"no bootloader answered on {port} at {baud} baud",
-                          hint=f"is it the board's port ('gestplay ports')? an old Nano "
-                          f"needs {other} baud ({option}); a board without the Arduino "
-                          "bootloader needs an ISP programmer")
+                          hint=f"is it the board's port ('gestplay ports')? {board}; a "
+                          "board without the Arduino bootloader needs an ISP programmer")
     if re.search(r"verification error|content mismatch", output):
         return Diagnostic("error", f"the flash read back from the board on {port} is not "
                           "what was written", hint="a loose cable or a weak power supply? "
@@ -173,14 +212,14 @@ def explain(output: str, port: str, baud: int) -> Diagnostic:
     return Diagnostic("error", f"avrdude failed on {port}: {last.strip()}")
 
 
-def flash(hex_file: Path, port: str, baud: int = UNO_BAUD, avrdude: str = "avrdude",
+def flash(hex_file: Path, port: str, boot: Loader = OPTIBOOT, avrdude: str = "avrdude",
           options: Sequence[str] = ()) -> None:
     """Flash ``hex_file`` with avrdude, its progress shown as it comes; a failure is a
     GestError saying what to do."""
     found = shutil.which(avrdude)
     if found is None:
         raise GestError(Diagnostic("error", f"{avrdude} not found", hint=INSTALL_AVRDUDE))
-    proc = subprocess.Popen(avrdude_command(hex_file, port, baud, found, options),
+    proc = subprocess.Popen(avrdude_command(hex_file, port, boot, found, options),
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
     said = bytearray()
     raw = getattr(sys.stderr, "buffer", None)  # a text-only stderr gets decoded text
@@ -192,4 +231,4 @@ def flash(hex_file: Path, port: str, baud: int = UNO_BAUD, avrdude: str = "avrdu
             sys.stderr.write(chunk.decode(errors="replace"))
         sys.stderr.flush()
     if proc.wait() != 0:
-        raise GestError(explain(said.decode(errors="replace"), port, baud))
+        raise GestError(explain(said.decode(errors="replace"), port, boot))

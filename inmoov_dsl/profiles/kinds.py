@@ -26,9 +26,11 @@ from .fields import Problem, shown
 KINDS = ("rig", "maestro", "pca9685", "mrlcomm")
 MODELS = ("micro6", "mini12", "mini18", "mini24")
 CHANNELS = {"micro6": 6, "mini12": 12, "mini18": 18, "mini24": 24}
-#: the Arduinos a board of ours or MrlComm's runs on: (name, its MCU, its digital pins)
-ARDUINOS = (("uno", "atmega328p", 20), ("nano", "atmega328p", 20), ("mega", "atmega2560", 70))
-ARDUINO_NAMES = tuple(name for name, _, _ in ARDUINOS)
+#: the Arduinos a board of ours or MrlComm's runs on: (name, its MCU, its digital pins,
+#: its first analog pin, A0)
+ARDUINOS = (("uno", "atmega328p", 20, 14), ("nano", "atmega328p", 20, 14),
+            ("mega", "atmega2560", 70, 54))
+ARDUINO_NAMES = tuple(a[0] for a in ARDUINOS)
 DEFAULT_BAUD = {"rig": 9600, "maestro": 115_200, "pca9685": 115_200, "mrlcomm": 115_200}
 
 
@@ -62,6 +64,11 @@ def mcu(opts: Sequence[tuple[str, int]]) -> str:
     return ARDUINOS[dict(opts).get("arduino", 0)][1]
 
 
+def arduino_of(board) -> tuple[str, str, int, int]:
+    """The Arduino a board runs on: (name, MCU, digital pins, A0's pin)."""
+    return ARDUINOS[board.option("arduino", 0)]
+
+
 def options(fields, what: str) -> tuple[tuple[str, int], ...]:
     """The keys of kind ``what`` of the board table ``fields`` reads."""
     if what == "maestro":
@@ -91,7 +98,7 @@ def channels(what: str, opts: Sequence[tuple[str, int]]) -> int:
 
 def _pin_problem(board, pin: int | None) -> str | None:
     """What is wrong with an Arduino's servo on ``pin`` (None: nothing)."""
-    name, _, count = ARDUINOS[board.option("arduino", 0)]
+    name, _, count, _ = ARDUINOS[board.option("arduino", 0)]
     if pin is None:
         # our firmware's sketch asks for it when it is built; MrlComm needs it at once
         return None if board.kind == "rig" else "give the servo's Arduino pin as 'pin'"

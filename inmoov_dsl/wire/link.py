@@ -51,8 +51,7 @@ def board_ports(specs: Sequence[str], profile: Profile, needed: Collection[int] 
     ``sim://``)."""
     label = dict(names) if names else {b.id: str(b.id) for b in profile.boards}
     keys = {**{str(i): i for i in label}, **{n: i for i, n in label.items()}}
-    if not names:
-        keys.update({b.name: b.id for b in profile.boards if b.name not in keys})
+    keys.update({b.name: b.id for b in profile.boards if b.name not in keys and b.id in label})
     specs = [part for spec in specs for part in _split(spec, keys)]
     needed = [i for i in label if needed is None or i in needed] or list(label)
     ports: dict[int, str] = {}

@@ -170,9 +170,11 @@ def find_catalog(data: bytes, board_id: int) -> Catalog | None:
     return None
 
 
-def pin_name(pin: int) -> str:
-    """An Arduino Uno's or Nano's pin as printed on the board: D8, A0."""
-    return f"A{pin - 14}" if pin >= 14 else f"D{pin}"
+def pin_name(pin: int, analog: int = 14) -> str:
+    """An Arduino's pin as printed on the board: D8, A0 (``analog``: A0's number, 14 on
+    an Uno or a Nano, 54 on a Mega)."""
+    count = 16 if analog > 14 else 8
+    return f"A{pin - analog}" if analog <= pin < analog + count else f"D{pin}"
 
 
 def header_nibbles(servos: int) -> int:

@@ -14,6 +14,7 @@ from ...firmware.store import stored_set as make_set
 from ...language.library import find_gesture, library_dirs, scan_library
 from ...language.load import load
 from ...language.program import Program
+from ...profiles import kinds
 from ...profiles.data import Board, Profile
 from ...wire.stored import DEFAULT_IDLE_AFTER, StoredSet
 from ..common import number, report
@@ -47,8 +48,9 @@ def wants_store(args: argparse.Namespace) -> bool:
     return bool(args.store or args.on_boot or args.button or args.idle)
 
 
-def request(args: argparse.Namespace) -> Request:
-    """What the options ask for, by gesture name."""
+def request(args: argparse.Namespace, board: Board) -> Request:
+    """What the options ask for, by gesture name (a button's pin as ``board``'s
+    Arduino names it: A0 is 14 on an Uno, 54 on a Mega)."""
     names = tuple(n.strip() for spec in args.store for n in spec.split(",") if n.strip())
     buttons = []
     for spec in args.button:
@@ -56,7 +58,7 @@ def request(args: argparse.Namespace) -> Request:
         if not sep or not gesture.strip():
             raise GestError(Diagnostic("error", f"--button {spec}: expected PIN=GESTURE",
                                        hint="--button D8=wave"))
-        buttons.append((parse_pin(pin), gesture.strip()))
+        buttons.append((parse_pin(pin, kinds.arduino_of(board)[3]), gesture.strip()))
     return Request(names, args.on_boot, args.idle, args.idle_after, tuple(buttons))
 
 
@@ -66,7 +68,7 @@ def stored_sets(args: argparse.Namespace, profile: Profile, board: Board, prog: 
     compiled for ``profile`` and checked to fit; what is stored is said on stderr."""
     if not wants_store(args):
         return {}
-    asked = request(args)
+    asked = request(args, board)
     dirs = library_dirs(args.lib)
     found = _Found(dirs, prog)
     for ref in asked.names:  # --store's first: the triggers may name their files' gestures

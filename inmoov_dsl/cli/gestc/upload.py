@@ -10,6 +10,7 @@ from dataclasses import replace
 from pathlib import Path
 
 from ...errors import Diagnostic, GestError
+from ...firmware.upload import Loader
 from ...profiles.data import Profile
 from ...profiles.profile import load_profile
 from ..common import EXIT_OK, report
@@ -19,7 +20,7 @@ from .target import PROG
 
 def run(args: argparse.Namespace) -> int:
     """Build boards' firmware from their profile and flash it through the bootloader."""
-    from ...firmware.upload import OLD_NANO_BAUD, UNO_BAUD, build
+    from ...firmware.upload import build, loader
     from .storing import one_board, stored_sets, wants_store
 
     profile, names = _boards(args.profile, args.board)
@@ -35,17 +36,17 @@ def run(args: argparse.Namespace) -> int:
     check_ports([ports[name] for name in targets], args.dry_run)
     stored = stored_sets(args, profile, one_board(profile, args.board, PROG), PROG) \
         if wants_store(args) else {}
-    baud = OLD_NANO_BAUD if args.old_bootloader else UNO_BAUD
+    boots = {name: loader(profile, names[name], args.old_bootloader) for name in targets}
     if args.dry_run:
-        print("\n".join(dry_run(args, profile, targets, ports, baud)))
+        print("\n".join(dry_run(args, profile, targets, ports, boots)))
     elif args.hex:
-        _flash({targets[0]: Path(args.hex)}, ports, baud, args)
+        _flash({targets[0]: Path(args.hex)}, ports, boots, args)
     elif args.build_dir:
-        _flash(build(profile, targets, Path(args.build_dir), args.baud, stored), ports, baud,
-               args)
+        _flash(build(profile, targets, Path(args.build_dir), args.baud, stored), ports,
+               boots, args)
     else:
         with tempfile.TemporaryDirectory(prefix="inmoov-upload-") as tmp:
-            _flash(build(profile, targets, Path(tmp), args.baud, stored), ports, baud, args)
+            _flash(build(profile, targets, Path(tmp), args.baud, stored), ports, boots, args)
     return EXIT_OK
 
 
@@ -64,7 +65,7 @@ def check_ports(ports: list[str], dry_run: bool) -> None:
 
 
 def dry_run(args: argparse.Namespace, profile: Profile, targets: list[str],
-            ports: dict[str, str], baud: int) -> list[str]:
+            ports: dict[str, str], boots: dict[str, Loader]) -> list[str]:
     """The commands that do what ``gestc upload`` would, to run as they are: write the
     sketchbook (``--build-dir``, default ./firmware, which stays), build it, flash
     each board; with ``--hex``, only the flashing."""
@@ -80,8 +81,9 @@ def dry_run(args: argparse.Namespace, profile: Profile, targets: list[str],
         lines = [shlex.join([PROG, "firmware", args.profile or profile.name, "-o",
                              str(where), *baud_option, *store_options(args)]),
                  shlex.join(["make", "-C", str(where), *targets])]
-    return lines + [shlex.join(avrdude_command(hexes[name], ports[name], baud, args.avrdude,
-                                               args.avrdude_option)) for name in targets]
+    return lines + [shlex.join(avrdude_command(hexes[name], ports[name], boots[name],
+                                               args.avrdude, args.avrdude_option))
+                    for name in targets]
 
 
 def store_options(args: argparse.Namespace) -> list[str]:
@@ -96,7 +98,7 @@ def store_options(args: argparse.Namespace) -> list[str]:
     return out
 
 
-def _flash(hexes: dict[str, Path], ports: dict[str, str], baud: int,
+def _flash(hexes: dict[str, Path], ports: dict[str, str], boots: dict[str, Loader],
            args: argparse.Namespace) -> None:
     """Flash each board its .hex, saying what goes where."""
     from ...firmware.upload import flash, read_hex
@@ -104,8 +106,8 @@ def _flash(hexes: dict[str, Path], ports: dict[str, str], baud: int,
     for name, hex_file in hexes.items():
         size = len(read_hex(hex_file))
         print(f"{PROG}: flashing {name} ({size:,} bytes) through the bootloader on "
-              f"{ports[name]} at {baud} baud", file=sys.stderr, flush=True)
-        flash(hex_file, ports[name], baud, args.avrdude, args.avrdude_option)
+              f"{ports[name]} at {boots[name].baud} baud", file=sys.stderr, flush=True)
+        flash(hex_file, ports[name], boots[name], args.avrdude, args.avrdude_option)
         print(f"{PROG}: uploaded {name} to {ports[name]}", file=sys.stderr)
 
 
@@ -144,7 +146,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestc upload BOARD --port PORT``."""
     p = sub.add_parser("upload", help="build a board's firmware and flash it (avrdude)")
     p.add_argument("board", nargs="?", metavar="BOARD",
-                   help="a sketch name: servo_rhand, glove_rhand, servo_inmoov_head... "
+                   help="a sketch name: servo_rhand, glove_rhand, servo_inmoov_left... "
                    "(default with --profile: every board of the profile)")
     p.add_argument("--port", action="append", required=True, metavar="PORT",
                    help="the board's port; with several boards BOARD=PORT each (the "
@@ -152,7 +154,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("-p", "--profile", help="the profile the boards are built from (a "
                    "built-in name or a .toml path; default: the one with BOARD)")
     p.add_argument("--old-bootloader", action="store_true",
-                   help="a Nano with the old bootloader (57600 baud instead of 115200)")
+                   help="a Nano with the old bootloader (57600 baud instead of 115200; a "
+                   "Mega's speaks STK500v2 at 115200, which its profile says)")
     p.add_argument("--baud", type=int, choices=BAUDS,
                    help="the link speed the firmware will use (default: the profile's)")
     p.add_argument("--hex", metavar="FILE",
