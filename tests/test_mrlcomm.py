@@ -46,20 +46,55 @@ def test_messages_are_laid_out_as_the_schema_says():
 
 
 def test_the_virtual_board_reads_as_mrlcomm_does():
+    """As MrlComm built for the Mega answered in simavr (docs/controllers.md)."""
     core = KIND.twin()
-    out = bytearray()
-    for byte in b"\x01" + m.message(m.SERVO_STOP, 1):  # a stray byte, then a stop
-        out += core.feed(byte)[1]
-    said = list(m.Reader().feed(bytes(out)))
-    assert said[0] == (m.ERROR, (b"error serial",))
-    assert said[1] == (m.ERROR, (b"device does not exist",))
-    assert said[2] == (m.ACK, (m.SERVO_STOP,))  # acks are on as it starts
-    out = b"".join(core.feed(b)[1] for b in m.message(m.SERVO_ATTACH, 1, 3, 1500, -1, b"i")
-                   + m.message(m.SERVO_ATTACH_PIN, 1, 3)
-                   + m.message(m.SERVO_MOVE_TO_MICROSECONDS, 1, 1600))
-    events = [a for meth, a in m.Reader().feed(out) if meth == m.SERVO_EVENT]
-    assert events == [(1, m.STARTED, 1500, 1600), (1, m.STOPPED, 1600, 1600)]
+
+    def said(data: bytes) -> list:
+        return list(m.Reader().feed(b"".join(core.feed(b)[1] for b in data)))
+
+    assert said(b"\x01" + m.message(m.GET_BOARD_INFO)) == [  # a stray byte, then a question
+        (m.ERROR, (b"error serial",)), (m.BOARD_INFO, (68, 1, 60, 6400, 0, b"")),
+        (m.ACK, (m.GET_BOARD_INFO,))]  # acks are on as it starts
+    assert said(bytes([170, 2, 200, 0])) == [(m.ERROR, (b"unknown method 200",)),
+                                             (m.ACK, (200,))]
+    assert said(bytes([170, 2, 5, 1])) == [(m.ACK, (5,))]  # setDebug: read, not modelled
+    assert said(bytes([170, 0])) == [(m.ACK, (5,))]  # an empty message: the last again
+    assert said(m.message(m.SERVO_ATTACH, 1, 3, 1500, -1, b"i")
+                + m.message(m.SERVO_ATTACH_PIN, 1, 3)
+                + m.message(m.SERVO_MOVE_TO_MICROSECONDS, 1, 1600)) == [
+        (m.ACK, (m.SERVO_ATTACH,)), (m.ACK, (m.SERVO_ATTACH_PIN,)),
+        (m.SERVO_EVENT, (1, m.STARTED, 1500, 1600)), (m.ACK, (m.SERVO_MOVE_TO_MICROSECONDS,)),
+        (m.SERVO_EVENT, (1, m.STOPPED, 1600, 1600))]
     assert core.devices[1].us == 1600 and core.devices[1].pulsing
+    assert said(m.message(m.GET_BOARD_INFO))[0] == (m.BOARD_INFO,
+                                                     (68, 1, 60, 6346, 0, b"\x01"))
+    assert said(m.message(m.ENABLE_ACK, 0) + m.message(m.SOFT_RESET)) == []  # acks stay off
+    assert core.devices == {}
+    # a device that does not exist: the error, then the real one ran its method on a null
+    # pointer and crashed; the twin stops answering until it is reset
+    assert said(m.message(m.SERVO_STOP, 2)) == [(m.ERROR, (b"device does not exist",))]
+    assert said(m.message(m.GET_BOARD_INFO)) == [] and core.crashed
+    core.restore(None)
+    assert said(m.message(m.GET_BOARD_INFO))[0][0] == m.BOARD_INFO
+
+
+def test_the_pose_is_asked_only_of_the_servos_the_board_has():
+    """A board just reset has no servo: its board info says so, and none is asked (a
+    servoStop to it would crash MrlComm); one attached is asked where it is, whatever
+    else comes (its board info each second, a late event of the last move, twice)."""
+    reader = KIND.pose_reader()
+    assert KIND.ask_pose() == m.message(m.GET_BOARD_INFO)
+    info = m.message(m.BOARD_INFO, 68, 1, 60, 6400, 0, b"")
+    assert reader.feed(info) == {s.id: s.rest for s in MRL.servos} and reader.ask() == b""
+    reader = KIND.pose_reader()
+    assert reader.feed(m.message(m.BOARD_INFO, 68, 1, 60, 6346, 0, b"\x02")) is None
+    assert reader.ask() == m.message(m.SERVO_STOP, 2) and reader.ask() == b""
+    index = MRL.servos[1]
+    stopped = m.message(m.SERVO_EVENT, 2, m.STOPPED, 1000, 1000)
+    pose = reader.feed(m.message(m.SERVO_EVENT, 5, m.STOPPED, 900, 900) + info + stopped
+                       + stopped)
+    assert pose == {**{s.id: s.rest for s in MRL.servos},
+                    index.id: KIND.widths[1].value(1000)}
 
 
 def test_connect_as_myrobotlab_does_and_refuse_another_version():

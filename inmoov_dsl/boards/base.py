@@ -56,6 +56,10 @@ class PoseReader(Protocol):
     def feed(self, data: bytes) -> dict[int, int] | None:
         """Read ``data``: the pose (servo ID -> value) once the answer is whole."""
 
+    def ask(self) -> bytes:
+        """What to ask the board next, now that it answered what it was fed (most
+        readers ask nothing more)."""
+
 
 class Controller:
     """One board of a profile, as its kind drives it."""

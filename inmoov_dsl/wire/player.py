@@ -101,6 +101,9 @@ def ask_dump(port: Port, board: int, now: Clock | None = None, sleep: Sleep | No
         found = reader.feed(drain(port))
         if found is not None:
             return found
+        more = getattr(reader, "ask", None)
+        if more is not None and (question := more()):
+            port.write(question)
         sleep(0.005)
     return None
 

@@ -13,33 +13,48 @@ from ..frames import per_frame
 from . import messages as m
 from .device import MrlCommCore
 
-#: moves a frame at most: MrlComm followed 6 servos moving every frame with nothing
-#: lost, in simavr; 8 lagged and 12 lost bytes (facts); the furthest behind go first
+#: moves a frame at most, the furthest behind first: MrlComm built for the Mega, in
+#: simavr, kept up with 6 with up to 18 servos attached, nothing lost and every servo
+#: at its width, and with 9 with 18 attached; 10 or 11 overflowed its receive buffer
+#: (each move costs it 1.56 ms of events it flushes) and it crashed (docs/controllers.md)
 MOVES_PER_FRAME = 6
 
 
 class _Stopped:
-    """The answers to ``servoStop``, one per servo in order: a stopped event (where it
-    is) or an error (no such device: the servo's rest, as the board cannot say)."""
+    """The board's pose in two questions: its board info says which servos it has
+    attached (a servo it has not: its rest, as the board cannot say), then a
+    ``servoStop`` to each of those, whose stopped event says where it is. A device that
+    does not exist is never asked: MrlComm would run its method on a null pointer."""
 
     def __init__(self, controller: MrlCommController):
         self.controller, self.reader, self.pose = controller, m.Reader(), {}
-        self.pending = list(range(len(controller.servos)))
+        self.pending: list[int] | None = None  # servos asked, not answered yet
+        self.question = b""
 
     def feed(self, data: bytes) -> dict[int, int] | None:
         """The pose once every servo is answered for."""
         c = self.controller
         for method, args in self.reader.feed(data):
-            if not self.pending or args is None:
+            if args is None:
                 continue
-            if method == m.SERVO_EVENT and args[1] == m.STOPPED and args[0] in c.devices:
-                j = c.devices.index(args[0])
+            if method == m.BOARD_INFO and self.pending is None:
+                attached = set(args[5])
+                self.pending = [j for j, d in enumerate(c.devices) if d in attached]
+                self.pose = {s.id: s.rest for j, s in enumerate(c.servos)
+                             if j not in self.pending}
+                self.question = b"".join(m.message(m.SERVO_STOP, c.devices[j])
+                                         for j in self.pending)
+            elif method == m.SERVO_EVENT and args[1] == m.STOPPED and self.pending and \
+                    args[0] in c.devices and c.devices.index(args[0]) in self.pending:
+                j = c.devices.index(args[0])  # (a late event of a move: where it went)
                 self.pose[c.servos[j].id] = c.widths[j].value(args[2])
                 self.pending.remove(j)
-            elif method == m.ERROR and b"does not exist" in args[0]:
-                j = self.pending.pop(0)
-                self.pose[c.servos[j].id] = c.servos[j].rest
-        return None if self.pending else self.pose
+        return self.pose if self.pending == [] else None
+
+    def ask(self) -> bytes:
+        """The ``servoStop``s, once the board info came."""
+        question, self.question = self.question, b""
+        return question
 
 
 class MrlCommController(Controller):
@@ -116,8 +131,9 @@ class MrlCommController(Controller):
         return b"".join(m.message(m.SERVO_DETACH_PIN, d) for d in self.devices)
 
     def ask_pose(self) -> bytes:
-        """``servoStop`` for each servo: it answers where it is."""
-        return b"".join(m.message(m.SERVO_STOP, d) for d in self.devices)
+        """``getBoardInfo``: the servos attached, each then asked where it is
+        (``pose_reader``)."""
+        return m.message(m.GET_BOARD_INFO)
 
     def pose_reader(self) -> PoseReader:
         """Reads the stopped events as values."""

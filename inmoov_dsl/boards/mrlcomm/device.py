@@ -11,9 +11,16 @@ one (at its initial width, no pulses), ``servoAttachPin`` starts its pulses,
 ``servoMoveToMicroseconds`` publishes a started event, and at velocity -1 its next
 update writes the width and publishes a stopped event; ``servoStop`` a stopped event
 with where it is; ``servoDetachPin`` stops the pulses. A velocity limit is kept but
-not simulated (the plan is the motion: gestplay sets -1). Not modelled: the 64-byte
-receive buffer and the loop's time, which limit how fast a real board reads (the
-controller paces its moves for it: ``MOVES_PER_FRAME``).
+not simulated (the plan is the motion: gestplay sets -1). A method of the schema it does
+not model is acknowledged and does nothing; a method the board does not read is an
+"unknown method N"; an empty message runs the last one again, as ``readMsg`` leaves it.
+A message to a device that does not exist is an error, and then the real firmware calls
+the device's method through a null pointer (in simavr it crashed, docs/controllers.md):
+the twin stops reading and answering until it is reset, so that no tool may do it.
+Checked against MrlComm itself, built for the Mega and run in simavr: the same bytes for
+every message gestplay sends. Not modelled: the 64-byte receive buffer and the loop's
+time, which limit how fast a real board reads (the controller paces its moves for it:
+``MOVES_PER_FRAME``), and the board info it sends by itself every second.
 """
 
 from __future__ import annotations
@@ -26,6 +33,9 @@ from ..pulses import Widths
 from . import messages as m
 
 BOARD_MEGA = 1  #: MrlComm's board type for a Mega 2560
+LOOP_US = 60  #: the time of its loop it reports (MrlComm in simavr: 26..105 us)
+FREE_RAM = 6400  #: the RAM it reports free with no device (in simavr: 6,393) ...
+DEVICE_RAM = 54  #: ... and what each servo takes of it (6,069..6,084 with six)
 
 
 @dataclass
@@ -47,8 +57,10 @@ class MrlCommCore:
         self._index = {d: j for j, d in enumerate(devices)}
         self.devices: dict[int, Servo] = {}
         self.acks = True
+        self.crashed = False  #: it ran a device's method through a null pointer
         self.version = m.VERSION  #: the MRLCOMM_VERSION it reports
         self._buf = bytearray()
+        self._last = bytes([m.GET_BOARD_INFO])  # the message an empty one runs again
         self.values: list[int] = []
         self.asked = None  #: (a rig's stored gestures: MrlComm has none)
         self.restore(None)
@@ -68,6 +80,7 @@ class MrlCommCore:
         self.values = list(values) if values is not None else [s.rest for s in self.servos]
         self.devices.clear()
         self.acks = True
+        self.crashed = False
         self._buf.clear()
 
     def command(self, index: int, value: int) -> Write:
@@ -80,6 +93,8 @@ class MrlCommCore:
 
     def feed(self, byte: int) -> tuple[tuple[Write, ...] | None, bytes]:
         """Read one byte: the writes a whole message makes, and what the board sends."""
+        if self.crashed:
+            return None, b""
         self._buf.append(byte)
         if len(self._buf) == 1 and byte != m.MAGIC:
             self._buf.clear()
@@ -89,25 +104,30 @@ class MrlCommCore:
             return None, b""
         if len(self._buf) < 2 or len(self._buf) < 2 + self._buf[1]:
             return None, b""
-        body, self._buf = bytes(self._buf[2:]), bytearray()
+        body, self._buf = bytes(self._buf[2:]) or self._last, bytearray()
+        self._last = body
         writes, before, after = self._run(body)
+        if self.crashed:
+            return None, before
         ack = m.message(m.ACK, body[0] if body else 0) if self.acks else b""
         return writes, before + ack + after
 
     def _run(self, body: bytes) -> tuple[tuple[Write, ...] | None, bytes, bytes]:
         """What a message does: writes, what it publishes, what the next update does."""
-        args = m.arguments(body)
-        if args is None:
-            return None, m.message(m.ERROR, b"unknown method"), b""
         method = body[0]
+        if method not in m.READS:
+            return None, m.message(m.ERROR, f"unknown method {method}".encode()), b""
+        args = m.arguments(body)
+        if args is None:  # a method of the schema not modelled (or its arguments cut)
+            return None, b"", b""
         if method == m.GET_BOARD_INFO:
-            return None, m.message(m.BOARD_INFO, self.version, BOARD_MEGA, 100, 5000, 0,
-                                   bytes(sorted(self.devices))), b""
+            free = FREE_RAM - DEVICE_RAM * len(self.devices)
+            return None, m.message(m.BOARD_INFO, self.version, BOARD_MEGA, LOOP_US, free, 0,
+                                   bytes(self.devices)), b""
         if method == m.ENABLE_ACK:
             self.acks = bool(args[0])
-        elif method == m.SOFT_RESET:
+        elif method == m.SOFT_RESET:  # its servos detached and gone; acks as they were
             self.devices.clear()
-            self.acks = True
         elif method == m.DEVICE_DETACH:
             self.devices.pop(args[0], None)
         elif method == m.SERVO_ATTACH:
@@ -125,7 +145,8 @@ class MrlCommCore:
 
     def _servo(self, method: int, args: tuple):
         servo = self.devices.get(args[0])
-        if servo is None:
+        if servo is None:  # then the method runs on a null device: it stops
+            self.crashed = True
             return None, m.message(m.ERROR, b"device does not exist"), b""
         device = args[0]
         if method == m.SERVO_ATTACH_PIN:

@@ -26,6 +26,11 @@ DEVICE_DETACH, DEBUG = 14, 31
 SERVO_ATTACH, SERVO_ATTACH_PIN, SERVO_DETACH_PIN, SERVO_SET_VELOCITY = 35, 36, 37, 38
 SERVO_MOVE_TO_MICROSECONDS, SERVO_EVENT, BEGIN, SERVO_STOP = 41, 43, 58, 59
 STARTED, STOPPED = 0, 1  #: a servo event's type
+#: the methods a board reads (the schema's ``>`` lines); it runs any other as an
+#: "unknown method N"
+READS = frozenset((2, 4, 5, 6, 7, 8, 10, 12, 14, 15, 16, 17, 18, 20, 21, 22, 23, 24, 25, 26,
+                   27, 28, 29, 30, 33, 34, 35, 36, 37, 38, 39, 40, 41, 42, 44, 45, 47, 48,
+                   49, 51, 52, 53, 54, 55, 56, 59))
 
 #: each modelled method's arguments, in the schema's order
 ARGS: dict[int, tuple[str, ...]] = {
