@@ -97,7 +97,7 @@ def test_export_names_the_robots_joints_like_the_model(capsys):
     assert header.split(",")[1:8] == ["right_arm_to_wrist", "right_palm_to_thumb",
                                       "right_palm_to_index", "right_palm_to_medius",
                                       "right_palm_to_ring", "right_palm_to_pinky",
-                                      "left_arm_to_wrist"]
+                                      "r_bicep"]  # the right Mega: hand, then arm
     assert "neck" in header.split(",")
     assert all(float(x) == 0 for x in rows[0].split(",")[1:])  # from rest: all at zero
 
