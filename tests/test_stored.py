@@ -312,12 +312,12 @@ def test_the_firmware_player_plays_like_the_python_one(image):
     assert out[-2:] == ["write 0 2 180", "reply"]
 
 
-def run_image(book, timed="", *options):
+def run_image(book, timed="", *options, sketch="servo_rhand"):
     """The image in simavr: its replies, the DUMP at the end, every pulse (pin, s,
     width), the watched player's states (s, state), the EEPROM it kept."""
     eeprom = options[options.index("--eeprom") + 1] if "--eeprom" in options else None
     done = subprocess.run([str(book / "build" / "harness" / "simboard"),
-                           str(book / "build" / "servo_rhand.elf"), "--pulses", "--watch",
+                           str(book / "build" / f"{sketch}.elf"), "--pulses", "--watch",
                            "inmoov_playing", *map(str, options)], input=timed,
                           capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr
@@ -430,6 +430,39 @@ def test_every_library_gesture_stored_in_one_image_plays_as_it_streams(image):
             ends = [t for t, b in stored["out"] if b == Signal.WAIT]
             assert len(ends) >= 4, name  # at power-up, and when each of the three ended
     assert checked == NAMES and len(checked) >= 29
+
+
+def test_a_mega_plays_a_stored_gesture_as_it_streams(tmp_path):
+    """The InMoov's left Mega (18 servos, two timers, 115200 baud) stores 'nod' with a
+    button on A0 (its pin 54): started by the signal and by the button, every pulse on
+    every one of its servo pins is within 10 us of the nod streamed live to the same
+    image, within a servo frame; the final DUMP is the same."""
+    need("make", "cc", "avr-gcc", "avr-g++", "/usr/share/arduino/hardware/arduino/avr/cores",
+         "/usr/include/simavr/sim_avr.h")
+    book = tmp_path / "book"
+    assert gestc.main(["firmware", "inmoov", "-o", str(book), "--store", "nod", "--board",
+                       "servo_inmoov_left", "--button", "A0=nod"]) == 0
+    assert "  button A0\n" in (book / "servo_inmoov_left" / "stored.h").read_text()
+    done = subprocess.run(["make", "-C", str(book), "-j2", "servo_inmoov_left", "harness"],
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stdout + done.stderr
+    inmoov = load_profile("inmoov")
+    compiled, _ = compile_program(load(str(LIBRARY["nod"].path)), "nod", inmoov)
+    d, sketch = compiled.duration, "servo_inmoov_left"
+    live = run_image(book, to_timed(compiled.stream(183)), "--baud", 115200, "--run-on", 0.5,
+                     sketch=sketch)
+    t1, t2 = 0.2, 0.2 + d + 0.5
+    stored = run_image(book, "".join(f"{t1:.6f} {b}\n" for b in (255, PLAY, 0)), "--baud",
+                       115200, "--button", 54, "--press", 54, t2, 0.1, "--wait",
+                       t2 - t1 + d + 0.5, sketch=sketch)
+    begun = starts(stored["watch"])
+    assert len(begun) == 2 and abs(begun[0] - t1) < 0.01, begun
+    assert all(follows(stored["pulses"], t, live["pulses"], d + 0.1) <= WIDTH for t in begun)
+    servos = {s.pin for s in inmoov.servos if s.board == 183}
+    assert set(stored["pulses"]) == set(live["pulses"]) == servos
+    final = {s.id: compiled.final[inmoov.index(s.name)] for s in inmoov.servos
+             if s.board == 183}
+    assert live["dump"] == stored["dump"] == final
 
 
 def test_the_approach_from_a_far_pose_keeps_the_speed_limit_at_the_pins(image, tmp_path):

@@ -31,6 +31,7 @@ FLASH_MAX = 30_720  #: bytes: an old-bootloader Nano's room for a sketch (Makefi
 FIRMWARE_FLASH = 7_300
 FRAME = FRAME_US / 1e6
 MAX_FRAMES = 0xFFFF  #: a stored gesture's duration in frames (2 bytes): 21 minutes
+STORED_SERVOS = 28  #: a frame's header: a flag and a bit per servo, in 32 bits
 LED_PIN = 13  #: the Nano's LED pulls a button's pin low
 ANALOG_ONLY = (20, 21)  #: A6, A7 on a Nano: no digital input
 
@@ -142,19 +143,38 @@ def stored_set(gestures: Sequence[StoredGesture], request: Request, profile: Pro
     if len(gestures) > protocol.MAX_STORED:
         raise GestError(Diagnostic("error", f"{len(gestures)} gestures to store: a board "
                                    f"holds at most {protocol.MAX_STORED}"))
+    if len(board.servos) > STORED_SERVOS:
+        raise GestError(Diagnostic("error", f"board {board.id} has {len(board.servos)} "
+                                   f"servos: a board with stored gestures has at most "
+                                   f"{STORED_SERVOS} (a frame's servos are a 32-bit mask)"))
     check_pins(request.buttons, profile, board)
     number = {g.name: k for k, g in enumerate(gestures)}
     pair_us = round(protocol.PAIR_BYTES * protocol.byte_time(board.baud) * 1e6)
     flash = StoredSet(tuple(gestures), pair_us, limits(profile, board),
                       number.get(request.boot), number.get(request.idle), request.idle_after,
                       tuple((pin, number[g]) for pin, g in request.buttons))
-    check_fit(flash)
+    check_fit(flash, *room(board))
     return flash
 
 
-def check_fit(flash: StoredSet, room: int = FLASH_MAX - FIRMWARE_FLASH) -> None:
+#: a Mega's stored gestures: what pgm_read_byte reaches (the first 64 KB of flash, the
+#: interrupt vectors before them)
+MEGA_ROOM = 65_536 - 512
+
+
+def room(board: Board) -> tuple[int, str]:
+    """The flash ``board`` has for stored gestures, and what leaves it so."""
+    if kinds.mcu(board.options) == "atmega2560":
+        return MEGA_ROOM, "the first 64 KB of a Mega's flash (what PROGMEM reaches) leave"
+    return FLASH_MAX - FIRMWARE_FLASH, (f"beside the firmware's {FIRMWARE_FLASH:,}, an "
+                                        f"old-bootloader Nano's {FLASH_MAX:,} leave")
+
+
+def check_fit(flash: StoredSet, space: int = FLASH_MAX - FIRMWARE_FLASH,
+              why: str | None = None) -> None:
     """An error naming the sizes, and what to leave out, if ``flash`` does not fit in
-    ``room`` bytes."""
+    ``space`` bytes (``why``: what leaves that much)."""
+    room = space
     blob = flash.size()
     if blob <= room:
         return
@@ -166,9 +186,10 @@ def check_fit(flash: StoredSet, room: int = FLASH_MAX - FIRMWARE_FLASH) -> None:
             break
         out.append(f"{name} ({size:,} bytes)")
         over -= size
+    why = why or (f"beside the firmware's {FIRMWARE_FLASH:,}, an old-bootloader Nano's "
+                  f"{FLASH_MAX:,} leave")
     raise GestError(Diagnostic(
-        "error", f"the {len(flash.gestures)} gestures take {blob:,} bytes of flash: beside "
-        f"the firmware's {FIRMWARE_FLASH:,}, an old-bootloader Nano's {FLASH_MAX:,} leave "
+        "error", f"the {len(flash.gestures)} gestures take {blob:,} bytes of flash: {why} "
         f"room for {room:,}", hint=f"leave out {', '.join(out)}"))
 
 

@@ -9,7 +9,7 @@ import sys
 
 from ...compiling.compiler import compile_program, pick_gesture
 from ...errors import Diagnostic, GestError
-from ...firmware.store import FIRMWARE_FLASH, FLASH_MAX, Request, parse_pin, stored_gesture
+from ...firmware.store import Request, parse_pin, room, stored_gesture
 from ...firmware.store import stored_set as make_set
 from ...language.library import find_gesture, library_dirs, scan_library
 from ...language.load import load
@@ -89,8 +89,8 @@ def stored_sets(args: argparse.Namespace, profile: Profile, board: Board, prog: 
     flash = make_set(gestures, asked, profile, board)
     size = len(flash.to_bytes())
     print(f"{prog}: board {board.id} stores {len(gestures)} gesture"
-          f"{'s' if len(gestures) != 1 else ''} in {size:,} bytes of flash (with the "
-          f"firmware about {size + FIRMWARE_FLASH:,} of {FLASH_MAX:,})", file=sys.stderr)
+          f"{'s' if len(gestures) != 1 else ''} in {size:,} bytes of flash (of the "
+          f"{room(board)[0]:,} it has for them)", file=sys.stderr)
     return {board.id: flash}
 
 

@@ -121,9 +121,9 @@ bool StoredPlayer::decode() {
   uint8_t n = core_->count();
   uint8_t width = (n + 4) / 4;
   if (nibbles_ - nibble_ < width) return false;
-  uint16_t head = 0;
+  uint32_t head = 0;  // a bit per servo and the flag: up to 28 servos (a Mega's 18)
   for (uint8_t k = 0; k < width; k++) head = head << 4 | nibble();
-  uint16_t flag = 1U << (4 * width - 1);
+  uint32_t flag = 1UL << (4 * width - 1);
   if (head & flag) {  // frames without a pair
     frame_ += (head & (flag - 1)) + 1;
     return true;
@@ -165,7 +165,7 @@ bool StoredPlayer::poll(uint32_t now_us, uint8_t frames) {
         if (!(mask_ >> j & 1)) continue;
         if (t + static_cast<uint32_t>(n - 1 - j) * pair_us < frame_end) continue;
         core_->command(j, next_[j]);
-        mask_ &= ~(1U << j);
+        mask_ &= ~(1UL << j);
       }
       if (mask_) return false;
       frame_++;

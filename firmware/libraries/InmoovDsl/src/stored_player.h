@@ -92,7 +92,7 @@ class StoredPlayer {
   uint16_t nibble_;       // nibbles of its stream read
   uint16_t nibbles_;      // nibbles in its stream
   uint16_t frame_;        // the frame of the record read last
-  uint16_t mask_;         // servos of that frame not yet written
+  uint32_t mask_;         // servos of that frame not yet written
   uint32_t t0_;           // us: when the stream started
   uint32_t end_us_;       // us after t0_: the gesture's end
 };
