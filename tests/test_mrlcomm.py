@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from conftest import WHOLE_ROBOT
 
-from inmoov_dsl import load_profile
+from inmoov_dsl import clock, load_profile
 from inmoov_dsl.boards import controller
 from inmoov_dsl.boards.mrlcomm import MOVES_PER_FRAME
 from inmoov_dsl.boards.mrlcomm import messages as m
@@ -19,7 +19,7 @@ from inmoov_dsl.errors import GestError
 from inmoov_dsl.language.library import scan_library
 from inmoov_dsl.language.load import load
 from inmoov_dsl.wire.link import connect, parse_ports
-from inmoov_dsl.wire.player import ask_dump, play, relax_all
+from inmoov_dsl.wire.player import BoardTrouble, ask_dump, play, relax_all
 from inmoov_dsl.wire.urlhandler import protocol_sim
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -222,3 +222,58 @@ def test_a_port_where_nothing_answers_is_one_clear_error(capsys, monkeypatch):
     err = capsys.readouterr().err
     assert "error: no board answered on COM4 (board 181, mrlcomm at 115200 baud)" in err
     assert "Traceback" not in err
+
+
+def test_a_board_that_starts_again_mid_gesture_stops_the_play_with_a_clear_message(
+        virtual_clock):
+    """MrlComm reset mid-gesture (its power, its USB) has lost its servos: its begin
+    message ends the play at once, saying so, and nothing more goes to a device that no
+    longer exists (the real firmware would run it on a null pointer)."""
+    protocol_sim.power_off()
+    links = connect(parse_ports(["sim://?fresh"], MRL), MRL)
+    board = links[0].port.board
+    try:
+        reach(links[0], MRL, False, "")
+        compiled, _ = compile_program(load(str(LIBRARY["wave"].path)), "wave", MRL)
+
+        reset_at = []
+
+        def progress(t):
+            if t > 0.5 and not board.resets:
+                reset_at.append(clock.now())
+                board.reset(clock.now(), 0.0)  # a brown-out: no DTR, no host
+
+        with pytest.raises(BoardTrouble) as info:
+            play(compiled, links, progress=progress)
+        assert info.value.diagnostic.message.startswith(
+            "board 181 started again mid-gesture (MrlComm's begin message: its power or its "
+            "USB reset it); its servos are detached and limp (on sim://")
+        assert clock.now() - reset_at[0] < 0.05  # at once: its banner and begin message
+        assert not board.core.crashed  # no move reached a device it no longer has
+    finally:
+        links[0].port.close()
+
+
+def test_the_service_takes_a_board_that_started_again_as_gone_and_back():
+    """The service's port of an MrlComm board that sent its begin message is down (its
+    servos are gone): it is connected anew, as a board that was unplugged and came back."""
+    from inmoov_dsl.service.links import Resilient
+    from inmoov_dsl.wire.player import Link
+
+    class Port:
+        def __init__(self, data):
+            self.data, self.closed = data, False
+
+        def read(self, size=1):
+            data, self.data = self.data, b""
+            return data
+
+        def close(self):
+            self.closed = True
+
+    lost = []
+    events = m.message(m.SERVO_EVENT, 1, m.STARTED, 1000, 1100)
+    port = Resilient(Link(181, Port(events), "COM3", KIND), lost.append)
+    assert port.read(4096) == events and not port.down
+    port.back(Port(KIND.hello()))
+    assert port.read(4096) == b"" and port.down and lost == [181]

@@ -11,7 +11,7 @@ this interface.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar, Protocol
 
@@ -151,6 +151,11 @@ class Controller:
     def pose_reader(self) -> PoseReader:
         """A reader of the answer to ``ask_pose``."""
         raise NotImplementedError
+
+    def watch(self) -> Callable[[bytes], str | None]:
+        """A reader of what the board sends while it plays: what in it says the board
+        cannot go on (an MrlComm that started again), or None."""
+        return lambda data: None
 
     def probe(self) -> bytes:
         """What a board answers once it is ready (rig: CANCEL, answered WAIT)."""

@@ -20,7 +20,7 @@ from ..boards import controller
 from ..errors import Diagnostic, GestError
 from ..profiles.data import Profile
 from ..wire.link import close, connect, parse_ports
-from ..wire.player import Link, ask_dump, cancel_all, relax_all, wait_ready
+from ..wire.player import BoardTrouble, Link, ask_dump, cancel_all, relax_all, wait_ready
 from . import typeahead
 from .common import EXIT_INTERRUPTED, Exit, Stopped, status_of, warn, why
 
@@ -116,6 +116,9 @@ def opened(prog: str, profile: Profile, ports: list[str], blind: bool = False,
     except KeyboardInterrupt as exc:
         cancel_all(links)
         raise Exit(_interrupted(prog, links, exc, modes)) from None
+    except BoardTrouble as exc:  # a board that cannot go on said so
+        cancel_all(links)
+        raise GestError(exc.diagnostic) from None
     except OSError as exc:  # a serial port's SerialException, an I2C bus's error
         cancel_all(links)
         where = ", ".join(f"board {link.board} on {link.name}" for link in links)

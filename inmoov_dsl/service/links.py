@@ -23,12 +23,16 @@ RETRY = 0.5  #: s between attempts to open a lost board's port again
 
 class Resilient:
     """A board's port that does not raise when the board goes away: writes are dropped
-    and reads are empty until ``back`` gives it a new port."""
+    and reads are empty until ``back`` gives it a new port. A board that says it cannot
+    go on (an MrlComm that started again, its servos gone: ``Controller.watch``) is
+    taken as gone, and joins again as one that came back."""
 
     def __init__(self, link: Link, lost: Callable[[int], None]):
         self.board, self.name, self.port = link.board, link.name, link.port
         self.lost, self.down = lost, False
         self.lock = threading.Lock()
+        self.controller = link.controller
+        self.watch = link.controller.watch() if link.controller else None
 
     def write(self, data: bytes) -> int:
         """Send ``data`` (dropped while the board is away)."""
@@ -45,9 +49,14 @@ class Resilient:
         with self.lock:
             if not self.down:
                 try:
-                    return self.port.read(size)
+                    data = self.port.read(size)
                 except (serial.SerialException, OSError):
                     self._lose()
+                    return b""
+                if data and self.watch is not None and self.watch(data):
+                    self._lose()
+                    return b""
+                return data
             return b""
 
     def reset_output_buffer(self) -> None:
@@ -66,6 +75,7 @@ class Resilient:
         """The board is there again, on ``port``."""
         with self.lock:
             self.port, self.down = port, False
+            self.watch = self.controller.watch() if self.controller else None
 
     def close(self) -> None:
         """Close the port."""

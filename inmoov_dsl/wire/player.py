@@ -12,7 +12,7 @@ from __future__ import annotations
 import contextlib
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Protocol
 
 from .. import clock
@@ -20,6 +20,7 @@ from ..boards.base import Controller
 from ..boards.rig import DumpReader, commands
 from ..clock import Clock, Sleep
 from ..compiling.compiled import Compiled
+from ..errors import Diagnostic
 from ..protocol import ASK_POSE, CANCEL_PENDING, RELAX_BOARD, Signal
 from .pace import HORIZON, Pacer, Timed, discard_output
 from .pace import pacer as pacer_for
@@ -44,6 +45,14 @@ class Port(Protocol):
         """Up to ``size`` bytes that have come (a port that never blocks: maybe none)."""
 
 
+class BoardTrouble(OSError):
+    """A board said, while it played, that it cannot go on (``Controller.watch``)."""
+
+    def __init__(self, diagnostic: Diagnostic):
+        super().__init__(diagnostic.message)
+        self.diagnostic = diagnostic
+
+
 @dataclass
 class Link:
     """One board's connection, and the board as its kind drives it (None: a rig)."""
@@ -52,6 +61,21 @@ class Link:
     port: Port
     name: str = ""
     controller: Controller | None = None
+    _watch: Callable[[bytes], str | None] | None = field(default=None, repr=False,
+                                                          compare=False)
+
+    def listen(self) -> bytes:
+        """What the board has sent (``drain``); what its kind reads in it as a board that
+        cannot go on (an MrlComm that started again) raises ``BoardTrouble``."""
+        data = drain(self.port)
+        if data and self.controller is not None:
+            if self._watch is None:
+                self._watch = self.controller.watch()
+            if trouble := self._watch(data):
+                raise BoardTrouble(Diagnostic(
+                    "error", f"{trouble} (on {self.name})",
+                    hint="play again: it is connected anew, its servos from where they are"))
+        return data
 
 
 def drain(port: Port) -> bytes:
@@ -117,7 +141,7 @@ def wait_until(deadline: float, links: Sequence[Link], now: Clock, sleep: Sleep,
         if left > POLL + spin:
             sleep(POLL)
             for link in links:
-                drain(link.port)
+                link.listen()
         elif left > spin:
             sleep(left - spin)
         elif left > 0:
@@ -155,7 +179,7 @@ def play(compiled: Compiled, links: Sequence[Link], speed: float = 1.0,
             for pacer in pacers:
                 pacer.pump(t)
             for link in links:
-                drain(link.port)  # the board answers filler with WAIT; a pulled cable shows
+                link.listen()  # the board answers filler with WAIT; a pulled cable shows
             if progress is not None and (t - start) * speed - shown >= 0.1:
                 shown = (t - start) * speed
                 progress(min(shown, compiled.duration))

@@ -57,6 +57,24 @@ class _Stopped:
         return question
 
 
+class _Watch:
+    """What a board running MrlComm says while it plays: its begin message is a board
+    that started again (its power, its USB), its servos gone with it."""
+
+    def __init__(self, board: int):
+        self.board, self.reader = board, m.Reader()
+
+    def __call__(self, data: bytes) -> str | None:
+        for method, args in self.reader.feed(data):
+            if method == m.BEGIN:
+                return (f"board {self.board} started again mid-gesture (MrlComm's begin "
+                        f"message: its power or its USB reset it); its servos are detached "
+                        f"and limp")
+            if method == m.ERROR and args and b"does not exist" in args[0]:
+                return f"board {self.board} has lost its servos (MrlComm: device does not exist)"
+        return None
+
+
 class MrlCommController(Controller):
     """A Mega (or any Arduino) running MrlComm at its release's version."""
 
@@ -138,6 +156,10 @@ class MrlCommController(Controller):
     def pose_reader(self) -> PoseReader:
         """Reads the stopped events as values."""
         return _Stopped(self)
+
+    def watch(self) -> _Watch:
+        """A reset, or servos gone, while it plays."""
+        return _Watch(self.board.id)
 
     def probe(self) -> bytes:
         """``getBoardInfo``, as MyRobotLab asks."""
