@@ -121,9 +121,15 @@ def pulse(key: str, value: Any) -> tuple[int, int]:
 
 def check_channels(report, boards, servos) -> None:
     """Each servo on a channel (a pin) its board has, one a channel."""
-    for board in boards:
+    for k, board in enumerate(boards):
         count = channels(board.kind, board.options)
         taken: dict[int, str] = {}
+        most = 32 if mcu(board.options) == "atmega2560" else 12
+        if board.kind == "rig" and len(board.servos) > most:
+            name = ARDUINOS[board.option("arduino", 0)][0].capitalize()
+            report.error(("board", k, "servos"), f"board {board.id} has {len(board.servos)} "
+                         f"servos: our firmware pulses at most {most} on an Arduino {name} "
+                         f"(its timers)", hint="share them between two boards")
         for s in (s for s in servos if s.board == board.id):
             at = ("servo", s.name, "pin")
             if board.kind in ("rig", "mrlcomm"):

@@ -18,7 +18,7 @@
 #include "servo_pulses.h"
 
 static_assert(SERVO_COUNT <= inmoov::MAX_SERVOS,
-              "more servos than this board's timers can pulse (12 on an Uno, 48 on a Mega)");
+              "more servos than this board's timers can pulse (12 on an Uno, 32 on a Mega)");
 
 uint8_t inmoov_values[SERVO_COUNT];
 uint8_t inmoov_record[SERVO_COUNT + inmoov::PoseStore::OVERHEAD];

@@ -74,7 +74,7 @@ inline __attribute__((always_inline)) void compare(Timer& t, volatile uint16_t& 
     return;
   }
   // every channel has pulsed: the next frame starts 20 ms after this one did (or soon,
-  // if twelve long pulses took longer than that), with the first channel
+  // if twelve long pulses on an Uno took longer than that), with the first channel
   uint16_t rest = t.frame_used < FRAME_TICKS - 200 ? FRAME_TICKS - t.frame_used : 200;
   ocr = rest - 1;
   t.frame_used = 0;
@@ -118,7 +118,7 @@ void begin() {
     plan_next(timers_[k], NONE);
   }
   // the first frame starts in 16 us; the next timers' 1 ms apart, so that their edges
-  // seldom fall together
+  // seldom fall together (MAX_SERVOS stay within the four)
 #if defined(__AVR_ATmega2560__) || defined(__AVR_ATmega1280__)
   INMOOV_START_TIMER(5, 32);
   if (timers_[1].count) INMOOV_START_TIMER(1, 2032);
