@@ -277,3 +277,50 @@ def test_the_service_takes_a_board_that_started_again_as_gone_and_back():
     assert port.read(4096) == events and not port.down
     port.back(Port(KIND.hello()))
     assert port.read(4096) == b"" and port.down and lost == [181]
+
+
+def test_ports_names_a_mega_of_ours_at_115200_and_never_sends_it_mrlcomm_s_question(
+        monkeypatch, virtual_clock):
+    """A Mega with our firmware runs at 115200: gestplay ports asks it there, as ours,
+    before it asks for MrlComm (whose getBoardInfo, 170 1 2, a board of ours would read as
+    part of a servo command)."""
+    from inmoov_dsl.wire import identify
+    from inmoov_dsl.wire.link import open_board
+    from inmoov_dsl.wire.ports import PortInfo
+
+    inmoov = load_profile("inmoov")
+    protocol_sim.power_off()
+    mega = open_board("sim://inmoov?board=181&fresh", inmoov, inmoov.boards[0])
+    heard = []
+
+    class Garbled:  # the port at a speed the board does not run at: noise, no answer
+        def write(self, data):
+            heard.append((9600, bytes(data)))
+            return len(data)
+
+        def read(self, size=1):
+            return b""
+
+        def close(self):
+            pass
+
+    class Kept:  # the Mega's port, opened again and again (each close is not the end)
+        def write(self, data):
+            heard.append((115200, bytes(data)))
+            return mega.write(data)
+
+        def read(self, size=1):
+            return mega.read(size)
+
+        def close(self):
+            pass
+
+    monkeypatch.setattr(identify, "open_port",
+                        lambda device, baud, timeout=0: Kept() if baud == 115200 else Garbled())
+    said = identify.answer(PortInfo("/dev/ttyACM0", "Arduino Mega 2560", 0x2341, 0x0042))
+    assert said == "board 181, 10 servos at 115200 baud (our firmware or the original)"
+    assert not any(m.message(m.GET_BOARD_INFO) in data for _, data in heard)
+    board = mega.board
+    assert board.positions() == {s.id: s.rest for s in inmoov.servos if s.board == 181}
+    mega.close()
+    protocol_sim.power_off()

@@ -17,16 +17,31 @@ from .ports import PortInfo, open_port
 
 POLOLU = 0x1FFB  #: Pololu's USB vendor ID
 MAESTRO_BAUD = 115_200
+MEGA_BAUD = 115_200  #: a Mega of ours (the InMoov's), as MyRobotLab opens its Megas
 
 
 def answer(info: PortInfo, baud: int = DEFAULT_BAUD) -> str:
-    """What answers on ``info``'s port, in words (``baud``: a board of ours')."""
+    """What answers on ``info``'s port, in words (``baud``: a board of ours'; a Mega of
+    ours at 115200 is asked too, before MrlComm's question, which it would read as a
+    servo command)."""
     if info.vid == POLOLU:
         return _maestro(info.device)
     if info.likely is None:
         return "not asked (not an Arduino's USB IDs)"
+    rates = list(dict.fromkeys((baud, MEGA_BAUD)))
+    for rate in rates:
+        said = _ours(info.device, rate)
+        if said is not None:
+            return said
+    return _mrlcomm(info.device) or f"nothing answered at {' or '.join(map(str, rates))} " \
+        f"baud, nor MrlComm at {mrl.BAUD}"
+
+
+def _ours(device: str, baud: int) -> str | None:
+    """A board of ours (or the original firmware) at ``baud``: its ID and servos, from
+    DUMP; what went wrong with the port; or None if nothing of ours answered."""
     try:
-        port = open_port(info.device, baud)
+        port = open_port(device, baud)
     except GestError as exc:
         return f"cannot open it: {exc.first.message}"
     try:
@@ -37,16 +52,16 @@ def answer(info: PortInfo, baud: int = DEFAULT_BAUD) -> str:
         while clock.now() < deadline:
             if (found := replies.feed(drain(port))) is not None:
                 board, values = found
-                return f"board {board}, {len(values)} servos (our firmware or the original)"
+                at = f" at {baud} baud" if baud != DEFAULT_BAUD else ""
+                return f"board {board}, {len(values)} servos{at} (our firmware or the original)"
             clock.sleep(0.005)
         if ready:
-            return "a board that sends WAIT but did not answer DUMP"
+            return f"a board that sends WAIT at {baud} baud but did not answer DUMP"
     except OSError as exc:
         return f"the port failed: {exc}"
     finally:
         port.close()
-    return _mrlcomm(info.device) or f"nothing answered at {baud} baud, nor MrlComm at " \
-        f"{mrl.BAUD}"
+    return None
 
 
 def _mrlcomm(device: str) -> str | None:
