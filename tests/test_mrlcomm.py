@@ -324,3 +324,36 @@ def test_ports_names_a_mega_of_ours_at_115200_and_never_sends_it_mrlcomm_s_quest
     assert board.positions() == {s.id: s.rest for s in inmoov.servos if s.board == 181}
     mega.close()
     protocol_sim.power_off()
+
+
+def test_the_whole_robot_plays_with_ours_on_one_mega_and_mrlcomm_on_the_other(
+        virtual_clock, tmp_path):
+    """The InMoov's right Mega with our firmware, its left still on MrlComm (a profile
+    says which kind each board runs): hello ends where planned on both."""
+    from inmoov_dsl.cli.hand import board_pose
+    from inmoov_dsl.profiles.profile import parse_profile
+
+    text = (ROOT / "gestures/profiles/inmoov.toml").read_text()
+    left = text.index('name = "left"')
+    path = tmp_path / "mixed.toml"
+    path.write_text(text[:left] + text[left:].replace('arduino = "mega"', 'kind = "mrlcomm"',
+                                                      1).replace('name = "inmoov"', ""))
+    mixed = parse_profile(path.read_text(), str(path))
+    assert [b.kind for b in mixed.boards] == ["rig", "mrlcomm"]
+    protocol_sim.power_off()
+    links = connect(parse_ports(["right=sim://?fresh", "left=sim://?fresh"], mixed), mixed)
+    try:
+        start = board_pose(links, mixed)
+        compiled, _ = compile_program(load(str(LIBRARY["hello"].path)), "hello", mixed, start)
+        assert [s.kind for s in compiled.streams] == ["rig", "mrlcomm"]
+        play(compiled, links)
+        for link in links:
+            link.port.board.advance(clock.now())
+            held = link.port.board.positions()
+            for s in (s for s in mixed.servos if s.board == link.board):
+                planned = compiled.final[mixed.index(s.name)]
+                assert abs(held[s.id] - planned) <= 1, (s.name, held[s.id], planned)
+    finally:
+        for link in links:
+            link.port.close()
+        protocol_sim.power_off()
