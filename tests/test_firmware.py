@@ -25,6 +25,7 @@ from inmoov_dsl import load_profile, to_timed
 from inmoov_dsl.boards.pulses import PULSE_MAX, PULSE_MIN, pulse_us
 from inmoov_dsl.boards.rig.core import BoardCore, BoardServo
 from inmoov_dsl.compiling.compiler import compile_program
+from inmoov_dsl.errors import GestError
 from inmoov_dsl.firmware.sketches import sketches
 from inmoov_dsl.language.library import scan_library
 from inmoov_dsl.language.load import load
@@ -119,6 +120,18 @@ def test_firmware_check_finds_a_stale_header(tmp_path, capsys):
     assert gestc.main(["firmware", "rhand", "-o", str(tmp_path), "--check"]) == 1
     assert capsys.readouterr().out == (f"{settings}: out of date (gestc firmware rhand -o "
                                        f"{tmp_path})\n")
+
+
+def test_a_board_of_ours_has_no_more_servos_than_its_timers_pulse():
+    from conftest import make_profile
+
+    crowded = make_profile({181: [f"s{i}" for i in range(13)]}, name="crowded")
+    with pytest.raises(GestError) as info:
+        sketches(crowded)
+    assert info.value.first.message == ("profile 'crowded': board 181 has 13 servos, and our "
+                                        "firmware pulses at most 12 on an Arduino Uno (its "
+                                        "timers)")
+    assert info.value.first.hint == 'a Mega pulses 32: arduino = "mega" in its [[board]]'
 
 
 def test_settings_say_what_the_board_needs():

@@ -357,3 +357,36 @@ def test_the_whole_robot_plays_with_ours_on_one_mega_and_mrlcomm_on_the_other(
         for link in links:
             link.port.close()
         protocol_sim.power_off()
+
+
+def test_a_board_that_goes_silent_mid_gesture_stops_the_play_with_a_clear_message(
+        virtual_clock):
+    """MrlComm says something every second (its board info, unasked, and the events of
+    every move): a board silent for 2.5 s has stopped, and the play ends saying so."""
+    protocol_sim.power_off()
+    links = connect(parse_ports(["sim://?fresh"], MRL), MRL)
+    board = links[0].port.board
+    try:
+        reach(links[0], MRL, False, "")
+        idle_start = clock.now()
+        clock.sleep(3.5)  # idle, it still says its board info every second
+        assert sum(1 for meth, _ in m.Reader().feed(links[0].listen())
+                   if meth == m.BOARD_INFO) == 3, clock.now() - idle_start
+        compiled, _ = compile_program(load(str(LIBRARY["wiggle"].path)), "wiggle", MRL)
+        stopped_at = []
+
+        def progress(t):
+            if t > 0.5 and not stopped_at:
+                stopped_at.append(clock.now())
+                board.core.crashed = True  # it hangs: it reads and says nothing more
+
+        with pytest.raises(BoardTrouble) as info:
+            play(compiled, links, progress=progress)
+        message = info.value.diagnostic.message
+        assert message.startswith("board 181 has sent nothing for 2.") and message.endswith(
+            "s (MrlComm sends its board info every second): it has stopped (its power? a "
+            f"crash?) (on {links[0].name})")
+        assert 2.5 < clock.now() - stopped_at[0] < 2.7
+    finally:
+        links[0].port.close()
+        protocol_sim.power_off()

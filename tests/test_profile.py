@@ -650,17 +650,3 @@ def test_a_servo_is_on_a_pin_its_arduino_has(board, pin, message):
         assert info.value.first.hint == 'on a Mega? say arduino = "mega" in its [[board]]'
     assert parse_profile(text.replace(f"pin = {pin}", "pin = 9"), "p.toml") \
         if "mgea" not in board else True
-
-
-def test_a_board_of_ours_has_no_more_servos_than_its_timers_pulse():
-    servos = "".join(f"[servo.s{k}]\nid = {k}\npin = {k + 2}\nmax_velocity = 400\n"
-                     f"max_acceleration = 8000\nmax_jerk = 160000\n" for k in range(13))
-    text = ('[[board]]\nid = 181\nservos = [' + ", ".join(f'"s{k}"' for k in range(13)) +
-            ']\n' + servos)
-    with pytest.raises(GestError) as info:
-        parse_profile(text, "p.toml")
-    assert info.value.first.message == ("board 181 has 13 servos: our firmware pulses at most "
-                                        "12 on an Arduino Uno (its timers)")
-    assert info.value.first.pos.line == 3
-    assert len(parse_profile(text.replace("id = 181\n", 'id = 181\narduino = "mega"\n', 1),
-                             "p.toml").servos) == 13  # a Mega pulses 32

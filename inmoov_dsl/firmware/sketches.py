@@ -45,6 +45,14 @@ def servo_settings(profile: Profile, board: Board, baud: int | None = None) -> s
     """The ``settings.h`` of servo board ``board`` (``baud`` overrides its link's
     speed); every servo on it needs a pin."""
     servos = [profile.servos[profile.index(name)] for name in board.servos]
+    most = kinds.most_servos(board.options)
+    if len(servos) > most:
+        name = kinds.arduino_of(board)[0].capitalize()
+        raise GestError(Diagnostic(
+            "error", f"profile '{profile.name}': board {board.id} has {len(servos)} servos, "
+            f"and our firmware pulses at most {most} on an Arduino {name} (its timers)",
+            hint="a Mega pulses 32: arduino = \"mega\" in its [[board]]" if most == 12
+            else "share them between two boards"))
     missing = [s.name for s in servos if s.pin is None]
     if missing:
         raise GestError(Diagnostic(

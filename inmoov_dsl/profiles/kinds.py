@@ -59,6 +59,12 @@ def arduino(key: str, value: Any) -> int:
     return ARDUINO_NAMES.index(value)
 
 
+def most_servos(opts: Sequence[tuple[str, int]]) -> int:
+    """The servos our firmware pulses on that Arduino (its timers: 12 on an Uno, 32 on a
+    Mega; firmware/libraries/InmoovDsl/src/servo_pulses.h)."""
+    return 32 if mcu(opts) == "atmega2560" else 12
+
+
 def mcu(opts: Sequence[tuple[str, int]]) -> str:
     """The microcontroller of an Arduino board (of kind ``rig`` or ``mrlcomm``)."""
     return ARDUINOS[dict(opts).get("arduino", 0)][1]
@@ -121,15 +127,9 @@ def pulse(key: str, value: Any) -> tuple[int, int]:
 
 def check_channels(report, boards, servos) -> None:
     """Each servo on a channel (a pin) its board has, one a channel."""
-    for k, board in enumerate(boards):
+    for board in boards:
         count = channels(board.kind, board.options)
         taken: dict[int, str] = {}
-        most = 32 if mcu(board.options) == "atmega2560" else 12
-        if board.kind == "rig" and len(board.servos) > most:
-            name = ARDUINOS[board.option("arduino", 0)][0].capitalize()
-            report.error(("board", k, "servos"), f"board {board.id} has {len(board.servos)} "
-                         f"servos: our firmware pulses at most {most} on an Arduino {name} "
-                         f"(its timers)", hint="share them between two boards")
         for s in (s for s in servos if s.board == board.id):
             at = ("servo", s.name, "pin")
             if board.kind in ("rig", "mrlcomm"):

@@ -53,7 +53,7 @@ class Resilient:
                 except (serial.SerialException, OSError):
                     self._lose()
                     return b""
-                if data and self.watch is not None and self.watch(data):
+                if self.watch is not None and self.watch(data):  # silence too
                     self._lose()
                     return b""
                 return data

@@ -65,10 +65,11 @@ class Link:
                                                           compare=False)
 
     def listen(self) -> bytes:
-        """What the board has sent (``drain``); what its kind reads in it as a board that
-        cannot go on (an MrlComm that started again) raises ``BoardTrouble``."""
+        """What the board has sent (``drain``); what its kind reads in it (or in its
+        silence) as a board that cannot go on (an MrlComm that started again, or
+        stopped) raises ``BoardTrouble``."""
         data = drain(self.port)
-        if data and self.controller is not None:
+        if self.controller is not None:
             if self._watch is None:
                 self._watch = self.controller.watch()
             if trouble := self._watch(data):

@@ -87,6 +87,7 @@ class VirtualBoard:
         self._quiet = 0.0  # the last host byte, press or gesture's end
         self._catalog: list[float] = []  # when each catalog byte is ready (to cut it)
         self._triggers = True  # boot, idle and buttons may start gestures
+        self._beat = math.inf  # when a core that says so by itself next says it
         if self.stored is not None:
             self.core.restore(self.stored)
 
@@ -132,6 +133,7 @@ class VirtualBoard:
         self._outbox.clear()
         self._last_write = None
         self.playing, self._own, self._catalog, self._boot_at = None, [], [], None
+        self._beat = math.inf
         self.core.restore(self.stored)
         self.ready_at = now + boot
         self._booted = False
@@ -145,6 +147,8 @@ class VirtualBoard:
             self._send(self.ready_at, bytes([Signal.WAIT]) if self.chatty else self.hello)
             if self.flash is not None and self.flash.boot is not None:
                 self._boot_at = self.ready_at + BOOT_QUIET
+            # a core that speaks by itself every so often (MrlComm: its board info)
+            self._beat = self.ready_at + getattr(self.core, "BEAT", math.inf)
         while True:
             arrival = self._inbox[0][0] if self._inbox else math.inf
             due, start = self._due()
@@ -156,6 +160,11 @@ class VirtualBoard:
                 self._play(due, start)
             else:
                 self._step(due)
+        if self._beat <= now < math.inf:  # (of a board left alone for long, the last few)
+            self._beat = max(self._beat, now - 3 * self.core.BEAT)
+            while self._beat <= now:
+                self._send(self._beat, self.core.beat())
+                self._beat += self.core.BEAT
         self._settle(now)
 
     def _read(self) -> None:

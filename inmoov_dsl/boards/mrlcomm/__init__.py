@@ -8,6 +8,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from ... import clock
 from ..base import Controller, PlanLike, PoseReader
 from ..frames import per_frame
 from . import messages as m
@@ -57,14 +58,28 @@ class _Stopped:
         return question
 
 
+#: s without a byte from the board before it is taken as stopped: MrlComm sends its
+#: board info every second, whatever else it does
+SILENT = 2.5
+
+
 class _Watch:
     """What a board running MrlComm says while it plays: its begin message is a board
-    that started again (its power, its USB), its servos gone with it."""
+    that started again (its power, its USB), its servos gone with it; nothing at all
+    for SILENT s is a board that has stopped."""
 
     def __init__(self, board: int):
         self.board, self.reader = board, m.Reader()
+        self.heard: float | None = None  # when it last sent something
 
     def __call__(self, data: bytes) -> str | None:
+        now = clock.now()
+        if data or self.heard is None:
+            self.heard = now
+        elif now - self.heard > SILENT:
+            return (f"board {self.board} has sent nothing for {now - self.heard:.1f} s "
+                    f"(MrlComm sends its board info every second): it has stopped (its "
+                    f"power? a crash?)")
         for method, args in self.reader.feed(data):
             if method == m.BEGIN:
                 return (f"board {self.board} started again mid-gesture (MrlComm's begin "

@@ -20,7 +20,8 @@ the twin stops reading and answering until it is reset, so that no tool may do i
 Checked against MrlComm itself, built for the Mega and run in simavr: the same bytes for
 every message gestplay sends. Not modelled: the 64-byte receive buffer and the loop's
 time, which limit how fast a real board reads (the controller paces its moves for it:
-``MOVES_PER_FRAME``), and the board info it sends by itself every second.
+``MOVES_PER_FRAME``). Its board info, which the real one sends by itself every second,
+is ``beat`` (a virtual board sends it every ``BEAT`` s).
 """
 
 from __future__ import annotations
@@ -50,6 +51,8 @@ class Servo:
 
 class MrlCommCore:
     """One board running MrlComm: its devices and the message being read."""
+
+    BEAT = 1.0  #: s between the board infos it sends by itself (MrlComm in simavr: 1.0)
 
     def __init__(self, board_id: int, servos: Sequence, widths: Sequence[Widths],
                  devices: Sequence[int]):
@@ -82,6 +85,15 @@ class MrlCommCore:
         self.acks = True
         self.crashed = False
         self._buf.clear()
+
+    def beat(self) -> bytes:
+        """The board info it sends by itself (nothing once it has crashed)."""
+        return b"" if self.crashed else self._info()
+
+    def _info(self) -> bytes:
+        free = FREE_RAM - DEVICE_RAM * len(self.devices)
+        return m.message(m.BOARD_INFO, self.version, BOARD_MEGA, LOOP_US, free, 0,
+                         bytes(self.devices))
 
     def command(self, index: int, value: int) -> Write:
         """Servo ``index`` to ``value`` (attached and pulsing, if it was not)."""
@@ -121,9 +133,7 @@ class MrlCommCore:
         if args is None:  # a method of the schema not modelled (or its arguments cut)
             return None, b"", b""
         if method == m.GET_BOARD_INFO:
-            free = FREE_RAM - DEVICE_RAM * len(self.devices)
-            return None, m.message(m.BOARD_INFO, self.version, BOARD_MEGA, LOOP_US, free, 0,
-                                   bytes(self.devices)), b""
+            return None, self._info(), b""
         if method == m.ENABLE_ACK:
             self.acks = bool(args[0])
         elif method == m.SOFT_RESET:  # its servos detached and gone; acks as they were
