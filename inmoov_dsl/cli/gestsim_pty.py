@@ -11,8 +11,9 @@ from collections.abc import Callable
 from typing import TextIO
 
 from .. import clock
+from ..wire.dtr import DtrLine
 from ..wire.glove import VirtualGlove
-from ..wire.sim import DtrLine, VirtualBoard, room_at
+from ..wire.sim import VirtualBoard, room_at
 from ..wire.sim import room as uart_room
 
 

@@ -33,27 +33,27 @@ TX_BUFFER = 64  #: bytes the firmware's serial port holds: a catalog cut short s
 UART_AHEAD = 0.005
 
 
-@dataclass
-class DtrLine:
-    """The DTR line from a host's port to a board: an Uno or a Nano resets when it
-    rises. Opening the port raises it unless it is up already; closing drops it unless
-    the program cleared HUPCL (``hupcl``, what the program with the port open asks)."""
+class Beats:
+    """When a core that speaks by itself every ``period`` s (MrlComm: its board info)
+    says it again."""
 
-    up: bool = False
-    is_open: bool = False  #: a program has the port open
-    hupcl: bool = True
+    def __init__(self, period: float):
+        self.period, self.next = period, math.inf
 
-    def opened(self) -> bool:
-        """A program opened the port: True if DTR rose (the board resets)."""
-        rose = not self.up
-        self.up = self.is_open = True
-        return rose
+    def start(self, at: float) -> None:
+        """It booted at ``at`` (inf: it is off)."""
+        self.next = at + self.period
 
-    def closed(self) -> None:
-        """The program closed the port (once is enough; again changes nothing)."""
-        if self.is_open:
-            self.up = not self.hupcl
-        self.is_open = False
+    def until(self, now: float) -> list[float]:
+        """When it spoke up to ``now`` (of a board left alone for long, the last few)."""
+        if not self.next <= now < math.inf:
+            return []
+        times = []
+        self.next = max(self.next, now - 3 * self.period)
+        while self.next <= now:
+            times.append(self.next)
+            self.next += self.period
+        return times
 
 
 @dataclass
@@ -78,7 +78,6 @@ class VirtualBoard:
         self._outbox: deque[tuple[float, int]] = deque()  # (ready, byte)
         self._wire_free = 0.0  # when the host -> board line is next free
         self._out_free = 0.0  # when the board -> host line is next free
-        self._clock = 0.0
         self._booted = False
         self._last_write: float | None = None  # a servo write not yet stored
         self.playing: Playback | None = None  #: the stored gesture it is playing
@@ -87,7 +86,7 @@ class VirtualBoard:
         self._quiet = 0.0  # the last host byte, press or gesture's end
         self._catalog: list[float] = []  # when each catalog byte is ready (to cut it)
         self._triggers = True  # boot, idle and buttons may start gestures
-        self._beat = math.inf  # when a core that says so by itself next says it
+        self._beats = Beats(getattr(self.core, "BEAT", math.inf))  # MrlComm's board info
         if self.stored is not None:
             self.core.restore(self.stored)
 
@@ -133,7 +132,7 @@ class VirtualBoard:
         self._outbox.clear()
         self._last_write = None
         self.playing, self._own, self._catalog, self._boot_at = None, [], [], None
-        self._beat = math.inf
+        self._beats.start(math.inf)
         self.core.restore(self.stored)
         self.ready_at = now + boot
         self._booted = False
@@ -143,12 +142,11 @@ class VirtualBoard:
         """Let the board run until ``now``."""
         if not self._booted and now >= self.ready_at:
             self._booted = True
-            self._clock = self._quiet = self.ready_at
+            self._quiet = self.ready_at
             self._send(self.ready_at, bytes([Signal.WAIT]) if self.chatty else self.hello)
             if self.flash is not None and self.flash.boot is not None:
                 self._boot_at = self.ready_at + BOOT_QUIET
-            # a core that speaks by itself every so often (MrlComm: its board info)
-            self._beat = self.ready_at + getattr(self.core, "BEAT", math.inf)
+            self._beats.start(self.ready_at)
         while True:
             arrival = self._inbox[0][0] if self._inbox else math.inf
             due, start = self._due()
@@ -160,11 +158,8 @@ class VirtualBoard:
                 self._play(due, start)
             else:
                 self._step(due)
-        if self._beat <= now < math.inf:  # (of a board left alone for long, the last few)
-            self._beat = max(self._beat, now - 3 * self.core.BEAT)
-            while self._beat <= now:
-                self._send(self._beat, self.core.beat())
-                self._beat += self.core.BEAT
+        for t in self._beats.until(now):
+            self._send(t, self.core.beat())
         self._settle(now)
 
     def _read(self) -> None:
@@ -174,9 +169,9 @@ class VirtualBoard:
             self.swallowed += 1
             return
         self._settle(arrival)
-        self._clock = self._quiet = arrival
+        self._quiet = arrival
         self.playing = self._boot_at = None  # any byte stops what the board does itself
-        self._cut_catalog(arrival)
+        _cut_catalog(self, arrival)
         write, reply = self.core.feed(byte)
         for one in write if isinstance(write, tuple) else (write,) if write else ():
             self._wrote(arrival, one)  # a command may set several servos
@@ -238,16 +233,6 @@ class VirtualBoard:
             if button == pin:
                 self._own.append((now + DEBOUNCE, number))
 
-    def _cut_catalog(self, now: float) -> None:
-        """A host byte cuts a catalog being sent short: what is not yet in the serial
-        port's buffer is never sent."""
-        if not self._catalog:
-            return
-        keep = now + TX_BUFFER * self.tau
-        self._outbox = deque((t, b) for t, b in self._outbox if t <= keep)
-        self._out_free = min(self._out_free, max((t for t, _ in self._outbox), default=now))
-        self._catalog = []
-
     def _settle(self, now: float) -> None:
         """Store the pose if it has settled by ``now`` and differs from the stored one."""
         if self._last_write is None or now - self._last_write < POSE_SETTLE:
@@ -267,6 +252,17 @@ class VirtualBoard:
         """Servo ID -> the value the board last wrote (its DUMP values)."""
         return {s.id: v for s, v in zip(self.core.servos, self.core.values, strict=True)}
 
+
+
+def _cut_catalog(board: VirtualBoard, now: float) -> None:
+    """A host byte cuts a catalog being sent short: what is not yet in the serial port's
+    buffer is never sent."""
+    if not board._catalog:
+        return
+    keep = now + TX_BUFFER * board.tau
+    board._outbox = deque((t, b) for t, b in board._outbox if t <= keep)
+    board._out_free = min(board._out_free, max((t for t, _ in board._outbox), default=now))
+    board._catalog = []
 
 
 def settled(board: VirtualBoard) -> list[int] | None:

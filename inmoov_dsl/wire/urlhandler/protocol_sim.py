@@ -38,7 +38,8 @@ from ...boards.rig.core import BoardCore
 from ...errors import Diagnostic, GestError, did_you_mean
 from ...profiles.data import Profile
 from ...profiles.profile import builtin_profiles, find_profile, load_profile
-from ..sim import DtrLine, VirtualBoard
+from ..dtr import DtrLine
+from ..sim import VirtualBoard
 from ..stored import StoredSet, read_blob, read_set
 from . import memory
 
