@@ -90,6 +90,29 @@ class GestError(Exception):
         return self.diagnostics[0]
 
 
+class Errors:
+    """Errors gathered so that one does not hide the next: ``with errors:`` around each
+    part keeps the part's GestError and goes on; ``raise_any`` raises them all, in the
+    order met, each told once."""
+
+    def __init__(self) -> None:
+        self.found: list[Diagnostic] = []
+
+    def __enter__(self) -> Errors:
+        return self
+
+    def __exit__(self, kind, exc, tb) -> bool:
+        if isinstance(exc, GestError):
+            self.found += [d for d in exc.diagnostics if d not in self.found]
+            return True
+        return False
+
+    def raise_any(self) -> None:
+        """Raise every error gathered as one GestError, if there is any."""
+        if self.found:
+            raise GestError(self.found)
+
+
 class SourceMap:
     """The text of every file read in one compile, so a diagnostic can show its line."""
 

@@ -2,6 +2,7 @@
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -378,3 +379,17 @@ def test_gestc_and_gestplay_load_a_gesture_alike(tmp_path, capsys, monkeypatch):
     assert compiled.gesture == "shut"
     assert gestplay_run("both.gest", "-g", "shut", "--dry-run")[1] == \
         to_timed(compiled.streams[0])
+
+
+def test_check_reports_every_error_of_a_file(tmp_path, capsys):
+    """Three typos in two gestures: three errors, each at its place and with its hint,
+    and the gesture that is right is not an error."""
+    mine = tmp_path / "typos.gest"
+    mine.write_text("a:\n    indx 90, midle 90\n    index 90 over 1s\nb: thum 90\nc: ring 90\n")
+    assert gestc.main(["check", str(mine)]) == 1
+    err = capsys.readouterr().err
+    places = re.findall(rf"^{re.escape(str(mine))}:(\d+):(\d+): error: (.*)$", err, re.M)
+    assert places == [("2", "5", "unknown servo or group 'indx'"),
+                      ("2", "14", "unknown servo or group 'midle'"),
+                      ("4", "4", "unknown servo or group 'thum'")]
+    assert err.count("hint: did you mean") == 3

@@ -260,3 +260,20 @@ def test_repeats_nested_too_deep_are_a_syntax_error():
         parse("g: " + "repeat 2: " * (MAX_DEPTH + 1) + "index 9", "e.gest")
     assert info.value.format().splitlines()[0] == (
         f"e.gest:1:11: error: repeats are nested more than {MAX_DEPTH} deep")
+
+
+def test_an_error_in_one_gesture_does_not_hide_the_others():
+    """The parser recovers at each top-level block: every syntax error of the file,
+    each at its place with its hint, in order."""
+    source = ("a: index 90 ove 1s\n"          # 1:13 a misspelt keyword
+              "b:\n    repeat 0:\n        index 90\n"  # 3:12 a count out of range
+              "c: index 9x\n"                 # 5:11 a number run into a name
+              "d: index 90\n")                # fine
+    with pytest.raises(GestError) as info:
+        parse(source, "e.gest")
+    found = [(d.pos.line, d.pos.column, d.hint is not None) for d in info.value.diagnostics]
+    assert found == [(1, 13, True), (3, 12, False), (5, 11, True)]
+    assert info.value.diagnostics[0].hint == "did you mean 'over'?"
+    with pytest.raises(GestError) as info:  # a body not indented: one error, not two
+        parse("p:\nindex 9\n", "e.gest")
+    assert len(info.value.diagnostics) == 1

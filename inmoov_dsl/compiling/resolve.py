@@ -7,10 +7,11 @@ gesture is expanded in one pass, within a step budget.
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Sequence
 from typing import NoReturn
 
-from ..errors import GestError, Pos
+from ..errors import Errors, GestError, Pos
 from ..language import syntax as ast
 from ..language.program import Program
 from ..profiles.data import Profile
@@ -67,16 +68,20 @@ class _Targets:
         (``chain``: the poses being expanded, outermost first)."""
         out: dict[int, int] = {}
         direct: set[str] = set()
+        errors = Errors()
         for t in targets:
-            match self.lookup(t.name, "servo or group" if t.value is not None else ANYTHING):
-                case Pose():
-                    out.update(self._pose(t, chain))
-                case Gesture():
-                    self.fail(f"'{t.name.text}' is a gesture: call it on a line of its own",
-                              t.name.pos, "a step can mix servos, groups and poses, not "
-                              "gestures")
-                case Servo() | Group() as found:
-                    self._set(t, found, direct, out)
+            with errors:  # each target's error told, not only the first's
+                match self.lookup(t.name, "servo or group" if t.value is not None
+                                  else ANYTHING):
+                    case Pose():
+                        out.update(self._pose(t, chain))
+                    case Gesture():
+                        self.fail(f"'{t.name.text}' is a gesture: call it on a line of its "
+                                  f"own", t.name.pos, "a step can mix servos, groups and "
+                                  "poses, not gestures")
+                    case Servo() | Group() as found:
+                        self._set(t, found, direct, out)
+        errors.raise_any()
         return out
 
     def _pose(self, t: ast.Target, chain: tuple[str, ...]) -> dict[int, int]:
@@ -149,25 +154,35 @@ class Resolver(_Targets):
 
     def _expand(self, steps: Sequence[ast.Step], at: Frame, out: list[Action]) -> int:
         """Append the Actions of ``steps`` to ``out``; return how deep the calls and
-        repeats among them nest."""
+        repeats among them nest. A gesture's own steps are each resolved, and every
+        error among them told, not only the first."""
         height = 0
+        errors = Errors()
         for step in steps:
-            match step:
-                case ast.Wait():
-                    out.append(Action((), hold=step.duration.seconds, pos=step.pos,
-                                      where=at.where))
-                case ast.Repeat():
-                    height = max(height, self._repeat(step, at, out))
-                case ast.Together():
-                    height = max(height, self._together(step, at, out))
-                case ast.Move() if (callee := self._callee(step)) is not None:
-                    height = max(height, self._call(step, callee, at, out))
-                case ast.Move():
-                    out.append(self._move(step, at.where))
-                case ast.Say():
-                    out.append(self._say(step, at.where))
+            with errors if at.depth == 0 else contextlib.nullcontext():
+                height = max(height, self._step(step, at, out))
             self._within_budget(len(out), at)
+        errors.raise_any()
         return height
+
+    def _step(self, step: ast.Step, at: Frame, out: list[Action]) -> int:
+        """Append the Actions of one step to ``out``; return how deep its calls and
+        repeats nest."""
+        match step:
+            case ast.Wait():
+                out.append(Action((), hold=step.duration.seconds, pos=step.pos,
+                                  where=at.where))
+            case ast.Repeat():
+                return self._repeat(step, at, out)
+            case ast.Together():
+                return self._together(step, at, out)
+            case ast.Move() if (callee := self._callee(step)) is not None:
+                return self._call(step, callee, at, out)
+            case ast.Move():
+                out.append(self._move(step, at.where))
+            case ast.Say():
+                out.append(self._say(step, at.where))
+        return 0
 
     def _within_budget(self, steps: int, at: Frame) -> None:
         if steps > MAX_STEPS:

@@ -13,7 +13,7 @@ from typing import Any
 from lark import Lark, Token, Transformer, UnexpectedInput, v_args
 from lark import __version__ as lark_version
 
-from ..errors import Pos
+from ..errors import Diagnostic, GestError, Pos
 from ..protocol import MAX_VALUE
 from ..resources import grammar_path, private_cache_dir, private_file
 from . import syntax as ast
@@ -210,22 +210,54 @@ _LOCK = threading.Lock()  # the parser and its transformer are shared
 
 
 def parse(text: str, file: str = "<string>") -> ast.Module:
-    """Parse one .gest source text; raise GestError on any syntax problem. A text longer
-    than MAX_SOURCE characters, or with a line longer than MAX_LINE, is refused before
-    parsing."""
+    """Parse one .gest source text; raise GestError on any syntax problem: every one it
+    has, an error in one gesture (one top-level block) not hiding those of the others. A
+    text longer than MAX_SOURCE characters, or with a line longer than MAX_LINE, is
+    refused before parsing."""
     size = len(text)
     if not text.endswith("\n"):
         text += "\n"
     lines = text[:-1].split("\n")  # Lark counts lines by \n only
     try:
         _check_size(text, size, lines)
+    except SyntaxProblem as problem:
+        raise problem.error(file, lines) from None
+    first = _problem(text, file, lines)
+    if first is None:
         with _LOCK:
             _TO_AST.file, _TO_AST.depths = file, {}
             return parser().parse(text)
+    # each block alone: its errors (a block's end is no file's end: an error there is
+    # the cut's, and one at the file's end is the first already)
+    found = [first, *(p for start, end in blocks(lines)
+                      if (p := _problem("\n" * start + "\n".join(lines[start:end]) + "\n",
+                                        file, lines)) is not None
+                      and not p.first.message.startswith("unexpected end of the file"))]
+    errors: dict[int, Diagnostic] = {}  # a line's first error (the whole file's first)
+    for error in found:
+        errors.setdefault(error.first.pos.line, error.first)
+    raise GestError(sorted(errors.values(), key=lambda d: (d.pos.line, d.pos.column)))
+
+
+def _problem(text: str, file: str, lines: list[str]) -> GestError | None:
+    """The first syntax problem of ``text`` (the file's ``lines``), or None."""
+    try:
+        with _LOCK:
+            _TO_AST.file, _TO_AST.depths = file, {}
+            parser().parse(text)
     except SyntaxProblem as problem:  # tree-less mode: callbacks' exceptions come as they are
-        raise problem.error(file, lines) from None
+        return problem.error(file, lines)
     except UnexpectedInput as exc:
-        raise lark_problem(exc, text, lines).error(file, lines) from None
+        return lark_problem(exc, text, lines).error(file, lines)
+    return None
+
+
+def blocks(lines: list[str]) -> list[tuple[int, int]]:
+    """(first, end) line index of each top-level block: a line that starts at column 1
+    (not a comment) and the indented, blank and comment lines after it."""
+    starts = [k for k, line in enumerate(lines)
+              if line[:1] not in ("", " ", "\t", "#") and not line.startswith("\ufeff#")]
+    return list(zip(starts, [*starts[1:], len(lines)][:len(starts)], strict=True))
 
 
 def _check_size(text: str, size: int, lines: list[str]) -> None:

@@ -20,9 +20,10 @@ Told = set[tuple[str, Pos | None, str]]  #: (severity, place, message) already p
 
 
 def run(args: argparse.Namespace) -> int:
-    """Each file: 'ok' and its gesture count, or its diagnostics (exit 1). A warning is
-    told once per place and message for the whole check, however many gestures (or
-    files) play that place."""
+    """Each file: 'ok' and its gesture count, or its diagnostics (exit 1): every error
+    it has, each gesture's (an error in one does not hide another's), each told once. A
+    warning is told once per place and message for the whole check, however many
+    gestures (or files) play that place."""
     status = EXIT_OK
     dirs = library_dirs(args.lib)
     told: Told = set()
@@ -31,13 +32,22 @@ def run(args: argparse.Namespace) -> int:
         try:
             text = decode_utf8(stdin_bytes(), STDIN) if file == "-" else None
             program = load(name, text, search=dirs)
-            for gesture in program.own:
-                _check_gesture(program, gesture, args, told)
-            count = len(program.own)
-            print(f"{name}: ok ({count} gesture{'' if count == 1 else 's'})")
         except GestError as exc:
             report(exc.diagnostics, PROG)
             status = EXIT_ERROR
+            continue
+        errors: list[Diagnostic] = []
+        for gesture in program.own:
+            try:
+                _check_gesture(program, gesture, args, told)
+            except GestError as exc:
+                errors += untold(exc.diagnostics, told)
+        if errors:
+            report(errors, PROG)
+            status = EXIT_ERROR
+        else:
+            count = len(program.own)
+            print(f"{name}: ok ({count} gesture{'' if count == 1 else 's'})")
     return status
 
 
