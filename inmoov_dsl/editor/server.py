@@ -1,0 +1,71 @@
+"""The language server's edge (pygls): documents as they are opened and changed, their
+diagnostics published (``diagnose``), formatting by ``gestc fmt``'s rules."""
+
+from __future__ import annotations
+
+from lsprotocol import types as lsp
+from pygls.lsp.server import LanguageServer
+
+from .. import __version__
+from ..errors import Diagnostic, GestError
+from ..language.fmt import format_source
+from .diagnose import diagnose
+
+SEVERITY = {"error": lsp.DiagnosticSeverity.Error, "warning": lsp.DiagnosticSeverity.Warning}
+
+server = LanguageServer("gestc-lsp", __version__)
+
+
+def to_lsp(d: Diagnostic, path: str) -> lsp.Diagnostic:
+    """Our diagnostic as the editor's: its place (0-based), its severity, its message
+    and hint (one of another file: at the top, naming that file and line)."""
+    message = d.message + (f"\nhint: {d.hint}" if d.hint else "")
+    if d.pos is None or d.pos.file != path:
+        where = f"{d.pos.file}:{d.pos.line}:{d.pos.column}: " if d.pos else ""
+        start = lsp.Position(0, 0)
+        return lsp.Diagnostic(lsp.Range(start, start), where + message, SEVERITY[d.severity],
+                              source="gestc")
+    start = lsp.Position(d.pos.line - 1, d.pos.column - 1)
+    end = lsp.Position(d.pos.line - 1, d.pos.column - 1 + max(1, d.pos.width))
+    return lsp.Diagnostic(lsp.Range(start, end), message, SEVERITY[d.severity],
+                          source="gestc")
+
+
+def publish(ls: LanguageServer, uri: str) -> None:
+    """Diagnose the document ``uri`` as it is now and tell the editor."""
+    doc = ls.workspace.get_text_document(uri)
+    found = [to_lsp(d, doc.path) for d in diagnose(doc.source, doc.path)]
+    ls.text_document_publish_diagnostics(
+        lsp.PublishDiagnosticsParams(uri=uri, version=doc.version, diagnostics=found))
+
+
+@server.feature(lsp.TEXT_DOCUMENT_DID_OPEN)
+def did_open(ls: LanguageServer, params: lsp.DidOpenTextDocumentParams) -> None:
+    """A document opened: its diagnostics."""
+    publish(ls, params.text_document.uri)
+
+
+@server.feature(lsp.TEXT_DOCUMENT_DID_CHANGE)
+def did_change(ls: LanguageServer, params: lsp.DidChangeTextDocumentParams) -> None:
+    """A document changed (typed, not only saved): its diagnostics again."""
+    publish(ls, params.text_document.uri)
+
+
+@server.feature(lsp.TEXT_DOCUMENT_FORMATTING)
+def formatting(ls: LanguageServer, params: lsp.DocumentFormattingParams
+               ) -> list[lsp.TextEdit] | None:
+    """The document as ``gestc fmt`` writes it (nothing for a text that does not parse)."""
+    doc = ls.workspace.get_text_document(params.text_document.uri)
+    try:
+        text = format_source(doc.source)
+    except GestError:
+        return None
+    lines = doc.source.split("\n")
+    end = lsp.Position(len(lines) - 1, len(lines[-1]))
+    return [] if text == doc.source else [lsp.TextEdit(lsp.Range(lsp.Position(0, 0), end),
+                                                       text)]
+
+
+def main() -> None:
+    """Serve on standard input and output."""
+    server.start_io()

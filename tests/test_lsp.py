@@ -1,0 +1,63 @@
+"""gestc lsp, driven by a client we did not write (pytest-lsp) with the capabilities of
+VS Code and of Neovim: diagnostics as the text changes, with gestc check's wording,
+places and hints; formatting by gestc fmt's rules."""
+
+import sys
+
+import pytest
+import pytest_lsp
+from lsprotocol import types as lsp
+from pytest_lsp import ClientServerConfig, LanguageClient, client_capabilities
+
+SERVER = [sys.executable, "-m", "inmoov_dsl.cli.gestc", "lsp"]
+
+
+@pytest_lsp.fixture(config=ClientServerConfig(server_command=SERVER),
+                    params=["visual-studio-code", "neovim"])
+async def client(request, lsp_client: LanguageClient):
+    await lsp_client.initialize_session(
+        lsp.InitializeParams(capabilities=client_capabilities(request.param)))
+    yield
+    await lsp_client.shutdown_session()
+
+
+async def opened(client: LanguageClient, uri: str, text: str) -> list[lsp.Diagnostic]:
+    client.text_document_did_open(lsp.DidOpenTextDocumentParams(
+        lsp.TextDocumentItem(uri=uri, language_id="gest", version=1, text=text)))
+    await client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    return client.diagnostics[uri]
+
+
+@pytest.mark.asyncio
+async def test_every_error_as_it_is_typed_and_gone_once_fixed(client, tmp_path):
+    uri = (tmp_path / "typos.gest").as_uri()
+    found = await opened(client, uri, "a: indx 90, midle 90\nb: thum 90\nc: ring 90\n")
+    assert [(d.range.start.line, d.range.start.character, d.range.end.character,
+             d.severity) for d in found] == [(0, 3, 7, lsp.DiagnosticSeverity.Error),
+                                             (0, 12, 17, lsp.DiagnosticSeverity.Error),
+                                             (1, 3, 7, lsp.DiagnosticSeverity.Error)]
+    assert found[0].message == ("unknown servo or group 'indx'\nhint: did you mean "
+                                "'index'?")
+    # typed, not saved: the first line fixed
+    client.text_document_did_change(lsp.DidChangeTextDocumentParams(
+        lsp.VersionedTextDocumentIdentifier(uri=uri, version=2),
+        [lsp.TextDocumentContentChangeWholeDocument(
+            text="a: index 90, middle 90\nb: thum 90\nc: ring 90\n")]))
+    await client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    assert [d.range.start.line for d in client.diagnostics[uri]] == [1]
+    # a syntax error in one gesture does not hide another's
+    found = await opened(client, (tmp_path / "syntax.gest").as_uri(),
+                         "a: index 90 ove 1s\nb: index 9x\n")
+    assert [(d.range.start.line, d.range.start.character) for d in found] == [(0, 12),
+                                                                              (1, 10)]
+    assert found[0].message.endswith("hint: did you mean 'over'?")
+
+
+@pytest.mark.asyncio
+async def test_formatting_is_gestc_fmt(client, tmp_path):
+    uri = (tmp_path / "f.gest").as_uri()
+    assert not await opened(client, uri, "g:\n  index   90  over 1s\n")
+    edits = await client.text_document_formatting_async(lsp.DocumentFormattingParams(
+        lsp.TextDocumentIdentifier(uri=uri), lsp.FormattingOptions(tab_size=4,
+                                                                   insert_spaces=True)))
+    assert [e.new_text for e in edits] == ["g:\n    index 90 over 1s\n"]
