@@ -61,3 +61,26 @@ async def test_formatting_is_gestc_fmt(client, tmp_path):
         lsp.TextDocumentIdentifier(uri=uri), lsp.FormattingOptions(tab_size=4,
                                                                    insert_spaces=True)))
     assert [e.new_text for e in edits] == ["g:\n    index 90 over 1s\n"]
+
+
+@pytest.mark.asyncio
+async def test_hover_and_completion_know_the_robot(client, tmp_path):
+    uri = (tmp_path / "h.gest").as_uri()
+    text = "pose half: fingers 90\ng: half, wrist 30 over 1s\n"
+    assert not await opened(client, uri, text)
+
+    async def hovered(line, character):
+        said = await client.text_document_hover_async(lsp.HoverParams(
+            lsp.TextDocumentIdentifier(uri=uri), lsp.Position(line, character)))
+        return said.contents.value
+
+    assert (await hovered(1, 10)).startswith("**servo wrist** (profile rhand): board 181 "
+                                             "(right hand), pin 2; values 0..180, rest 0")
+    assert await hovered(0, 12) == "**group fingers**: thumb, index, middle, ring, pinky"
+    assert await hovered(1, 4) == "**pose half**: fingers 90"
+    assert await hovered(1, 0) == "**gesture g**: 1 step, 1.00 s as planned"
+    listed = await client.text_document_completion_async(lsp.CompletionParams(
+        lsp.TextDocumentIdentifier(uri=uri), lsp.Position(1, 3)))
+    items = {i.label: i.detail for i in listed.items}
+    assert {"wrist": "servo", "fingers": "group", "half": "pose", "g": "gesture",
+            "over": "keyword", "ms": "unit"}.items() <= items.items()

@@ -64,6 +64,10 @@ class NameTable:
         """What ``name`` is, or None."""
         return self._table.get(name)
 
+    def entries(self) -> dict[str, Entity]:
+        """Every name -> what it is (an editor's completions)."""
+        return dict(self._table)
+
     def hint(self, name: str) -> str | None:
         """A hint for an unknown ``name``: the built-in profile that has it, the library
         file that defines it (a file's names come in with ``use``), or the closest name.

@@ -10,6 +10,7 @@ from .. import __version__
 from ..errors import Diagnostic, GestError
 from ..language.fmt import format_source
 from .diagnose import diagnose
+from .knowledge import completions, hover
 
 SEVERITY = {"error": lsp.DiagnosticSeverity.Error, "warning": lsp.DiagnosticSeverity.Warning}
 
@@ -64,6 +65,29 @@ def formatting(ls: LanguageServer, params: lsp.DocumentFormattingParams
     end = lsp.Position(len(lines) - 1, len(lines[-1]))
     return [] if text == doc.source else [lsp.TextEdit(lsp.Range(lsp.Position(0, 0), end),
                                                        text)]
+
+
+@server.feature(lsp.TEXT_DOCUMENT_HOVER)
+def on_hover(ls: LanguageServer, params: lsp.HoverParams) -> lsp.Hover | None:
+    """What the name under the cursor is: a servo's board, range, rest and limits, a
+    group's members, a pose's values, a gesture's planned length."""
+    doc = ls.workspace.get_text_document(params.text_document.uri)
+    said = hover(doc.source, doc.path, params.position.line, params.position.character)
+    return None if said is None else lsp.Hover(
+        lsp.MarkupContent(lsp.MarkupKind.Markdown, said))
+
+
+KINDS = {"servo": lsp.CompletionItemKind.Variable, "group": lsp.CompletionItemKind.Enum,
+         "pose": lsp.CompletionItemKind.Constant, "gesture": lsp.CompletionItemKind.Function,
+         "keyword": lsp.CompletionItemKind.Keyword, "unit": lsp.CompletionItemKind.Unit}
+
+
+@server.feature(lsp.TEXT_DOCUMENT_COMPLETION)
+def on_completion(ls: LanguageServer, params: lsp.CompletionParams) -> lsp.CompletionList:
+    """The names in scope (servos, groups, poses, gestures), the keywords, the units."""
+    doc = ls.workspace.get_text_document(params.text_document.uri)
+    return lsp.CompletionList(False, [lsp.CompletionItem(word, kind=KINDS[what], detail=what)
+                                      for word, what in completions(doc.source, doc.path)])
 
 
 def main() -> None:
