@@ -84,3 +84,31 @@ async def test_hover_and_completion_know_the_robot(client, tmp_path):
     items = {i.label: i.detail for i in listed.items}
     assert {"wrist": "servo", "fingers": "group", "half": "pose", "g": "gesture",
             "over": "keyword", "ms": "unit"}.items() <= items.items()
+
+
+@pytest.mark.asyncio
+async def test_definition_references_and_outline(client, tmp_path):
+    (tmp_path / "moves.gest").write_text("pose half: fingers 90\n")
+    uri = (tmp_path / "main.gest").as_uri()
+    text = ('use "moves.gest"\ngroup two: index, middle\ng: half, two 30 over 1s\n'
+            'h:\n    g  # g again\n    half\n')
+    assert not await opened(client, uri, text)
+
+    async def defined(line, character):
+        return await client.text_document_definition_async(lsp.DefinitionParams(
+            lsp.TextDocumentIdentifier(uri=uri), lsp.Position(line, character)))
+
+    there = await defined(2, 4)  # 'half', in the file main uses
+    assert there.uri == (tmp_path / "moves.gest").as_uri()
+    assert (there.range.start.line, there.range.start.character) == (0, 5)
+    here = await defined(4, 4)  # 'g', in this file
+    assert here.uri == uri and here.range.start.line == 2
+    found = await client.text_document_references_async(lsp.ReferenceParams(
+        context=lsp.ReferenceContext(include_declaration=True),
+        text_document=lsp.TextDocumentIdentifier(uri=uri), position=lsp.Position(2, 4)))
+    assert sorted((r.range.start.line, r.range.start.character) for r in found) == [
+        (2, 3), (5, 4)]  # not in the comment
+    symbols = await client.text_document_document_symbol_async(lsp.DocumentSymbolParams(
+        lsp.TextDocumentIdentifier(uri=uri)))
+    assert [(s.name, s.detail) for s in symbols] == [("two", "group"), ("g", "gesture"),
+                                                     ("h", "gesture")]

@@ -1,5 +1,6 @@
 """What the compiler knows of a name, for an editor (pure): what a word under the cursor
-is (hover), and the words that may be typed (completion)."""
+is (hover), where it is defined and written (definition, references), the words that
+may be typed (completion), and a file's outline."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ from pathlib import Path
 from ..compiling.compiler import compile_program
 from ..compiling.names import Gesture, Group, NameTable, Pose, Servo
 from ..compiling.robot import profile_for
-from ..errors import GestError
+from ..errors import GestError, Pos
 from ..language.load import load
 from ..language.program import Program
 from ..language.syntax import KEYWORDS
@@ -83,3 +84,37 @@ def completions(text: str, path: str) -> list[tuple[str, str]]:
     out += [(k, "keyword") for k in sorted(KEYWORDS)]
     out += [(u, "unit") for u in UNITS]
     return out
+
+
+def definition(text: str, path: str, line: int, column: int) -> Pos | None:
+    """Where the group, pose or gesture under the cursor is defined (this file, a file
+    it uses, the library), or None."""
+    word = word_at(text, line, column)
+    found = _program(text, path) if word else None
+    return None if found is None else found[0].names().get(word)
+
+
+def references(text: str, path: str, line: int, column: int) -> list[tuple[int, int, int]]:
+    """(line, column, width), 0-based, of every place in ``text`` the name under the
+    cursor is written (comments and strings left out)."""
+    word = word_at(text, line, column)
+    if word is None:
+        return []
+    out = []
+    for k, row in enumerate(text.split("\n")):
+        code = re.sub(r'"[^"]*"', lambda m: " " * len(m.group()), row.split("#", 1)[0])
+        out += [(k, m.start(), len(word)) for m in WORD.finditer(code) if m.group() == word]
+    return out
+
+
+def outline(text: str, path: str) -> list[tuple[str, str, Pos]]:
+    """(name, kind, where) of each group, pose and gesture the file itself defines, in
+    the file's order."""
+    found = _program(text, path)
+    if found is None:
+        return []
+    program, here = found[0], str(Path(path))
+    items = [(name, kind, node.name.pos) for kind, table in (
+        ("group", program.groups), ("pose", program.poses), ("gesture", program.gestures))
+        for name, node in table.items() if node.name.pos.file == here]
+    return sorted(items, key=lambda item: (item[2].line, item[2].column))

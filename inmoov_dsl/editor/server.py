@@ -3,6 +3,8 @@ diagnostics published (``diagnose``), formatting by ``gestc fmt``'s rules."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from lsprotocol import types as lsp
 from pygls.lsp.server import LanguageServer
 
@@ -10,7 +12,7 @@ from .. import __version__
 from ..errors import Diagnostic, GestError
 from ..language.fmt import format_source
 from .diagnose import diagnose
-from .knowledge import completions, hover
+from .knowledge import completions, definition, hover, outline, references
 
 SEVERITY = {"error": lsp.DiagnosticSeverity.Error, "warning": lsp.DiagnosticSeverity.Warning}
 
@@ -88,6 +90,47 @@ def on_completion(ls: LanguageServer, params: lsp.CompletionParams) -> lsp.Compl
     doc = ls.workspace.get_text_document(params.text_document.uri)
     return lsp.CompletionList(False, [lsp.CompletionItem(word, kind=KINDS[what], detail=what)
                                       for word, what in completions(doc.source, doc.path)])
+
+
+def _range(line: int, column: int, width: int) -> lsp.Range:
+    return lsp.Range(lsp.Position(line, column), lsp.Position(line, column + width))
+
+
+@server.feature(lsp.TEXT_DOCUMENT_DEFINITION)
+def on_definition(ls: LanguageServer, params: lsp.DefinitionParams) -> lsp.Location | None:
+    """Where the group, pose or gesture under the cursor is defined, across ``use`` and
+    the library."""
+    doc = ls.workspace.get_text_document(params.text_document.uri)
+    pos = definition(doc.source, doc.path, params.position.line, params.position.character)
+    if pos is None:
+        return None
+    uri = params.text_document.uri if pos.file == doc.path else Path(pos.file).as_uri()
+    return lsp.Location(uri, _range(pos.line - 1, pos.column - 1, pos.width))
+
+
+@server.feature(lsp.TEXT_DOCUMENT_REFERENCES)
+def on_references(ls: LanguageServer, params: lsp.ReferenceParams) -> list[lsp.Location]:
+    """Every place in the document the name under the cursor is written."""
+    doc = ls.workspace.get_text_document(params.text_document.uri)
+    return [lsp.Location(params.text_document.uri, _range(*place)) for place in
+            references(doc.source, doc.path, params.position.line,
+                       params.position.character)]
+
+
+SYMBOLS = {"group": lsp.SymbolKind.Enum, "pose": lsp.SymbolKind.Constant,
+           "gesture": lsp.SymbolKind.Function}
+
+
+@server.feature(lsp.TEXT_DOCUMENT_DOCUMENT_SYMBOL)
+def on_outline(ls: LanguageServer, params: lsp.DocumentSymbolParams
+               ) -> list[lsp.DocumentSymbol]:
+    """The file's groups, poses and gestures, in its order."""
+    doc = ls.workspace.get_text_document(params.text_document.uri)
+    out = []
+    for name, kind, pos in outline(doc.source, doc.path):
+        where = _range(pos.line - 1, pos.column - 1, pos.width)
+        out.append(lsp.DocumentSymbol(name, SYMBOLS[kind], where, where, detail=kind))
+    return out
 
 
 def main() -> None:
