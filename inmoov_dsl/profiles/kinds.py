@@ -65,14 +65,19 @@ def most_servos(opts: Sequence[tuple[str, int]]) -> int:
     return 32 if mcu(opts) == "atmega2560" else 12
 
 
+def _arduino(opts: Sequence[tuple[str, int]]) -> tuple[str, str, int, int]:
+    """The Arduino a board's options name (an Uno when they name none)."""
+    return ARDUINOS[dict(opts).get("arduino", 0)]
+
+
 def mcu(opts: Sequence[tuple[str, int]]) -> str:
     """The microcontroller of an Arduino board (of kind ``rig`` or ``mrlcomm``)."""
-    return ARDUINOS[dict(opts).get("arduino", 0)][1]
+    return _arduino(opts)[1]
 
 
 def arduino_of(board) -> tuple[str, str, int, int]:
     """The Arduino a board runs on: (name, MCU, digital pins, A0's pin)."""
-    return ARDUINOS[board.option("arduino", 0)]
+    return _arduino(board.options)
 
 
 def options(fields, what: str) -> tuple[tuple[str, int], ...]:
@@ -99,12 +104,12 @@ def channels(what: str, opts: Sequence[tuple[str, int]]) -> int:
         return CHANNELS[MODELS[dict(opts).get("model", 1)]]
     if what == "pca9685":
         return 16
-    return ARDUINOS[dict(opts).get("arduino", 0)][2]
+    return _arduino(opts)[2]
 
 
 def _pin_problem(board, pin: int | None) -> str | None:
     """What is wrong with an Arduino's servo on ``pin`` (None: nothing)."""
-    name, _, count, _ = ARDUINOS[board.option("arduino", 0)]
+    name, _, count, _ = arduino_of(board)
     if pin is None:
         # our firmware's sketch asks for it when it is built; MrlComm needs it at once
         return None if board.kind == "rig" else "give the servo's Arduino pin as 'pin'"
@@ -135,7 +140,7 @@ def check_channels(report, boards, servos) -> None:
             if board.kind in ("rig", "mrlcomm"):
                 problem = _pin_problem(board, s.pin)
                 if problem:
-                    mega = (board.option("arduino", 0) != 2 and s.pin is not None
+                    mega = (mcu(board.options) != "atmega2560" and s.pin is not None
                             and s.pin < 70)
                     report.error(at if s.pin is not None else ("servo", s.name),
                                  f"servo '{s.name}' of board {board.id}: {problem}",
