@@ -1,7 +1,10 @@
 """gestc lsp, driven by a client we did not write (pytest-lsp) with the capabilities of
 VS Code and of Neovim: diagnostics as the text changes, with gestc check's wording,
-places and hints; formatting by gestc fmt's rules."""
+places and hints; formatting by gestc fmt's rules; hover, completion, definition,
+references, outline, inlay hints, code actions applied, semantic tokens, settings. Every
+answer is awaited with a time limit (``soon``): a broken request fails, never hangs."""
 
+import asyncio
 import sys
 
 import pytest
@@ -15,16 +18,34 @@ SERVER = [sys.executable, "-m", "inmoov_dsl.cli.gestc", "lsp"]
 @pytest_lsp.fixture(config=ClientServerConfig(server_command=SERVER),
                     params=["visual-studio-code", "neovim"])
 async def client(request, lsp_client: LanguageClient):
-    await lsp_client.initialize_session(
+    result = await lsp_client.initialize_session(
         lsp.InitializeParams(capabilities=client_capabilities(request.param)))
+    lsp_client.server_legend = result.capabilities.semantic_tokens_provider.legend
     yield
     await lsp_client.shutdown_session()
+
+
+LIMIT = 60.0  #: s for any answer, which a loaded machine meets (most take milliseconds)
+
+
+async def soon(awaited):
+    """``awaited``'s result, or a failure after LIMIT seconds (never a hang)."""
+    return await asyncio.wait_for(awaited, LIMIT)
 
 
 async def opened(client: LanguageClient, uri: str, text: str) -> list[lsp.Diagnostic]:
     client.text_document_did_open(lsp.DidOpenTextDocumentParams(
         lsp.TextDocumentItem(uri=uri, language_id="gest", version=1, text=text)))
-    await client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    await soon(client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS))
+    return client.diagnostics[uri]
+
+
+async def changed(client: LanguageClient, uri: str, version: int, text: str
+                  ) -> list[lsp.Diagnostic]:
+    client.text_document_did_change(lsp.DidChangeTextDocumentParams(
+        lsp.VersionedTextDocumentIdentifier(uri=uri, version=version),
+        [lsp.TextDocumentContentChangeWholeDocument(text=text)]))
+    await soon(client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS))
     return client.diagnostics[uri]
 
 
@@ -43,7 +64,7 @@ async def test_every_error_as_it_is_typed_and_gone_once_fixed(client, tmp_path):
         lsp.VersionedTextDocumentIdentifier(uri=uri, version=2),
         [lsp.TextDocumentContentChangeWholeDocument(
             text="a: index 90, middle 90\nb: thum 90\nc: ring 90\n")]))
-    await client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+    await soon(client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS))
     assert [d.range.start.line for d in client.diagnostics[uri]] == [1]
     # a syntax error in one gesture does not hide another's
     found = await opened(client, (tmp_path / "syntax.gest").as_uri(),
@@ -57,9 +78,9 @@ async def test_every_error_as_it_is_typed_and_gone_once_fixed(client, tmp_path):
 async def test_formatting_is_gestc_fmt(client, tmp_path):
     uri = (tmp_path / "f.gest").as_uri()
     assert not await opened(client, uri, "g:\n  index   90  over 1s\n")
-    edits = await client.text_document_formatting_async(lsp.DocumentFormattingParams(
+    edits = await soon(client.text_document_formatting_async(lsp.DocumentFormattingParams(
         lsp.TextDocumentIdentifier(uri=uri), lsp.FormattingOptions(tab_size=4,
-                                                                   insert_spaces=True)))
+                                                                   insert_spaces=True))))
     assert [e.new_text for e in edits] == ["g:\n    index 90 over 1s\n"]
 
 
@@ -70,17 +91,17 @@ async def test_hover_and_completion_know_the_robot(client, tmp_path):
     assert not await opened(client, uri, text)
 
     async def hovered(line, character):
-        said = await client.text_document_hover_async(lsp.HoverParams(
-            lsp.TextDocumentIdentifier(uri=uri), lsp.Position(line, character)))
+        said = await soon(client.text_document_hover_async(lsp.HoverParams(
+            lsp.TextDocumentIdentifier(uri=uri), lsp.Position(line, character))))
         return said.contents.value
 
     assert (await hovered(1, 10)).startswith("**servo wrist** (profile rhand): board 181 "
                                              "(right hand), pin 2; values 0..180, rest 0")
     assert await hovered(0, 12) == "**group fingers**: thumb, index, middle, ring, pinky"
-    assert await hovered(1, 4) == "**pose half**: fingers 90"
+    assert (await hovered(1, 4)).startswith("**pose half**: fingers 90\n\n**step of g**")
     assert await hovered(1, 0) == "**gesture g**: 1 step, 1.00 s as planned"
-    listed = await client.text_document_completion_async(lsp.CompletionParams(
-        lsp.TextDocumentIdentifier(uri=uri), lsp.Position(1, 3)))
+    listed = await soon(client.text_document_completion_async(lsp.CompletionParams(
+        lsp.TextDocumentIdentifier(uri=uri), lsp.Position(1, 3))))
     items = {i.label: i.detail for i in listed.items}
     assert {"wrist": "servo", "fingers": "group", "half": "pose", "g": "gesture",
             "over": "keyword", "ms": "unit"}.items() <= items.items()
@@ -95,20 +116,156 @@ async def test_definition_references_and_outline(client, tmp_path):
     assert not await opened(client, uri, text)
 
     async def defined(line, character):
-        return await client.text_document_definition_async(lsp.DefinitionParams(
-            lsp.TextDocumentIdentifier(uri=uri), lsp.Position(line, character)))
+        return await soon(client.text_document_definition_async(lsp.DefinitionParams(
+            lsp.TextDocumentIdentifier(uri=uri), lsp.Position(line, character))))
 
     there = await defined(2, 4)  # 'half', in the file main uses
     assert there.uri == (tmp_path / "moves.gest").as_uri()
     assert (there.range.start.line, there.range.start.character) == (0, 5)
     here = await defined(4, 4)  # 'g', in this file
     assert here.uri == uri and here.range.start.line == 2
-    found = await client.text_document_references_async(lsp.ReferenceParams(
+    found = await soon(client.text_document_references_async(lsp.ReferenceParams(
         context=lsp.ReferenceContext(include_declaration=True),
-        text_document=lsp.TextDocumentIdentifier(uri=uri), position=lsp.Position(2, 4)))
-    assert sorted((r.range.start.line, r.range.start.character) for r in found) == [
-        (2, 3), (5, 4)]  # not in the comment
-    symbols = await client.text_document_document_symbol_async(lsp.DocumentSymbolParams(
-        lsp.TextDocumentIdentifier(uri=uri)))
+        text_document=lsp.TextDocumentIdentifier(uri=uri), position=lsp.Position(2, 4))))
+    moves = (tmp_path / "moves.gest").as_uri()
+    assert sorted((r.uri, r.range.start.line, r.range.start.character) for r in found) == [
+        (uri, 2, 3), (uri, 5, 4), (moves, 0, 5)]  # across use; not in the comment
+    found = await soon(client.text_document_references_async(lsp.ReferenceParams(
+        context=lsp.ReferenceContext(include_declaration=True),
+        text_document=lsp.TextDocumentIdentifier(uri=uri), position=lsp.Position(4, 4))))
+    assert sorted((r.uri, r.range.start.line) for r in found) == [(uri, 2), (uri, 4)]
+    symbols = await soon(client.text_document_document_symbol_async(
+        lsp.DocumentSymbolParams(lsp.TextDocumentIdentifier(uri=uri))))
     assert [(s.name, s.detail) for s in symbols] == [("two", "group"), ("g", "gesture"),
                                                      ("h", "gesture")]
+
+
+def apply(text: str, edits: list[lsp.TextEdit]) -> str:
+    """``text`` with ``edits`` (each on one line) made, as an editor makes them."""
+    lines = text.split("\n")
+    for e in sorted(edits, key=lambda e: (e.range.start.line, e.range.start.character),
+                    reverse=True):
+        start, end = e.range.start, e.range.end
+        assert start.line == end.line
+        row = lines[start.line]
+        lines[start.line:start.line + 1] = (row[:start.character] + e.new_text +
+                                            row[end.character:]).split("\n")
+    return "\n".join(lines)
+
+
+@pytest.mark.asyncio
+async def test_inlay_hints_time_each_step_and_hover_tells_a_stretched_move(client, tmp_path):
+    uri = (tmp_path / "t.gest").as_uri()
+    text = "g:\n    index 180 over 0.6s\n    index 0 over 0.05s  # too fast\n    wait 1s\n"
+    found = await opened(client, uri, text)
+    assert [(d.range.start.line, d.severity) for d in found] == [
+        (2, lsp.DiagnosticSeverity.Warning)]
+    hints = await soon(client.text_document_inlay_hint_async(lsp.InlayHintParams(
+        text_document=lsp.TextDocumentIdentifier(uri=uri),
+        range=lsp.Range(lsp.Position(0, 0), lsp.Position(4, 0)))))
+    said = {h.position.line: (h.position.character, h.label) for h in hints}
+    assert said[1] == (23, "# at 0.00 s, 0.60 s")
+    assert said[2][0] == 22 and said[2][1].startswith("# at 0.60 s, 0.")
+    assert said[2][1].endswith("(stretched: asked 0.05 s)")
+    stretched = float(said[2][1].split(", ")[1].split(" ")[0])
+    assert stretched > 0.5
+    assert said[3] == (11, f"# at {0.6 + stretched:.2f} s, 1.00 s")  # after the stretch
+    assert text.split("\n")[1] == "    index 180 over 0.6s"  # a hint, not text
+    hovered = await soon(client.text_document_hover_async(lsp.HoverParams(
+        lsp.TextDocumentIdentifier(uri=uri), lsp.Position(2, 14))))
+    assert "**step of g**: at 0.60 s" in hovered.contents.value
+    assert "stretched: asked 0.05 s" in hovered.contents.value
+
+
+@pytest.mark.asyncio
+async def test_code_actions_from_the_hints_fix_the_file(client, tmp_path):
+    uri = (tmp_path / "fix.gest").as_uri()
+    text = "robot rhand\n\na: indx 90\nb: peace\nc: index 180 over 0.05s\n"
+    found = await opened(client, uri, text)
+    assert len(found) == 3
+    for version, (start, title) in enumerate((("a:", "Change to 'index'"),
+                                              ("b:", "Add 'use \"peace.gest\"'"),
+                                              ("c:", "Ask for 0.52 s, the time the limits "
+                                                     "need")), 2):
+        line = [row[:2] for row in text.split("\n")].index(start)
+        actions = await soon(client.text_document_code_action_async(lsp.CodeActionParams(
+            text_document=lsp.TextDocumentIdentifier(uri=uri),
+            range=lsp.Range(lsp.Position(line, 0), lsp.Position(line, 0)),
+            context=lsp.CodeActionContext(diagnostics=[]))))
+        assert [a.title for a in actions] == [title]
+        assert actions[0].kind == lsp.CodeActionKind.QuickFix and actions[0].is_preferred
+        text = apply(text, actions[0].edit.changes[uri])
+        found = await changed(client, uri, version, text)
+    assert text == ('robot rhand\nuse "peace.gest"\n\na: index 90\nb: peace\n'
+                    'c: index 180 over 0.52s\n')
+    assert not found  # every problem gone
+
+
+@pytest.mark.asyncio
+async def test_semantic_tokens_say_what_each_name_resolves_to(client, tmp_path):
+    uri = (tmp_path / "s.gest").as_uri()
+    text = 'pose half: fingers 90\ng: half, wrist 30 over 1s # done\nh: g & say "hi"\n'
+    await opened(client, uri, text)
+    answer = await soon(client.text_document_semantic_tokens_full_async(
+        lsp.SemanticTokensParams(lsp.TextDocumentIdentifier(uri=uri))))
+    types = client.server_legend.token_types  # as the server told it at initialize
+    data, line, column, seen = answer.data, 0, 0, []
+    rows = text.split("\n")
+    for k in range(0, len(data), 5):
+        line += data[k]
+        column = data[k + 1] + (column if data[k] == 0 else 0)
+        seen.append((rows[line][column:column + data[k + 2]], types[data[k + 3]],
+                     data[k + 4]))
+    assert seen == [("pose", "keyword", 0), ("half", "enumMember", 1),
+                    ("fingers", "enum", 2), ("90", "number", 0),
+                    ("g", "function", 1), ("half", "enumMember", 0), ("wrist", "variable", 2),
+                    ("30", "number", 0), ("over", "keyword", 0), ("1", "number", 0),
+                    ("s", "keyword", 0), ("# done", "comment", 0),
+                    ("h", "function", 1), ("g", "function", 0), ("say", "keyword", 0),
+                    ('"hi"', "string", 0)]
+
+
+@pytest.mark.asyncio
+async def test_completion_in_use_and_say_lists_the_files(client, tmp_path):
+    (tmp_path / "mine.gest").write_text("pose p: index 9\n")
+    (tmp_path / "hello.wav").write_bytes(b"")
+    uri = (tmp_path / "c.gest").as_uri()
+    text = 'use "\ng: say "\n'
+    await opened(client, uri, text)
+
+    async def listed(line, character):
+        got = await soon(client.text_document_completion_async(lsp.CompletionParams(
+            lsp.TextDocumentIdentifier(uri=uri), lsp.Position(line, character))))
+        return {i.label: i.detail for i in got.items}
+
+    files = await listed(0, 5)
+    assert files["mine.gest"] == "file" and files["peace.gest"] == "file"  # the library's
+    assert "c.gest" not in files and "index" not in files
+    assert await listed(1, 8) == {"hello.wav": "sound"}
+
+
+ROBOT = ClientServerConfig(server_command=SERVER)
+
+
+@pytest_lsp.fixture(config=ROBOT)
+async def inmoov_client(lsp_client: LanguageClient):
+    await lsp_client.initialize_session(lsp.InitializeParams(
+        capabilities=client_capabilities("visual-studio-code"),
+        initialization_options={"gest": {"robot": "inmoov"}}))
+    yield
+    await lsp_client.shutdown_session()
+
+
+@pytest.mark.asyncio
+async def test_the_robot_is_the_file_s_line_else_the_setting(inmoov_client, tmp_path):
+    client = inmoov_client
+    uri = (tmp_path / "head.gest").as_uri()
+    assert not await opened(client, uri, "n: neck 120 over 1s\n")  # the setting: inmoov
+    found = await changed(client, uri, 2, "robot rhand\nn: neck 120 over 1s\n")
+    assert [d.message.split("\n")[0] for d in found] == ["unknown servo or group 'neck'"]
+    client.workspace_did_change_configuration(lsp.DidChangeConfigurationParams(
+        settings={"gest": {"robot": "rhand"}}))
+    await soon(client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS))
+    found = await changed(client, uri, 3, "n: neck 120 over 1s\n")
+    assert found[0].message.startswith("unknown servo or group 'neck'")
+    assert "robot inmoov" in found[0].message  # the hint names the robot that has it

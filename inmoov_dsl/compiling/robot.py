@@ -45,15 +45,16 @@ def robot_profile(line: ast.Robot, program: Program) -> Profile:
         raise GestError(program.sources.error(first.message, line.pos, first.hint)) from None
 
 
-def profile_for(program: Program, profile: str | Profile | None = None) -> Profile:
+def profile_for(program: Program, profile: str | Profile | None = None,
+                default: str = DEFAULT) -> Profile:
     """The profile to compile ``program`` for: ``profile`` when given (a name, a path or
-    a Profile), else the program's robot, else DEFAULT."""
+    a Profile), else the program's robot, else ``default`` (an editor's setting)."""
     if isinstance(profile, Profile):
         return profile
     if profile is not None:
         return load_profile(profile)
     line = robot(program)
-    return robot_profile(line, program) if line is not None else load_profile(DEFAULT)
+    return robot_profile(line, program) if line is not None else load_profile(default)
 
 
 def check(program: Program, profile: Profile, gesture: str, at: Pos | None = None) -> None:

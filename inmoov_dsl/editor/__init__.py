@@ -1,3 +1,3 @@
 """The compiler in the editor: ``gestc lsp``, a language server on standard input and
-output (pygls): ``diagnose`` (pure: a text's errors and warnings, as ``gestc check``
-tells them) and ``server`` (the LSP edge)."""
+output (pygls). ``analysis`` (what the compiler makes of a text) and the modules that
+answer from it are pure; ``server`` is the LSP edge."""

@@ -1,54 +1,51 @@
-"""What the compiler knows of a name, for an editor (pure): what a word under the cursor
-is (hover), where it is defined and written (definition, references), the words that
-may be typed (completion), and a file's outline."""
+"""What the compiler knows of the text under the cursor, for an editor (pure, over an
+Analysis): what a word or a step is (hover), where a name is defined (definition), the
+words that may be typed (completion), and a file's outline."""
 
 from __future__ import annotations
 
+import os
 import re
+from collections.abc import Sequence
 from pathlib import Path
 
 from ..compiling.compiler import compile_program
-from ..compiling.names import Gesture, Group, NameTable, Pose, Servo
-from ..compiling.robot import profile_for
+from ..compiling.names import Gesture, Group, Pose, Servo
 from ..errors import GestError, Pos
-from ..language.load import load
-from ..language.program import Program
+from ..language.library import library_dirs
+from ..language.load import GEST_SUFFIX
 from ..language.syntax import KEYWORDS
-from ..profiles.data import Profile
-from ..profiles.profile import profiles_with
+from ..voice.hearing import WAV_SUFFIX
+from .analysis import Analysis
+from .text import code, string_at, word_at
+from .timing import label, step_times
 
-WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 UNITS = ("s", "ms")
+USE = re.compile(r"^\s*use\s*$")
+SAY = re.compile(r"(^|[\s&:])say\s*$")
 
 
-def _program(text: str, path: str) -> tuple[Program, Profile, NameTable] | None:
-    try:
-        program = load(str(Path(path)), text)
-        profile = profile_for(program)
-        return program, profile, NameTable(program, profile, profiles_with)
-    except GestError:
+def hover(found: Analysis, line: int, column: int) -> str | None:
+    """What is at ``line``, ``column`` (0-based), in words (Markdown): a name (a servo, a
+    group, a pose, a gesture), a ``use`` path, a ``say``, or the step of that line
+    (when it plays, and whether it was stretched); None when nothing is known."""
+    lines = found.text.split("\n")
+    if not 0 <= line < len(lines) or found.program is None:
         return None
+    said = _string(found, lines[line], column)
+    if said is not None:
+        return said
+    word = word_at(found.text, line, column)
+    parts = [what] if word and (what := _entity(found, word)) else []
+    step = step_times(found).get(line)
+    if step is not None and column >= step.column:
+        parts.append(f"**step of {step.gesture}**: {label(step)[2:]}")
+    return "\n\n".join(parts) or None
 
 
-def word_at(text: str, line: int, column: int) -> str | None:
-    """The name at 0-based ``line`` and ``column`` of ``text``, or None."""
-    lines = text.split("\n")
-    if not 0 <= line < len(lines):
-        return None
-    for match in WORD.finditer(lines[line]):
-        if match.start() <= column <= match.end():
-            return match.group()
-    return None
-
-
-def hover(text: str, path: str, line: int, column: int) -> str | None:
-    """What the name at ``line``, ``column`` (0-based) is, in words (Markdown), or None."""
-    word = word_at(text, line, column)
-    found = _program(text, path) if word else None
-    if found is None:
-        return None
-    program, profile, names = found
-    entity = names.get(word)
+def _entity(found: Analysis, word: str) -> str | None:
+    entity = found.names.get(word) if found.names else None
+    profile = found.profile
     if isinstance(entity, Servo):
         s = profile.servos[entity.index]
         board = next(b for b in profile.boards if b.id == s.board)
@@ -63,58 +60,100 @@ def hover(text: str, path: str, line: int, column: int) -> str | None:
                             else t.name.text for t in entity.node.targets)
         return f"**pose {word}**: {targets}"
     if isinstance(entity, Gesture):
-        try:
-            compiled, plan = compile_program(program, word, profile)
-        except GestError as exc:
-            return f"**gesture {word}**: does not compile: {exc.first.message}"
+        plan = found.plans.get(word)
+        if plan is None:
+            try:
+                plan = compile_program(found.program, word, profile)[1]
+            except GestError as exc:
+                return f"**gesture {word}**: does not compile: {exc.first.message}"
         steps = len(plan.steps)
         return (f"**gesture {word}**: {steps} step{'' if steps == 1 else 's'}, "
-                f"{compiled.duration:.2f} s as planned")
+                f"{plan.duration:.2f} s as planned")
     return None
 
 
-def completions(text: str, path: str) -> list[tuple[str, str]]:
-    """(word, what it is) of every name in scope (servos, groups, poses, gestures),
-    the keywords and the units."""
-    found = _program(text, path)
+def _string(found: Analysis, line: str, column: int) -> str | None:
+    """A ``use`` path: the file it is; a ``say``: its sound's length."""
+    inside = string_at(line, column)
+    if inside is None:
+        return None
+    before = line[:inside[0] - 1]
+    if USE.match(before):
+        used = [f for f in found.program.texts if f != found.path
+                and Path(f).as_posix().endswith(inside[2])]
+        return f"**use**: {used[0]}" if used else None
+    if SAY.search(before):
+        for plan in found.plans.values():
+            for _start, speech in plan.sounds:
+                if speech.sound.source == inside[2]:
+                    where = f" ({speech.sound.path})" if speech.sound.path else ""
+                    return f"**say**: {speech.sound.duration:.2f} s of sound{where}"
+    return None
+
+
+def completions(found: Analysis, line: int, column: int,
+                lib: Sequence[str] = ()) -> list[tuple[str, str]]:
+    """(word, what it is) that may be typed at ``line``, ``column``: in a ``use``
+    string the gesture files beside the file and in the library, in a ``say`` string
+    the sounds (.wav) there; elsewhere every name in scope (servos, groups, poses,
+    gestures), the keywords and the units."""
+    lines = found.text.split("\n")
+    row = lines[line] if 0 <= line < len(lines) else ""
+    inside = string_at(row, column)
+    if inside is not None:
+        before = row[:inside[0] - 1]
+        if USE.match(before):
+            return [(f, "file") for f in _files(found.path, GEST_SUFFIX, lib)
+                    if Path(f).name != Path(found.path).name]
+        if SAY.search(before):
+            return [(f, "sound") for f in _files(found.path, WAV_SUFFIX, lib)]
+        return []
     out: list[tuple[str, str]] = []
-    if found is not None:
-        for name, entity in sorted(found[2].entries().items()):
+    if found.names is not None:
+        for name, entity in sorted(found.names.entries().items()):
             out.append((name, type(entity).__name__.lower()))
     out += [(k, "keyword") for k in sorted(KEYWORDS)]
     out += [(u, "unit") for u in UNITS]
     return out
 
 
-def definition(text: str, path: str, line: int, column: int) -> Pos | None:
+def _files(path: str, suffix: str, lib: Sequence[str]) -> list[str]:
+    """The names of the files ending in ``suffix`` beside ``path`` and along the
+    library's folders, as a ``use`` or a ``say`` finds them."""
+    names: dict[str, None] = {}
+    for folder in [os.path.dirname(path) or ".", *map(str, library_dirs(list(lib)))]:
+        try:
+            entries = sorted(os.listdir(folder))
+        except OSError:
+            continue
+        names.update((e, None) for e in entries if e.lower().endswith(suffix))
+    return list(names)
+
+
+def definition(found: Analysis, line: int, column: int) -> Pos | None:
     """Where the group, pose or gesture under the cursor is defined (this file, a file
     it uses, the library), or None."""
-    word = word_at(text, line, column)
-    found = _program(text, path) if word else None
-    return None if found is None else found[0].names().get(word)
+    word = word_at(found.text, line, column)
+    if word is None or found.program is None:
+        return None
+    return found.program.names().get(word)
 
 
-def references(text: str, path: str, line: int, column: int) -> list[tuple[int, int, int]]:
-    """(line, column, width), 0-based, of every place in ``text`` the name under the
-    cursor is written (comments and strings left out)."""
-    word = word_at(text, line, column)
-    if word is None:
-        return []
-    out = []
-    for k, row in enumerate(text.split("\n")):
-        code = re.sub(r'"[^"]*"', lambda m: " " * len(m.group()), row.split("#", 1)[0])
-        out += [(k, m.start(), len(word)) for m in WORD.finditer(code) if m.group() == word]
-    return out
+def references(text: str, word: str) -> list[tuple[int, int, int]]:
+    """(line, column, width), 0-based, of every place in ``text`` that writes the name
+    ``word`` (comments and strings left out)."""
+    pattern = re.compile(rf"(?<![A-Za-z0-9_]){re.escape(word)}(?![A-Za-z0-9_])")
+    return [(k, m.start(), len(word)) for k, row in enumerate(text.split("\n"))
+            if word in row for m in pattern.finditer(code(row))]
 
 
-def outline(text: str, path: str) -> list[tuple[str, str, Pos]]:
+def outline(found: Analysis) -> list[tuple[str, str, Pos]]:
     """(name, kind, where) of each group, pose and gesture the file itself defines, in
     the file's order."""
-    found = _program(text, path)
-    if found is None:
+    program = found.program
+    if program is None:
         return []
-    program, here = found[0], str(Path(path))
     items = [(name, kind, node.name.pos) for kind, table in (
         ("group", program.groups), ("pose", program.poses), ("gesture", program.gestures))
-        for name, node in table.items() if node.name.pos.file == here]
+        for name, node in table.items() if node.name.pos.file == found.path]
     return sorted(items, key=lambda item: (item[2].line, item[2].column))

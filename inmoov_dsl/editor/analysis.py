@@ -1,0 +1,62 @@
+"""What the compiler makes of an editor's text (pure but for reading the files it
+``use``s): the program, its robot, its names, every error and warning as ``gestc check``
+tells them, and the plan of each gesture that compiles. Every request of the server
+reads one Analysis of the text as it is now."""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..compiling.checking import check_program
+from ..compiling.compiled import Compiled
+from ..compiling.names import NameTable
+from ..compiling.plan import Plan
+from ..compiling.robot import DEFAULT, profile_for
+from ..errors import Diagnostic, GestError
+from ..language.library import library_dirs
+from ..language.load import load
+from ..language.program import Program
+from ..profiles.data import Profile
+from ..profiles.profile import profiles_with
+
+
+@dataclass
+class Analysis:
+    """One text of one file, as the compiler sees it (``program`` None: it does not
+    load; ``names`` None: its names do not resolve)."""
+
+    text: str
+    path: str
+    program: Program | None = None
+    profile: Profile | None = None
+    names: NameTable | None = None
+    diagnostics: list[Diagnostic] = field(default_factory=list)  #: errors, then warnings
+    plans: dict[str, Plan] = field(default_factory=dict)  #: the file's gestures, planned
+
+
+def analyse(text: str, path: str, robot: str = DEFAULT, lib: Sequence[str] = ()
+            ) -> Analysis:
+    """Analyse ``text``, the file at ``path`` (its ``use`` lines and robot line read
+    beside it; ``robot``: the profile of a file that names none; ``lib``: more gesture
+    folders)."""
+    path = str(Path(path))
+    found = Analysis(text, path)
+    try:
+        program = load(path, text, search=library_dirs(list(lib)))
+        profile = profile_for(program, default=robot)
+    except GestError as exc:
+        found.diagnostics = list(exc.diagnostics)
+        return found
+    found.program, found.profile = program, profile
+    with contextlib.suppress(GestError):  # told again by the check below, at their places
+        found.names = NameTable(program, profile, profiles_with)
+
+    def planned(_program: Program, compiled: Compiled, plan: Plan) -> None:
+        found.plans[compiled.gesture] = plan
+
+    errors, warnings = check_program(program, profile, also=planned)
+    found.diagnostics = errors + warnings
+    return found
