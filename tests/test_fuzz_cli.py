@@ -23,7 +23,7 @@ HOSTILE = ["nan", "inf", "-inf", "-1", "0", "1e308", "-1e308", "9" * 400, "", " 
 COMMANDS = [
     (gestc, ["compile", "peace"], ["-o", "-g", "--from", "-p", "--board", "-f"]),
     (gestc, ["check", "peace.gest"], ["-p", "--from"]),
-    (gestc, ["show", "count"], ["-p", "--from", "-g"]),
+    (gestc, ["show", "count"], ["-p", "--from", "-g", "--color"]),
     (gestc, ["export", "peace"], ["--joint-states", "--rate", "-p", "--from"]),
     (gestc, ["fmt", "--check"], []),
     (gestc, ["urdf"], ["-p", "-o"]),

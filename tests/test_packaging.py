@@ -43,6 +43,7 @@ def test_the_wheel_carries_grammar_profiles_and_library(wheel):
     assert "gestc = inmoov_dsl.cli:run_gestc" in text
     assert "gestplay = inmoov_dsl.cli:run_gestplay" in text
     assert "gestsim = inmoov_dsl.cli:run_gestsim" in text
+    assert "[pygments.lexers]\ngest = inmoov_dsl.editor.lexer:GestLexer\n" in text
 
 
 def test_the_installed_layout_compiles_the_library(wheel, tmp_path):

@@ -7,6 +7,7 @@ import argparse
 import contextlib
 import gc
 import math
+import os
 import signal
 import sys
 from collections.abc import Callable, Iterable
@@ -107,6 +108,32 @@ def add_lib(p: argparse.ArgumentParser) -> None:
     p.add_argument("--lib", action="append", default=[], metavar="DIR",
                    help="also look for gestures in DIR (before GEST_PATH, ./gestures and "
                    "the built-in library); may be repeated")
+
+
+COLOR_CHOICES = ("auto", "always", "never")
+
+
+def add_color(p: argparse.ArgumentParser) -> None:
+    """``--color auto|always|never``: colour the gesture code a command prints."""
+    p.add_argument("--color", choices=COLOR_CHOICES, default="auto",
+                   help="colour the gesture's code: auto (the default: when standard output "
+                   "is a terminal and NO_COLOR is not set), always or never; colours need "
+                   "pygments (pip install 'inmoov-dsl[highlight]')")
+
+
+def wants_color(choice: str, stream=None, environ=None) -> bool:
+    """Colour what goes to ``stream`` (standard output)? ``--color always`` and ``never``
+    say so; ``auto`` colours a terminal unless NO_COLOR is set and not empty
+    (no-color.org: an option on the command line wins over it)."""
+    if choice != "auto":
+        return choice == "always"
+    if (os.environ if environ is None else environ).get("NO_COLOR"):
+        return False
+    stream = sys.stdout if stream is None else stream
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError):  # no isatty, or closed
+        return False
 
 
 def number(low: float, high: float, above: bool = False, whole: bool = False

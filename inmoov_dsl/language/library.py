@@ -139,15 +139,22 @@ def load_library(dirs: Sequence[Path] | None = None) -> dict[str, Path]:
 def describe(lines: Sequence[str], line: int, name: str = "") -> str:
     """The summary of the item at ``line`` (from 1): the first line of the comments
     right above it, without a leading ``name:``."""
-    k = line - 2
-    while k >= 0 and lines[k].lstrip().startswith("#"):
-        k -= 1
-    if k + 1 > line - 2:
+    top = comments_above(lines, line)
+    if top == line:
         return ""
-    first = lines[k + 1].strip().lstrip("#").strip()
+    first = lines[top - 1].strip().lstrip("#").strip()
     if name and first.startswith(f"{name}:"):
         first = first[len(name) + 1:].strip()
     return first
+
+
+def comments_above(lines: Sequence[str], line: int) -> int:
+    """The first line (from 1) of the comment block right above line ``line``, which
+    describes the item there; ``line`` itself when no comment is right above it."""
+    top = line
+    while top > 1 and lines[top - 2].lstrip().startswith("#"):
+        top -= 1
+    return top
 
 
 def file_meant(target: str, dirs: Sequence[Path] | None = None) -> str:

@@ -3,12 +3,14 @@ loader, ``load``, makes one)."""
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 from ..errors import Pos, SourceMap
 from . import syntax as ast
+from .library import comments_above
 
 
 @dataclass
@@ -43,3 +45,28 @@ class Program:
             for name, node in table.items():
                 found[name] = node.name.pos
         return found
+
+    def source(self, name: str) -> tuple[Pos, list[str]] | None:
+        """The lines that define the group, pose or gesture ``name``: the comment block
+        right above it (what it does), then its own lines to the last one it writes on;
+        and where the first of them is. None for a name it does not define, or whose
+        file's text it does not keep."""
+        node = self.gestures.get(name) or self.poses.get(name) or self.groups.get(name)
+        text = self.texts.get(node.name.pos.file) if node else None
+        if node is None or text is None:
+            return None
+        lines = [row.rstrip("\r") for row in text.split("\n")]  # as the parser counts
+        top = comments_above(lines, node.name.pos.line)
+        return Pos(node.name.pos.file, top, 1), lines[top - 1:_last_line(node)]
+
+
+def _last_line(node: object) -> int:
+    """The last line a syntax node (or a tuple of them) has a position on."""
+    if isinstance(node, Pos):
+        return node.line
+    if isinstance(node, tuple):
+        return max(map(_last_line, node), default=0)
+    if dataclasses.is_dataclass(node):
+        return max((_last_line(getattr(node, f.name)) for f in dataclasses.fields(node)),
+                   default=0)
+    return 0

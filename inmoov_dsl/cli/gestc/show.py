@@ -1,4 +1,5 @@
-"""gestc show: a gesture's steps, and for each link its bytes, use, coverage and lag."""
+"""gestc show: a gesture's code (coloured on a terminal), its steps, and for each link its
+bytes, use, coverage and lag."""
 
 from __future__ import annotations
 
@@ -9,20 +10,28 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ...errors import counted
-from ..common import EXIT_OK
-from .target import add_arguments, compile_target
+from ..common import EXIT_OK, add_color, wants_color, warn
+from .target import PROG, add_arguments, compile_target, target_of
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from ...compiling import metrics
+    from ...language.program import Program
 
 
 def run(args: argparse.Namespace) -> int:
-    """Print the step table and each link's figures."""
+    """Print the gesture's code, the step table and each link's figures."""
     from ...compiling.metrics import measure
 
-    compiled, plan = compile_target(args)
+    target = target_of(args)
+    compiled, plan = compile_target(args, target)
     print(f"{compiled.gesture}: {compiled.duration:.3f} s on profile '{compiled.profile}'")
     print()
+    code = source_text(target.program, compiled.gesture, _highlighter(args.color))
+    if code:
+        print(code)
+        print()
     print(f"  {'#':>3}  {'step':<24} {'source':<18} {'kind':<5} {'start':>7} {'end':>7} "
           f"{'asked':>7} {'planned':>7}")
     for n, s in enumerate(plan.steps, 1):
@@ -38,6 +47,38 @@ def run(args: argparse.Namespace) -> int:
         print()
         print(link_text(link))
     return EXIT_OK
+
+
+def source_text(program: Program, gesture: str,
+                highlight: Callable[[str], str] | None = None) -> str | None:
+    """The lines of its file that define ``gesture`` (the comments right above it
+    too), under the file's name and their line numbers; coloured by ``highlight``."""
+    found = program.source(gesture)
+    if found is None:
+        return None
+    pos, lines = found
+    code = "\n".join(lines)
+    if highlight is not None:
+        code = highlight(code).rstrip("\n")
+    last = pos.line + len(lines) - 1
+    where = f"line {last}" if last == pos.line else f"lines {pos.line}-{last}"
+    rows = [f"    {row}" if row else "" for row in code.split("\n")]
+    return "\n".join([f"  {Path(pos.file).name}, {where}", *rows])
+
+
+def _highlighter(choice: str) -> Callable[[str], str] | None:
+    """What colours gesture code for standard output (``--color``), or None: plain text
+    (and a warning when colours were asked for and pygments is missing)."""
+    if not wants_color(choice):
+        return None
+    try:
+        from ...editor.lexer import terminal
+    except ImportError:
+        if choice == "always":
+            warn("--color always: colours need pygments (pip install "
+                 "'inmoov-dsl[highlight]')", PROG)
+        return None
+    return terminal
 
 
 BLOCKS = " ▁▂▃▄▅▆▇█"  #: a value from nothing to the most, in one character
@@ -118,6 +159,8 @@ def _shortfall(r: metrics.LinkReport) -> list[str]:
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestc show GESTURE``."""
-    p = sub.add_parser("show", help="steps, bytes, link use, coverage and lag")
+    p = sub.add_parser("show", help="the gesture's code, steps, bytes, link use, coverage "
+                       "and lag")
     add_arguments(p)
+    add_color(p)
     p.set_defaults(func=run)

@@ -13,7 +13,7 @@ from ...errors import Diagnostic, GestError
 from ...language.program import Program
 from ...profiles.data import Profile
 from ..common import add_lib, report
-from ..target import load_target
+from ..target import Target, load_target
 from . import PROG  # noqa: F401 (the commands take it from here)
 
 
@@ -35,10 +35,16 @@ def add_arguments(p: argparse.ArgumentParser, target: bool = True) -> None:
     add_lib(p)
 
 
-def compile_target(args: argparse.Namespace) -> tuple[Compiled, Plan]:
+def target_of(args: argparse.Namespace) -> Target:
     """Find the gesture the arguments name (a file, or a name on the search path:
-    ``load_target``) and compile it."""
-    target = load_target(args.target, args.gesture, args.profile, args.lib, PROG)
+    ``load_target``) and load it."""
+    return load_target(args.target, args.gesture, args.profile, args.lib, PROG)
+
+
+def compile_target(args: argparse.Namespace, target: Target | None = None
+                   ) -> tuple[Compiled, Plan]:
+    """Compile the gesture the arguments name (``target``, if it is loaded already)."""
+    target = target or target_of(args)
     return compile_one(target.program, target.gesture, target.profile, args.start,
                        args.strict)
 
