@@ -1,0 +1,279 @@
+"""The VS Code extension (editors/vscode). Its TextMate grammar gives every token of
+every library file the scope the project's own lexer (Lark, grammar/gest.lark) says it
+has, checked by a tool we did not write (vscode-tmgrammar-test) on test files made here
+from the lexer's tokens; the extension packages (vsce) into a .vsix that carries what VS
+Code needs; its client starts the configured command and tells it the robot.
+
+The tests that run node skip without node and npm, except under CI=true, where that
+fails."""
+
+from __future__ import annotations
+
+import functools
+import json
+import os
+import re
+import shutil
+import subprocess
+import zipfile
+from pathlib import Path
+
+import pytest
+from lark import Lark, Token
+from toolchain import need
+
+from inmoov_dsl.language.indent import GestIndenter
+from inmoov_dsl.language.syntax import KEYWORDS
+
+ROOT = Path(__file__).resolve().parent.parent
+EXTENSION = ROOT / "editors" / "vscode"
+GRAMMAR = EXTENSION / "syntaxes" / "gest.tmLanguage.json"
+LIBRARY = sorted((ROOT / "gestures").glob("*.gest"))
+
+KEYWORD = "keyword.control.gest"
+NAME = "variable.other.gest"
+DEFINED = "entity.name.function.gest"  #: the name a gesture, pose or group line defines
+COMMENT = "comment.line.number-sign.gest"
+#: the scope of each other kind of token (Lark's terminal); a keyword is one of KEYWORDS
+SCOPES = {
+    "NUMBER": "constant.numeric.gest",
+    "UNIT": "keyword.other.unit.gest",
+    "STRING": "string.quoted.double.gest",
+    "ROBOT_NAME": NAME,  # robot rhand-maestro
+    "COLON": "punctuation.separator.colon.gest",
+    "COMMA": "punctuation.separator.comma.gest",
+    "AMPERSAND": "punctuation.separator.together.gest",
+}
+#: what the library does not write: a robot with a dash, a group, left and right,
+#: through, &, a unit after a space, a line continued (its backslash is no token)
+SAMPLES = {
+    "sample_robot.gest": """\
+robot rhand-maestro   # a built-in profile
+use "peace.gest"
+group wave_order: pinky, ring, middle, index
+pose half: index 90, middle 90
+sweep:
+    wrist 90 over 1 s through
+    left peace & right peace
+    wave_order 90 stagger 80ms
+    half, thumb 0, index 90, \\
+        middle 90 over .5s
+    hold 0.5 ms
+    repeat 2: half
+""",
+    "sample_file.gest": """\
+robot "my_hand.toml"
+hello: say "Hello" & index 90
+""",
+}
+#: a source line the tool would take for an assertion (and drop from the source)
+LOOKS_LIKE_ASSERTION = re.compile(r"#\s*(\^|<~*-+)")
+
+
+class _Tap(GestIndenter):
+    """The project's indenter, keeping every token the lexer gives it (comments are in
+    the newline tokens; whitespace and line continuations are ignored by the lexer)."""
+
+    def process(self, stream):
+        self.seen: list[Token] = []
+        return super().process(self._keep(stream))
+
+    def _keep(self, stream):
+        for tok in stream:
+            self.seen.append(tok)
+            yield tok
+
+
+@functools.cache
+def _lexer() -> tuple[Lark, _Tap]:
+    tap = _Tap()
+    grammar = (ROOT / "grammar" / "gest.lark").read_text(encoding="utf-8")
+    return Lark(grammar, parser="lalr", lexer="contextual", postlex=tap,
+                maybe_placeholders=False), tap
+
+
+def expected(text: str) -> dict[int, list[tuple[int, int, str]]]:
+    """Line (1-based) -> (column (0-based), width, scope) of each token of ``text``, from
+    the project's lexer and parse tree, not from the TextMate grammar."""
+    lark, tap = _lexer()
+    tree = lark.parse(text)
+    defined = {(t.children[0].line, t.children[0].column) for t in tree.iter_subtrees()
+               if t.data in ("gesture_line", "gesture_block", "pose_def", "group_def")}
+    marks: dict[int, list[tuple[int, int, str]]] = {}
+    for tok in tap.seen:
+        if tok.type == "_NL":  # newlines, indentation and comments
+            for comment in re.finditer(r"#[^\r\n]*", str(tok)):
+                before = str(tok)[:comment.start()]
+                line = tok.line + before.count("\n")
+                column = (tok.column - 1 if "\n" not in before
+                          else len(before) - before.rindex("\n") - 1)
+                marks.setdefault(line, []).append((column, len(comment[0]), COMMENT))
+            continue
+        if tok.type == "NAME":
+            scope = DEFINED if (tok.line, tok.column) in defined else NAME
+        elif str(tok) in KEYWORDS:
+            scope = KEYWORD
+        else:
+            assert tok.type in SCOPES, f"no scope expected for a {tok.type} ({tok!r})"
+            scope = SCOPES[tok.type]
+        marks.setdefault(tok.line, []).append((tok.column - 1, len(tok), scope))
+    return marks
+
+
+def annotated(text: str, title: str) -> str:
+    """``text`` as vscode-tmgrammar-test's test case: a header, then each line followed
+    by an assertion line per token (``<---`` for one at the start of the line)."""
+    marks = expected(text)
+    out = [f'# SYNTAX TEST "source.gest" "{title}"']
+    for number, line in enumerate(text.removesuffix("\n").split("\n"), 1):
+        assert not LOOKS_LIKE_ASSERTION.match(line), f"{title}:{number} reads as an assertion"
+        out.append(line)
+        for column, width, scope in sorted(marks.get(number, [])):
+            out.append(f"#<{'-' * width} {scope}" if column == 0
+                       else f"#{' ' * (column - 1)}{'^' * width} {scope}")
+    return "\n".join(out) + "\n"
+
+
+def cases_texts() -> dict[str, str]:
+    """Every library file, and the samples: name -> text."""
+    return {p.name: p.read_text(encoding="utf-8") for p in LIBRARY} | SAMPLES
+
+
+@pytest.mark.parametrize("name", list(cases_texts()))
+def test_every_character_gets_an_expected_scope(name):
+    """The expectations are complete: every character of every line but blanks (and a
+    continuing backslash) is in a token given a scope."""
+    text = cases_texts()[name]
+    marks = expected(text)
+    for number, line in enumerate(text.split("\n"), 1):
+        covered = {c for column, width, _ in marks.get(number, [])
+                   for c in range(column, column + width)}
+        bare = [c for c, char in enumerate(line) if not char.isspace() and c not in covered
+                and line[c:].rstrip() != "\\"]
+        assert not bare, f"{name}:{number}: no token at columns {bare}: {line!r}"
+
+
+def test_the_grammar_knows_the_languages_keywords():
+    """One rule of the TextMate grammar lists the keywords, exactly KEYWORDS, and it alone
+    gives a keyword's scope."""
+    grammar = json.loads(GRAMMAR.read_text(encoding="utf-8"))
+    rule = grammar["repository"]["keywords"]
+    listed = re.fullmatch(r"\(\?<!\[A-Za-z0-9_\]\)\(\?:([a-z|]+)\)\(\?!\[A-Za-z0-9_\]\)",
+                          rule["match"])
+    assert listed, rule["match"]
+    assert sorted(listed[1].split("|")) == sorted(KEYWORDS)
+    assert rule["name"] == KEYWORD
+    assert json.dumps(grammar).count(f'"{KEYWORD}"') == 1
+
+
+def _run(args: list, cwd: Path, timeout: float = 300) -> subprocess.CompletedProcess:
+    env = {**os.environ, "FORCE_COLOR": "0", "npm_config_update_notifier": "false"}
+    return subprocess.run([str(a) for a in args], cwd=cwd, env=env, capture_output=True,
+                          text=True, timeout=timeout)
+
+
+@pytest.fixture(scope="session")
+def installed(tmp_path_factory) -> Path:
+    """A copy of the extension with its locked node modules (npm ci), once a session."""
+    need("node", "npm", packages="nodejs npm")
+    work = tmp_path_factory.mktemp("vscode") / "vscode"
+    shutil.copytree(EXTENSION, work, ignore=shutil.ignore_patterns("node_modules", "*.vsix"))
+    done = _run(["npm", "ci", "--no-audit", "--no-fund", "--prefer-offline", "--ignore-scripts"],
+                work, timeout=600)
+    assert done.returncode == 0, done.stdout + done.stderr
+    return work
+
+
+@pytest.fixture(scope="session")
+def cases(tmp_path_factory) -> Path:
+    """The test cases, one file each, in a folder of their own (no package.json there:
+    the tool would load that one's grammar too)."""
+    folder = tmp_path_factory.mktemp("tmgrammar")
+    for name, text in cases_texts().items():
+        (folder / name).write_text(annotated(text, name), encoding="utf-8")
+    return folder
+
+
+def grammar_test(installed: Path, cases: Path, grammar: Path) -> subprocess.CompletedProcess:
+    tool = installed / "node_modules" / ".bin" / "vscode-tmgrammar-test"
+    return _run([tool, "--compact", "-g", grammar, *sorted(p.name for p in cases.iterdir())],
+                cases)
+
+
+def test_the_grammar_scopes_every_token_of_the_library(installed, cases):
+    done = grammar_test(installed, cases, GRAMMAR)
+    assert done.returncode == 0, done.stdout + done.stderr
+    passed = set(re.findall(r"(\S+\.gest) run successfuly", done.stdout))
+    assert passed == set(cases_texts()), done.stdout
+    asserted = sum(line.startswith("#<") or line.lstrip("#").lstrip().startswith("^")
+                   for p in cases.iterdir() for line in p.read_text().splitlines()[1:])
+    assert asserted > 1000  # every token of 13 files, not a handful
+
+
+def test_a_grammar_without_its_keyword_rule_fails(installed, cases, tmp_path):
+    grammar = json.loads(GRAMMAR.read_text(encoding="utf-8"))
+    del grammar["repository"]["keywords"]
+    grammar["patterns"].remove({"include": "#keywords"})
+    broken = tmp_path / "broken.tmLanguage.json"
+    broken.write_text(json.dumps(grammar), encoding="utf-8")
+    done = grammar_test(installed, cases, broken)
+    assert done.returncode != 0
+    errors = re.findall(r"^ERROR (\S+?\.gest):\d+:\d+:\d+ (.*)", done.stdout, re.M)
+    assert errors, done.stdout
+    assert {why for _, why in errors} == {
+        f"Missing required scopes: [ {KEYWORD} ] actual scopes: [source.gest {NAME}]"}
+    with_keywords = {name for name, text in cases_texts().items()
+                     if any(scope == KEYWORD for marks in expected(text).values()
+                            for *_, scope in marks)}
+    assert {name for name, _ in errors} == with_keywords
+
+
+def test_the_extension_packages(installed):
+    done = _run(["npm", "run", "package"], installed)
+    assert done.returncode == 0, done.stdout + done.stderr
+    version = json.loads((installed / "package.json").read_text())["version"]
+    with zipfile.ZipFile(installed / f"inmoov-gest-{version}.vsix") as vsix:
+        names = set(vsix.namelist())
+        manifest = json.loads(vsix.read("extension/package.json"))
+        grammar = vsix.read("extension/syntaxes/gest.tmLanguage.json")
+    assert {"extension/package.json", "extension/extension.js", "extension/LICENSE.txt",
+            "extension/syntaxes/gest.tmLanguage.json", "extension/language-configuration.json",
+            "extension/node_modules/vscode-languageclient/package.json",
+            "extension/node_modules/vscode-languageclient/node.js"} <= names
+    assert not [n for n in names if "/node_modules/vscode-tmgrammar-test/" in n
+                or "/node_modules/@vscode/vsce" in n], "the build tools are not shipped"
+    assert grammar == GRAMMAR.read_bytes()
+    language, = manifest["contributes"]["languages"]
+    assert (language["id"], language["extensions"]) == ("gest", [".gest"])
+    assert f"extension/{language['configuration'].removeprefix('./')}" in names
+    grammar_entry, = manifest["contributes"]["grammars"]
+    assert (grammar_entry["language"], grammar_entry["scopeName"]) == ("gest", "source.gest")
+    settings = manifest["contributes"]["configuration"]["properties"]
+    assert " ".join(settings["gest.server.command"]["default"]) == "gestc lsp"
+    assert settings["gest.robot"]["default"] == ""
+    assert "onLanguage:gest" in manifest["activationEvents"]
+    assert f"extension/{manifest['main'].removeprefix('./')}" in names
+
+
+def test_the_client_starts_the_command_and_tells_it_the_robot():
+    """extension.js in a stand-in for VS Code (tests/vscode_host.js): the configured
+    command on stdio as it is (no --stdio added), the robot at start and on change, and a
+    new command restarts the server."""
+    need("node", packages="nodejs npm")
+    settings = {"gest.server.command": ["gestc", "lsp"], "gest.robot": "inmoov"}
+    done = _run(["node", ROOT / "tests" / "vscode_host.js", EXTENSION / "extension.js",
+                 json.dumps(settings)], ROOT, timeout=60)
+    assert done.returncode == 0, done.stdout + done.stderr
+    seen = json.loads(done.stdout)
+    assert seen["errors"] == []
+    first, second = seen["clients"]
+    assert first["serverOptions"] == {"command": "gestc", "args": ["lsp"]}
+    assert {s["language"] for s in first["clientOptions"]["documentSelector"]} == {"gest"}
+    assert first["clientOptions"]["initializationOptions"] == {"robot": "inmoov"}
+    assert first["notifications"] == [{"method": "workspace/didChangeConfiguration",
+                                       "params": {"settings": {"gest": {
+                                           "robot": "rhand-maestro"}}}}]
+    assert first["started"] and first["stopped"]
+    assert second["serverOptions"] == {"command": "/opt/venv/bin/gestc", "args": ["lsp"]}
+    assert second["clientOptions"]["initializationOptions"] == {"robot": "rhand-maestro"}
+    assert second["started"] and second["stopped"]
