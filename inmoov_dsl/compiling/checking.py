@@ -5,6 +5,7 @@ tell the same."""
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 
 from ..errors import Diagnostic, Errors
 from ..language.program import Program
@@ -29,6 +30,43 @@ def untold(found: list[Diagnostic] | tuple[Diagnostic, ...], told: Told) -> list
     return out
 
 
+@dataclass(frozen=True)
+class Checked:
+    """One gesture compiled: its errors, its warnings, its plan (None: it has errors)."""
+
+    errors: tuple[Diagnostic, ...]
+    warnings: tuple[Diagnostic, ...]
+    plan: Plan | None
+
+
+def check_gesture(program: Program, gesture: str, profile: str | Profile | None = None,
+                  strict: bool = False,
+                  also: Callable[[Program, Compiled, Plan], None] | None = None) -> Checked:
+    """Compile ``gesture``: what it tells (``also``: a further check of the compiled
+    gesture, whose GestError is an error too)."""
+    gathered = Errors()
+    compiled = plan = None
+    with gathered:
+        compiled, plan = compile_program(program, gesture, profile, None, strict)
+        if also is not None:
+            also(program, compiled, plan)
+    return Checked(tuple(gathered.found), compiled.warnings if compiled else (),
+                   None if gathered.found else plan)
+
+
+def tell(each: list[Checked], told: Told | None = None
+         ) -> tuple[list[Diagnostic], list[Diagnostic]]:
+    """(errors, warnings) of the gestures checked, each told once (``told``: what was
+    told already, across files)."""
+    told = set() if told is None else told
+    errors: list[Diagnostic] = []
+    warnings: list[Diagnostic] = []
+    for checked in each:
+        warnings += untold(checked.warnings, told)
+        errors += untold(checked.errors, told)
+    return errors, warnings
+
+
 def check_program(program: Program, profile: str | Profile | None = None,
                   strict: bool = False, told: Told | None = None,
                   also: Callable[[Program, Compiled, Plan], None] | None = None
@@ -36,15 +74,5 @@ def check_program(program: Program, profile: str | Profile | None = None,
     """(errors, warnings) of every gesture of ``program``'s own file, each told once
     (``told``: what was told already, across files; ``also``: a further check of each
     compiled gesture, whose GestError is an error too)."""
-    told = set() if told is None else told
-    errors: list[Diagnostic] = []
-    warnings: list[Diagnostic] = []
-    for gesture in program.own:
-        gathered = Errors()
-        with gathered:
-            compiled, plan = compile_program(program, gesture, profile, None, strict)
-            warnings += untold(compiled.warnings, told)
-            if also is not None:
-                also(program, compiled, plan)
-        errors += untold(gathered.found, told)
-    return errors, warnings
+    return tell([check_gesture(program, g, profile, strict, also) for g in program.own],
+                told)

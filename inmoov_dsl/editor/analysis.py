@@ -10,8 +10,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..compiling.checking import check_program
-from ..compiling.compiled import Compiled
+from ..compiling.checking import tell
 from ..compiling.names import NameTable
 from ..compiling.plan import Plan
 from ..compiling.robot import DEFAULT, profile_for
@@ -21,6 +20,7 @@ from ..language.load import load
 from ..language.program import Program
 from ..profiles.data import Profile
 from ..profiles.profile import profiles_with
+from .memo import Memo
 
 
 @dataclass
@@ -37,15 +37,17 @@ class Analysis:
     plans: dict[str, Plan] = field(default_factory=dict)  #: the file's gestures, planned
 
 
-def analyse(text: str, path: str, robot: str = DEFAULT, lib: Sequence[str] = ()
-            ) -> Analysis:
+def analyse(text: str, path: str, robot: str = DEFAULT, lib: Sequence[str] = (),
+            memo: Memo | None = None) -> Analysis:
     """Analyse ``text``, the file at ``path`` (its ``use`` lines and robot line read
     beside it; ``robot``: the profile of a file that names none; ``lib``: more gesture
-    folders)."""
+    folders; ``memo``: what is kept of the texts analysed before, so that an edit costs
+    what it touches)."""
     path = str(Path(path))
     found = Analysis(text, path)
+    memo = Memo() if memo is None else memo
     try:
-        program = load(path, text, search=library_dirs(list(lib)))
+        program = load(path, text, search=library_dirs(list(lib)), parser=memo.parse)
         profile = profile_for(program, default=robot)
     except GestError as exc:
         found.diagnostics = list(exc.diagnostics)
@@ -54,9 +56,8 @@ def analyse(text: str, path: str, robot: str = DEFAULT, lib: Sequence[str] = ()
     with contextlib.suppress(GestError):  # told again by the check below, at their places
         found.names = NameTable(program, profile, profiles_with)
 
-    def planned(_program: Program, compiled: Compiled, plan: Plan) -> None:
-        found.plans[compiled.gesture] = plan
-
-    errors, warnings = check_program(program, profile, also=planned)
+    each = memo.check(program, profile, path)
+    found.plans = {g: c.plan for g, c in zip(program.own, each, strict=True) if c.plan}
+    errors, warnings = tell(each)
     found.diagnostics = errors + warnings
     return found

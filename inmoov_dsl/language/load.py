@@ -22,6 +22,7 @@ from .program import Program
 GEST_SUFFIX = ".gest"
 
 Reader = Callable[[str], str]  #: path -> its text
+Parser = Callable[[str, str], ast.Module]  #: (text, file) -> its syntax tree
 
 
 def read_text(path: str) -> str:
@@ -38,12 +39,14 @@ def read_text(path: str) -> str:
 
 
 def load(path: str, text: str | None = None, read: Reader = read_text,
-         search: Sequence[str] | None = None, first_wins: bool = False) -> Program:
+         search: Sequence[str] | None = None, first_wins: bool = False,
+         parser: Parser = parse) -> Program:
     """Parse a .gest file (or ``text`` under that name) with its imports
-    (``first_wins``: a name defined again by a later file is shadowed, not an error)."""
+    (``first_wins``: a name defined again by a later file is shadowed, not an error;
+    ``parser``: ``parse``, or one that remembers the blocks it has seen)."""
     dirs = [str(d) for d in library_dirs()] if search is None else list(search)
     try:
-        return load_program(path, read, dirs, text, first_wins)
+        return load_program(path, read, dirs, text, first_wins, parser)
     except FileNotFoundError:
         raise GestError(Diagnostic("error", f"cannot find '{path}'")) from None
     except (OSError, ValueError) as exc:  # not UTF-8, too large, a NUL in the name
@@ -52,7 +55,8 @@ def load(path: str, text: str | None = None, read: Reader = read_text,
 
 
 def load_program(path: str, read: Reader, search: Sequence[str] = (),
-                 text: str | None = None, first_wins: bool = False) -> Program:
+                 text: str | None = None, first_wins: bool = False,
+                 parser: Parser = parse) -> Program:
     """Parse ``path`` (or ``text`` under that name) and every file it ``use``s.
 
     Imports are looked up beside the importing file, then in ``search``; each file is
@@ -62,7 +66,7 @@ def load_program(path: str, read: Reader, search: Sequence[str] = (),
     """
     program = Program(path, in_library=functools.partial(in_library, tuple(search)),
                       hear=Hearing(search))
-    loader = _Loader(program, read, search, first_wins)
+    loader = _Loader(program, read, search, first_wins, parser)
     loader.visit(path, read(path) if text is None else text, True)
     if loader.errors:
         raise GestError(loader.errors)
@@ -80,8 +84,8 @@ class _Loader:
     """What loading one program keeps track of: the files seen, the names defined."""
 
     def __init__(self, program: Program, read: Reader, search: Sequence[str],
-                 first_wins: bool):
-        self.program = program
+                 first_wins: bool, parser: Parser = parse):
+        self.program, self.parse = program, parser
         self.read = read
         self.search = search
         self.first_wins = first_wins
@@ -95,7 +99,7 @@ class _Loader:
         self.seen.add(_key(file))
         program.sources.add(file, source)
         program.texts[file] = source
-        module = parse(source, file)
+        module = self.parse(source, file)
         if module.robot is not None:
             program.robots[file] = module.robot
         for item in module.items:

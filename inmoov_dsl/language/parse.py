@@ -70,13 +70,7 @@ class _ToAst(Transformer):
         return Pos(self.file, tok.line, tok.column, max(1, len(str(tok))))
 
     def start(self, *items):
-        for item in items[1:]:
-            if isinstance(item, ast.Robot):
-                raise SyntaxProblem("a file names its robot once, on its first line",
-                                    pos_span(item.pos), "move the robot line to the top of "
-                                    "the file, above its gestures" if not isinstance(
-                                        items[0], ast.Robot) else "keep one robot line")
-        return ast.Module(self.file, tuple(items))
+        return module_of(self.file, items)
 
     def _name(self, tok: Token) -> ast.Name:
         return ast.Name(str(tok), self._pos(tok))
@@ -205,6 +199,18 @@ class _ToAst(Transformer):
                             str(unit))
 
 
+def module_of(file: str, items: tuple[ast.Item, ...]) -> ast.Module:
+    """The file of ``items``; a SyntaxProblem unless its robot line, if any, is its
+    first."""
+    for item in items[1:]:
+        if isinstance(item, ast.Robot):
+            raise SyntaxProblem("a file names its robot once, on its first line",
+                                pos_span(item.pos), "move the robot line to the top of "
+                                "the file, above its gestures" if not isinstance(
+                                    items[0], ast.Robot) else "keep one robot line")
+    return ast.Module(file, tuple(items))
+
+
 _TO_AST = _ToAst()
 _LOCK = threading.Lock()  # the parser and its transformer are shared
 
@@ -214,6 +220,18 @@ def parse(text: str, file: str = "<string>") -> ast.Module:
     has, an error in one gesture (one top-level block) not hiding those of the others. A
     text longer than MAX_SOURCE characters, or with a line longer than MAX_LINE, is
     refused before parsing."""
+    text, lines = prepared(text, file)
+    parsed = attempt(text, file, lines)
+    if isinstance(parsed, ast.Module):
+        return parsed
+    # each block alone: its errors (a block's end is no file's end: an error there is
+    # the cut's, and one at the file's end is the first already)
+    raise every_error(parsed, [attempt(alone(lines, start, end), file, lines)
+                               for start, end in blocks(lines)])
+
+
+def prepared(text: str, file: str) -> tuple[str, list[str]]:
+    """``text`` ending in a newline, and its lines; GestError for a text too large."""
     size = len(text)
     if not text.endswith("\n"):
         text += "\n"
@@ -222,34 +240,37 @@ def parse(text: str, file: str = "<string>") -> ast.Module:
         _check_size(text, size, lines)
     except SyntaxProblem as problem:
         raise problem.error(file, lines) from None
-    first = _problem(text, file, lines)
-    if first is None:
-        with _LOCK:
-            _TO_AST.file, _TO_AST.depths = file, {}
-            return parser().parse(text)
-    # each block alone: its errors (a block's end is no file's end: an error there is
-    # the cut's, and one at the file's end is the first already)
-    found = [first, *(p for start, end in blocks(lines)
-                      if (p := _problem("\n" * start + "\n".join(lines[start:end]) + "\n",
-                                        file, lines)) is not None
+    return text, lines
+
+
+def alone(lines: list[str], start: int, end: int) -> str:
+    """The block of ``lines`` from ``start`` to ``end`` (0-based), as a text whose lines
+    keep their numbers."""
+    return "\n" * start + "\n".join(lines[start:end]) + "\n"
+
+
+def every_error(first: GestError, each: list[ast.Module | GestError]) -> GestError:
+    """The text's errors: its ``first``, and each block's (``each``) but those at a
+    block's end (the cut's); a line keeps its first error (the whole file's first)."""
+    found = [first, *(p for p in each if isinstance(p, GestError)
                       and not p.first.message.startswith("unexpected end of the file"))]
-    errors: dict[int, Diagnostic] = {}  # a line's first error (the whole file's first)
+    errors: dict[int, Diagnostic] = {}
     for error in found:
         errors.setdefault(error.first.pos.line, error.first)
-    raise GestError(sorted(errors.values(), key=lambda d: (d.pos.line, d.pos.column)))
+    return GestError(sorted(errors.values(), key=lambda d: (d.pos.line, d.pos.column)))
 
 
-def _problem(text: str, file: str, lines: list[str]) -> GestError | None:
-    """The first syntax problem of ``text`` (the file's ``lines``), or None."""
+def attempt(text: str, file: str, lines: list[str]) -> ast.Module | GestError:
+    """``text`` (the file's ``lines``, or a block of them) parsed, or its first syntax
+    problem."""
     try:
         with _LOCK:
             _TO_AST.file, _TO_AST.depths = file, {}
-            parser().parse(text)
+            return parser().parse(text)
     except SyntaxProblem as problem:  # tree-less mode: callbacks' exceptions come as they are
         return problem.error(file, lines)
     except UnexpectedInput as exc:
         return lark_problem(exc, text, lines).error(file, lines)
-    return None
 
 
 def blocks(lines: list[str]) -> list[tuple[int, int]]:

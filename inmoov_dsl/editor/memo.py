@@ -1,0 +1,132 @@
+"""What an editor's server remembers between two versions of a text, so that an edit
+costs what it touches (pure): the blocks parsed (``language.incremental``) and each
+gesture checked, kept for as long as the text it depends on stays the same (the
+gesture's block, the blocks of the names it uses, the robot and ``use`` lines, the
+files used), wherever that text moves in the file."""
+
+from __future__ import annotations
+
+import bisect
+import dataclasses
+from dataclasses import dataclass
+
+from ..compiling.checking import Checked, check_gesture
+from ..compiling.plan import Plan
+from ..errors import Diagnostic, Pos
+from ..language.incremental import BlockParser, copied, spans
+from ..language.program import Program
+from ..profiles.data import Profile
+from .text import WORD, code
+
+Key = tuple  #: what a gesture's check depends on
+
+
+@dataclass(frozen=True)
+class _Kept:
+    checked: Checked
+    starts: tuple[int, ...]  #: 0-based first line of each block the key holds
+    sizes: tuple[int, ...]  #: lines of each
+    names: frozenset[str] | None  #: the program's names, when its errors' hints read them
+
+
+class Memo:
+    """The blocks and the checks of the last texts analysed."""
+
+    def __init__(self) -> None:
+        self.blocks = BlockParser()
+        self.checks: dict[Key, _Kept] = {}
+
+    def parse(self, text: str, file: str):
+        """``parse.parse``, remembering blocks."""
+        return self.blocks.parse(text, file)
+
+    def check(self, program: Program, profile: Profile, path: str) -> list[Checked]:
+        """``check_gesture`` of every gesture of the file at ``path``, each again only
+        when what it depends on changed."""
+        lines = program.texts[path].split("\n")
+        found = spans(lines)
+        starts = [s for s, _ in found]
+        here = {n: p.line - 1 for n, p in program.names().items() if p.file == path}
+        block_of = {n: bisect.bisect_right(starts, line) - 1 for n, line in here.items()}
+        head = [k for k, (s, _) in enumerate(found)
+                if lines[s].startswith(("robot", "use"))]
+        others = tuple(sorted((f, hash(t)) for f, t in program.texts.items() if f != path))
+        names = frozenset(program.names())
+        kept: dict[Key, _Kept] = {}
+        out = []
+        for gesture in program.own:
+            deps = _depends(block_of[gesture], found, lines, block_of, head)
+            key = (gesture, profile.name, profile.sha256, others,
+                   tuple("\n".join(lines[found[k][0]:found[k][1]]) for k in deps))
+            now = tuple(found[k][0] for k in deps)
+            was = self.checks.get(key) or kept.get(key)
+            if was is not None and was.names not in (None, names):
+                was = None
+            if was is None:
+                checked = check_gesture(program, gesture, profile)
+                sizes = tuple(found[k][1] - found[k][0] for k in deps)
+                if not _within(checked, path, now, sizes):
+                    out.append(checked)  # a place outside what it depends on: not kept
+                    continue
+                was = _Kept(checked, now, sizes, names if checked.errors else None)
+            elif was.starts != now:
+                was = dataclasses.replace(was, checked=_moved(was, now, path), starts=now)
+            kept[key] = was
+            out.append(was.checked)
+        self.checks = kept
+        return out
+
+
+def _depends(block: int, found: list[tuple[int, int]], lines: list[str],
+             block_of: dict[str, int], head: list[int]) -> list[int]:
+    """The blocks the gesture of ``block`` depends on: its own, those of the names it
+    writes (and theirs), the robot and ``use`` lines; in the file's order."""
+    seen, todo = {block, *head}, [block]
+    while todo:
+        start, end = found[todo.pop()]
+        for row in lines[start:end]:
+            for word in WORD.findall(code(row)):
+                k = block_of.get(word)
+                if k is not None and k not in seen:
+                    seen.add(k)
+                    todo.append(k)
+    return sorted(seen)
+
+
+def _places(checked: Checked) -> list[Pos]:
+    plan = checked.plan
+    found = [d.pos for d in (*checked.errors, *checked.warnings) if d.pos is not None]
+    if plan is not None:
+        found += [s.pos for s in plan.steps if s.pos is not None]
+        found += [d.pos for d in plan.warnings if d.pos is not None]
+    return found
+
+
+def _within(checked: Checked, path: str, starts: tuple[int, ...],
+            sizes: tuple[int, ...]) -> bool:
+    """Whether every place of ``checked`` in the file is in a block it depends on."""
+    return all(any(s <= p.line - 1 < s + n for s, n in zip(starts, sizes, strict=True))
+               for p in _places(checked) if p.file == path)
+
+
+def _moved(was: _Kept, now: tuple[int, ...], path: str) -> Checked:
+    """``was``'s check with each place in the file moved with its block to ``now``."""
+    def move(pos: Pos | None) -> Pos | None:
+        if pos is None or pos.file != path:
+            return pos
+        for old, new, n in zip(was.starts, now, was.sizes, strict=True):
+            if old <= pos.line - 1 < old + n:
+                return copied(pos, line=pos.line + new - old)
+        return pos
+
+    def diag(d: Diagnostic) -> Diagnostic:
+        return d if d.pos is None else copied(d, pos=move(d.pos))
+
+    c = was.checked
+    plan: Plan | None = c.plan
+    if plan is not None:
+        plan = copied(plan, steps=tuple(copied(s, pos=move(s.pos)) for s in plan.steps),
+                      warnings=tuple(diag(d) for d in plan.warnings))
+    return Checked(tuple(diag(d) for d in c.errors), tuple(diag(d) for d in c.warnings), plan)
+
+
