@@ -66,8 +66,8 @@ def test_blocks_kept_parse_as_the_whole_text(library):
         for _ in range(rng.randrange(1, 4)):
             edited(lines, rng)
             text = "\n".join(lines)
-            assert parsed(lambda t=text: parser.parse(t, seed.name)) == parsed(
-                lambda t=text: parse(t, seed.name)), text
+            assert parsed(lambda t=text, f=seed.name: parser.parse(t, f)) == parsed(
+                lambda t=text, f=seed.name: parse(t, f)), text
 
 
 def test_checks_kept_tell_what_a_fresh_analysis_tells(library, tmp_path):

@@ -269,3 +269,26 @@ async def test_the_robot_is_the_file_s_line_else_the_setting(inmoov_client, tmp_
     found = await changed(client, uri, 3, "n: neck 120 over 1s\n")
     assert found[0].message.startswith("unknown servo or group 'neck'")
     assert "robot inmoov" in found[0].message  # the hint names the robot that has it
+
+
+@pytest.mark.asyncio
+async def test_hover_on_a_use_path_and_a_say(client, tmp_path):
+    import wave
+
+    with wave.open(str(tmp_path / "hi.wav"), "wb") as w:
+        w.setnchannels(1)
+        w.setsampwidth(2)
+        w.setframerate(16000)
+        w.writeframes(b"\0\1" * 12000)  # 0.75 s
+    (tmp_path / "moves.gest").write_text("robot inmoov\npose up: neck 120\n")
+    uri = (tmp_path / "talk.gest").as_uri()
+    text = 'robot inmoov\nuse "moves.gest"\ng: say "hi.wav" & up\n'
+    assert not await opened(client, uri, text)
+
+    async def hovered(line, character):
+        said = await soon(client.text_document_hover_async(lsp.HoverParams(
+            lsp.TextDocumentIdentifier(uri=uri), lsp.Position(line, character))))
+        return said.contents.value
+
+    assert await hovered(1, 8) == f"**use**: {tmp_path / 'moves.gest'}"
+    assert (await hovered(2, 11)).startswith("**say**: 0.75 s of sound (")
