@@ -393,3 +393,26 @@ def test_check_reports_every_error_of_a_file(tmp_path, capsys):
                       ("2", "14", "unknown servo or group 'midle'"),
                       ("4", "4", "unknown servo or group 'thum'")]
     assert err.count("hint: did you mean") == 3
+
+
+def test_check_tells_syntax_and_name_errors_together(tmp_path, capsys):
+    """A gesture that does not parse hides neither another's unknown name nor a
+    warning; a gesture that calls the one that does not parse is not checked (its
+    errors are that syntax error's); a robot line that does not parse leaves only
+    itself to tell."""
+    mine = tmp_path / "mixed.gest"
+    mine.write_text("pose p: index 9\na: indx 90\nb: index 9 ove 1s\nc: b, p\n"
+                    "d: p, thum 90\ne: index 90 over 0.05s\n")
+    assert gestc.main(["check", str(mine)]) == 1
+    err = capsys.readouterr().err
+    told = re.findall(rf"^{re.escape(str(mine))}:(\d+):\d+: (error|warning): (.*)$", err,
+                      re.M)
+    assert [(line, kind, message.split(";")[0]) for line, kind, message in told] == [
+        ("6", "warning", "move stretched: needs 0.31 s, asked 0.05 s"),
+        ("2", "error", "unknown servo or group 'indx'"),
+        ("3", "error", "unexpected name 'ove'"),
+        ("5", "error", "unknown servo or group 'thum'")]  # none for c
+    mine.write_text("robot inmoov extra\nn: nek 90\n")
+    assert gestc.main(["check", str(mine)]) == 1
+    err = capsys.readouterr().err
+    assert err.count("error:") == 1 and ":1:" in err  # not 'nek' for the wrong robot

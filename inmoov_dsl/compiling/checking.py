@@ -54,16 +54,20 @@ def check_gesture(program: Program, gesture: str, profile: str | Profile | None 
                    None if gathered.found else plan)
 
 
-def tell(each: list[Checked], told: Told | None = None
+def tell(program: Program, each: list[Checked], told: Told | None = None
          ) -> tuple[list[Diagnostic], list[Diagnostic]]:
-    """(errors, warnings) of the gestures checked, each told once (``told``: what was
-    told already, across files)."""
+    """(errors, warnings) of ``program``'s file: its syntax errors, then those of the
+    gestures checked (``each``), each told once (``told``: what was told already,
+    across files)."""
     told = set() if told is None else told
-    errors: list[Diagnostic] = []
+    errors: list[Diagnostic] = untold(program.syntax, told)
     warnings: list[Diagnostic] = []
     for checked in each:
         warnings += untold(checked.warnings, told)
         errors += untold(checked.errors, told)
+    if program.syntax:  # among the others, in the file's order
+        errors.sort(key=lambda d: (d.pos is None or d.pos.file != program.root,
+                                   (d.pos.line, d.pos.column) if d.pos else (0, 0)))
     return errors, warnings
 
 
@@ -74,5 +78,15 @@ def check_program(program: Program, profile: str | Profile | None = None,
     """(errors, warnings) of every gesture of ``program``'s own file, each told once
     (``told``: what was told already, across files; ``also``: a further check of each
     compiled gesture, whose GestError is an error too)."""
-    return tell([check_gesture(program, g, profile, strict, also) for g in program.own],
-                told)
+    return tell(program, [check_gesture(program, g, profile, strict, also)
+                          for g in checkable(program)], told)
+
+
+def checkable(program: Program) -> list[str]:
+    """The gestures of the file that can be checked: all of them, but those that use a
+    name whose definition does not parse (none when a robot or ``use`` line does not):
+    their errors are that syntax error's until it is put right."""
+    broken = program.broken
+    if "*" in broken:
+        return []
+    return [g for g in program.own if not broken or not broken & program.uses(g)]

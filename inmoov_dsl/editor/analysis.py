@@ -47,7 +47,8 @@ def analyse(text: str, path: str, robot: str = DEFAULT, lib: Sequence[str] = (),
     found = Analysis(text, path)
     memo = Memo() if memo is None else memo
     try:
-        program = load(path, text, search=library_dirs(list(lib)), parser=memo.parse)
+        program = load(path, text, search=library_dirs(list(lib)), parser=memo.parse,
+                       partly=memo.blocks.parse_partly)
         profile = profile_for(program, default=robot)
     except GestError as exc:
         found.diagnostics = list(exc.diagnostics)
@@ -57,7 +58,7 @@ def analyse(text: str, path: str, robot: str = DEFAULT, lib: Sequence[str] = (),
         found.names = NameTable(program, profile, profiles_with)
 
     each = memo.check(program, profile, path)
-    found.plans = {g: c.plan for g, c in zip(program.own, each, strict=True) if c.plan}
-    errors, warnings = tell(each)
+    found.plans = {g: c.plan for g, c in each if c.plan}
+    errors, warnings = tell(program, [c for _, c in each])
     found.diagnostics = errors + warnings
     return found

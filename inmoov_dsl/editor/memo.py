@@ -10,7 +10,7 @@ import bisect
 import dataclasses
 from dataclasses import dataclass
 
-from ..compiling.checking import Checked, check_gesture
+from ..compiling.checking import Checked, check_gesture, checkable
 from ..compiling.plan import Plan
 from ..errors import Diagnostic, Pos
 from ..language.incremental import BlockParser, copied, spans
@@ -40,9 +40,10 @@ class Memo:
         """``parse.parse``, remembering blocks."""
         return self.blocks.parse(text, file)
 
-    def check(self, program: Program, profile: Profile, path: str) -> list[Checked]:
-        """``check_gesture`` of every gesture of the file at ``path``, each again only
-        when what it depends on changed."""
+    def check(self, program: Program, profile: Profile, path: str
+              ) -> list[tuple[str, Checked]]:
+        """``check_gesture`` of every gesture of the file at ``path`` that can be
+        checked (``checkable``), each again only when what it depends on changed."""
         lines = program.texts[path].split("\n")
         found = spans(lines)
         starts = [s for s, _ in found]
@@ -54,7 +55,7 @@ class Memo:
         names = frozenset(program.names())
         kept: dict[Key, _Kept] = {}
         out = []
-        for gesture in program.own:
+        for gesture in checkable(program):
             deps = _depends(block_of[gesture], found, lines, block_of, head)
             key = (gesture, profile.name, profile.sha256, others,
                    tuple("\n".join(lines[found[k][0]:found[k][1]]) for k in deps))
@@ -66,13 +67,13 @@ class Memo:
                 checked = check_gesture(program, gesture, profile)
                 sizes = tuple(found[k][1] - found[k][0] for k in deps)
                 if not _within(checked, path, now, sizes):
-                    out.append(checked)  # a place outside what it depends on: not kept
+                    out.append((gesture, checked))  # a place outside its blocks: not kept
                     continue
                 was = _Kept(checked, now, sizes, names if checked.errors else None)
             elif was.starts != now:
                 was = dataclasses.replace(was, checked=_moved(was, now, path), starts=now)
             kept[key] = was
-            out.append(was.checked)
+            out.append((gesture, was.checked))
         self.checks = kept
         return out
 

@@ -6,6 +6,7 @@ text, its errors included, without parsing again the blocks the edit did not tou
 from __future__ import annotations
 
 import dataclasses
+import re
 from functools import cache
 
 from ..errors import GestError, Pos
@@ -25,10 +26,21 @@ class BlockParser:
     def parse(self, text: str, file: str) -> ast.Module:
         """As ``parse.parse(text, file)``; the blocks it has seen (anywhere in a text it
         parsed last) are not parsed again."""
+        module, error, _broken = self.parse_partly(text, file)
+        if error is not None:
+            raise error
+        return module
+
+    def parse_partly(self, text: str, file: str
+                     ) -> tuple[ast.Module, GestError | None, frozenset[str]]:
+        """The blocks of ``text`` that parse, as a file; the syntax errors ``parse``
+        raises for it (None: none); and the names the blocks that do not parse would
+        define (``*``: a robot or ``use`` line, which every name may depend on)."""
         text, lines = prepared(text, file)
         kept: dict[tuple[str, str], tuple[int, Parsed]] = {}
         each: list[Parsed] = []
-        for start, end in spans(lines):
+        found = spans(lines)
+        for start, end in found:
             key = (file, "\n".join(lines[start:end]))
             was = self.seen.get(key) or kept.get(key)
             if was is None:
@@ -40,16 +52,43 @@ class BlockParser:
             each.append(was[1])
         self.seen = {k: v for k, v in {**self.seen, **kept}.items() if k[0] != file or
                      k in kept}
-        bad = next((k for k, p in enumerate(each) if isinstance(p, GestError)), None)
-        if bad is None:
+        items = tuple(i for parsed in each if not isinstance(parsed, GestError)
+                      for i in parsed)
+        bad = [k for k, parsed in enumerate(each) if isinstance(parsed, GestError)]
+        if not bad:
             try:
-                return module_of(file, tuple(i for items in each for i in items))
-            except SyntaxProblem as problem:
-                raise problem.error(file, lines) from None
-        start = spans(lines)[bad][0]
+                return module_of(file, items), None, frozenset()
+            except SyntaxProblem as problem:  # a robot line below the first
+                return _without_robots(file, items), problem.error(file, lines), \
+                    frozenset({"*"})
+        start = found[bad[0]][0]
         first = attempt("\n" * start + "\n".join(lines[start:]) + "\n", file, lines)
-        assert isinstance(first, GestError)  # the first block with a problem has it
-        raise every_error(first, list(each))
+        if not isinstance(first, GestError):  # the first block with a problem has it
+            first = each[bad[0]]
+        broken = frozenset(_defines(lines[found[k][0]]) for k in bad)
+        try:
+            module = module_of(file, items)
+        except SyntaxProblem:
+            module, broken = _without_robots(file, items), broken | {"*"}
+        return module, every_error(first, list(each)), broken
+
+
+def _without_robots(file: str, items: tuple[ast.Item, ...]) -> ast.Module:
+    """``items`` as a file, without the robot lines below the first item."""
+    return ast.Module(file, tuple(i for k, i in enumerate(items)
+                                  if k == 0 or not isinstance(i, ast.Robot)))
+
+
+DEFINES = re.compile(r"\s*(?:(robot|use)\b|(?:pose|group)\s+(\w+)|(\w+))")
+
+
+def _defines(line: str) -> str:
+    """The name a block whose first line is ``line`` would define (``*``: a robot or
+    ``use`` line; an empty name: nothing a name can mean)."""
+    m = DEFINES.match(line)
+    if m is None:
+        return ""
+    return "*" if m[1] else (m[2] or m[3] or "")
 
 
 def spans(lines: list[str]) -> list[tuple[int, int]]:

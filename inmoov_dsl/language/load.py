@@ -23,6 +23,8 @@ GEST_SUFFIX = ".gest"
 
 Reader = Callable[[str], str]  #: path -> its text
 Parser = Callable[[str, str], ast.Module]  #: (text, file) -> its syntax tree
+#: (text, file) -> the blocks that parse, the syntax errors, the names of those that do not
+Partly = Callable[[str, str], tuple[ast.Module, GestError | None, frozenset[str]]]
 
 
 def read_text(path: str) -> str:
@@ -40,13 +42,15 @@ def read_text(path: str) -> str:
 
 def load(path: str, text: str | None = None, read: Reader = read_text,
          search: Sequence[str] | None = None, first_wins: bool = False,
-         parser: Parser = parse) -> Program:
+         parser: Parser = parse, partly: Partly | None = None) -> Program:
     """Parse a .gest file (or ``text`` under that name) with its imports
     (``first_wins``: a name defined again by a later file is shadowed, not an error;
-    ``parser``: ``parse``, or one that remembers the blocks it has seen)."""
+    ``parser``: ``parse``, or one that remembers the blocks it has seen; ``partly``: the
+    file itself is loaded with what of it parses, its syntax errors kept in the program,
+    ``incremental.BlockParser.parse_partly``)."""
     dirs = [str(d) for d in library_dirs()] if search is None else list(search)
     try:
-        return load_program(path, read, dirs, text, first_wins, parser)
+        return load_program(path, read, dirs, text, first_wins, parser, partly)
     except FileNotFoundError:
         raise GestError(Diagnostic("error", f"cannot find '{path}'")) from None
     except (OSError, ValueError) as exc:  # not UTF-8, too large, a NUL in the name
@@ -56,7 +60,7 @@ def load(path: str, text: str | None = None, read: Reader = read_text,
 
 def load_program(path: str, read: Reader, search: Sequence[str] = (),
                  text: str | None = None, first_wins: bool = False,
-                 parser: Parser = parse) -> Program:
+                 parser: Parser = parse, partly: Partly | None = None) -> Program:
     """Parse ``path`` (or ``text`` under that name) and every file it ``use``s.
 
     Imports are looked up beside the importing file, then in ``search``; each file is
@@ -66,7 +70,7 @@ def load_program(path: str, read: Reader, search: Sequence[str] = (),
     """
     program = Program(path, in_library=functools.partial(in_library, tuple(search)),
                       hear=Hearing(search))
-    loader = _Loader(program, read, search, first_wins, parser)
+    loader = _Loader(program, read, search, first_wins, parser, partly)
     loader.visit(path, read(path) if text is None else text, True)
     if loader.errors:
         raise GestError(loader.errors)
@@ -84,8 +88,8 @@ class _Loader:
     """What loading one program keeps track of: the files seen, the names defined."""
 
     def __init__(self, program: Program, read: Reader, search: Sequence[str],
-                 first_wins: bool, parser: Parser = parse):
-        self.program, self.parse = program, parser
+                 first_wins: bool, parser: Parser = parse, partly: Partly | None = None):
+        self.program, self.parse, self.partly = program, parser, partly
         self.read = read
         self.search = search
         self.first_wins = first_wins
@@ -99,7 +103,11 @@ class _Loader:
         self.seen.add(_key(file))
         program.sources.add(file, source)
         program.texts[file] = source
-        module = self.parse(source, file)
+        if is_root and self.partly is not None:
+            module, error, program.broken = self.partly(source, file)
+            program.syntax = () if error is None else error.diagnostics
+        else:
+            module = self.parse(source, file)
         if module.robot is not None:
             program.robots[file] = module.robot
         for item in module.items:

@@ -8,7 +8,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from ..errors import Pos, SourceMap
+from ..errors import Diagnostic, Pos, SourceMap
 from . import syntax as ast
 from .library import comments_above
 
@@ -36,6 +36,10 @@ class Program:
     #: one resolve.Resolver per profile (see ``resolve.resolver``), and the SHA-256 of
     #: every text
     resolvers: dict[int, Any] = field(default_factory=dict, repr=False)
+    #: the root file's syntax errors, when it was loaded with what of it parses, and the
+    #: names its blocks that do not parse would define (``*``: a robot or use line)
+    syntax: tuple[Diagnostic, ...] = ()
+    broken: frozenset[str] = frozenset()
     digests: dict[str, str] = field(default_factory=dict, repr=False)
 
     def names(self) -> dict[str, Pos]:
@@ -45,6 +49,19 @@ class Program:
             for name, node in table.items():
                 found[name] = node.name.pos
         return found
+
+    def uses(self, name: str) -> set[str]:
+        """Every name the definition of ``name`` writes, and those their definitions
+        write, and so on (``name`` itself included)."""
+        seen, todo = {name}, [name]
+        while todo:
+            at = todo.pop()
+            node = self.gestures.get(at) or self.poses.get(at) or self.groups.get(at)
+            for word in _names(node):
+                if word not in seen:
+                    seen.add(word)
+                    todo.append(word)
+        return seen
 
     def source(self, name: str) -> tuple[Pos, list[str]] | None:
         """The lines that define the group, pose or gesture ``name``: the comment block
@@ -70,3 +87,14 @@ def _last_line(node: object) -> int:
         return max((_last_line(getattr(node, f.name)) for f in dataclasses.fields(node)),
                    default=0)
     return 0
+
+
+def _names(node: object) -> list[str]:
+    """The names a syntax node (or a tuple of them) writes."""
+    if isinstance(node, ast.Name):
+        return [node.text]
+    if isinstance(node, tuple):
+        return [n for item in node for n in _names(item)]
+    if dataclasses.is_dataclass(node) and not isinstance(node, Pos):
+        return [n for f in dataclasses.fields(node) for n in _names(getattr(node, f.name))]
+    return []

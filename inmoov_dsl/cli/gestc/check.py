@@ -6,6 +6,7 @@ import argparse
 
 from ...compiling.checking import Told, check_program
 from ...errors import GestError, decode_utf8
+from ...language.incremental import BlockParser
 from ...language.library import library_dirs
 from ...language.load import load
 from ..common import EXIT_ERROR, EXIT_OK, report, stdin_bytes
@@ -27,7 +28,7 @@ def run(args: argparse.Namespace) -> int:
         name = STDIN if file == "-" else file
         try:
             text = decode_utf8(stdin_bytes(), STDIN) if file == "-" else None
-            program = load(name, text, search=dirs)
+            program = load(name, text, search=dirs, partly=BlockParser().parse_partly)
         except GestError as exc:
             report(exc.diagnostics, PROG)
             status = EXIT_ERROR
