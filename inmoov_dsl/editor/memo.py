@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from ..compiling.checking import Checked, check_gesture, checkable
 from ..compiling.plan import Plan
 from ..errors import Diagnostic, Pos
-from ..language.incremental import BlockParser, copied, spans
+from ..language.incremental import BlockParser, copied, defines, spans
 from ..language.program import Program
 from ..profiles.data import Profile
 from .text import WORD, code
@@ -49,8 +49,7 @@ class Memo:
         starts = [s for s, _ in found]
         here = {n: p.line - 1 for n, p in program.names().items() if p.file == path}
         block_of = {n: bisect.bisect_right(starts, line) - 1 for n, line in here.items()}
-        head = [k for k, (s, _) in enumerate(found)
-                if lines[s].startswith(("robot", "use"))]
+        head = [k for k, (s, _) in enumerate(found) if defines(lines[s]) == "*"]
         others = tuple(sorted((f, hash(t)) for f, t in program.texts.items() if f != path))
         names = frozenset(program.names())
         kept: dict[Key, _Kept] = {}

@@ -65,7 +65,7 @@ class BlockParser:
         first = attempt("\n" * start + "\n".join(lines[start:]) + "\n", file, lines)
         if not isinstance(first, GestError):  # the first block with a problem has it
             first = each[bad[0]]
-        broken = frozenset(_defines(lines[found[k][0]]) for k in bad)
+        broken = frozenset(defines(lines[found[k][0]]) for k in bad)
         try:
             module = module_of(file, items)
         except SyntaxProblem:
@@ -82,7 +82,7 @@ def _without_robots(file: str, items: tuple[ast.Item, ...]) -> ast.Module:
 DEFINES = re.compile(r"\s*(?:(robot|use)\b|(?:pose|group)\s+(\w+)|(\w+))")
 
 
-def _defines(line: str) -> str:
+def defines(line: str) -> str:
     """The name a block whose first line is ``line`` would define (``*``: a robot or
     ``use`` line; an empty name: nothing a name can mean)."""
     m = DEFINES.match(line)
