@@ -20,8 +20,8 @@ from inmoov_dsl.editor.knowledge import completions, definition, hover, outline,
 from inmoov_dsl.editor.timing import step_times
 from inmoov_dsl.editor.tokens import encoded, tokens
 
-MUTANTS = 50  #: analysed and asked everything (about 6 s)
-EDITS = 20  #: fed to the server (about 6 s)
+MUTANTS = 30  #: analysed and asked everything (about 4 s)
+EDITS = 10  #: fed to the server (about 3 s)
 LIMIT = 10.0  #: s per mutant, which a loaded machine meets (most take milliseconds)
 
 

@@ -105,6 +105,9 @@ async def test_hover_and_completion_know_the_robot(client, tmp_path):
     items = {i.label: i.detail for i in listed.items}
     assert {"wrist": "servo", "fingers": "group", "half": "pose", "g": "gesture",
             "over": "keyword", "ms": "unit"}.items() <= items.items()
+    peace = next(i for i in listed.items if i.label == "peace")  # not in scope yet
+    assert peace.detail.startswith("library gesture, in peace.gest: ")
+    assert apply(text, peace.additional_text_edits) == 'use "peace.gest"\n' + text
 
 
 @pytest.mark.asyncio
@@ -239,9 +242,9 @@ async def test_completion_in_use_and_say_lists_the_files(client, tmp_path):
         return {i.label: i.detail for i in got.items}
 
     files = await listed(0, 5)
-    assert files["mine.gest"] == "file" and files["peace.gest"] == "file"  # the library's
+    assert files["mine.gest"] == files["peace.gest"] == "gesture file"  # beside, library
     assert "c.gest" not in files and "index" not in files
-    assert await listed(1, 8) == {"hello.wav": "sound"}
+    assert await listed(1, 8) == {"hello.wav": "sound file"}
 
 
 ROBOT = ClientServerConfig(server_command=SERVER)

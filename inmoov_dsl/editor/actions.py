@@ -49,7 +49,7 @@ def _fixes(found: Analysis, d: Diagnostic) -> list[Fix]:
         return [Fix(f"Change to '{meant[1]}'", line, column, column + d.pos.width,
                     meant[1], d)]
     if use := USE_LINE.search(hint):
-        at = _after_header(found.text)
+        at = after_header(found.text)
         return [Fix(f"Add '{use[1]}'", at, 0, 0, use[1] + "\n", d)]
     if hint == STRETCH_HINT:
         step = step_times(found).get(line)
@@ -60,7 +60,7 @@ def _fixes(found: Analysis, d: Diagnostic) -> list[Fix]:
     return []
 
 
-def _after_header(text: str) -> int:
+def after_header(text: str) -> int:
     """The line after the file's robot and ``use`` lines (and the comments above and
     among them): where a new ``use`` line goes."""
     at = 0

@@ -7,12 +7,13 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 from ..compiling.compiler import compile_program
 from ..compiling.names import Gesture, Group, Pose, Servo
 from ..errors import GestError, Pos
-from ..language.library import library_dirs
+from ..language.library import Entry, library_dirs, library_files, scan
 from ..language.load import GEST_SUFFIX
 from ..language.syntax import KEYWORDS
 from ..voice.hearing import WAV_SUFFIX
@@ -91,30 +92,71 @@ def _string(found: Analysis, line: str, column: int) -> str | None:
     return None
 
 
+@dataclass(frozen=True)
+class Completion:
+    """A word that may be typed: what it is, in a word (``servo``, ``gesture``...), a
+    longer ``detail``, and the library file a ``use`` line must bring in for it."""
+
+    word: str
+    what: str
+    detail: str
+    use: str | None = None
+
+
 def completions(found: Analysis, line: int, column: int,
-                lib: Sequence[str] = ()) -> list[tuple[str, str]]:
-    """(word, what it is) that may be typed at ``line``, ``column``: in a ``use``
-    string the gesture files beside the file and in the library, in a ``say`` string
-    the sounds (.wav) there; elsewhere every name in scope (servos, groups, poses,
-    gestures), the keywords and the units."""
+                lib: Sequence[str] = ()) -> list[Completion]:
+    """What may be typed at ``line``, ``column``: in a ``use`` string the gesture files
+    beside the file and in the library, in a ``say`` string the sounds (.wav) there;
+    elsewhere every name in scope (servos, groups, poses, gestures), the library's
+    gestures not yet in scope (each with its ``use`` line), the keywords and the units."""
     lines = found.text.split("\n")
     row = lines[line] if 0 <= line < len(lines) else ""
     inside = string_at(row, column)
     if inside is not None:
         before = row[:inside[0] - 1]
         if USE.match(before):
-            return [(f, "file") for f in _files(found.path, GEST_SUFFIX, lib)
-                    if Path(f).name != Path(found.path).name]
+            return [Completion(f, "file", "gesture file") for f in
+                    _files(found.path, GEST_SUFFIX, lib) if f != Path(found.path).name]
         if SAY.search(before):
-            return [(f, "sound") for f in _files(found.path, WAV_SUFFIX, lib)]
+            return [Completion(f, "sound", "sound file") for f in
+                    _files(found.path, WAV_SUFFIX, lib)]
         return []
-    out: list[tuple[str, str]] = []
+    out: list[Completion] = []
     if found.names is not None:
         for name, entity in sorted(found.names.entries().items()):
-            out.append((name, type(entity).__name__.lower()))
-    out += [(k, "keyword") for k in sorted(KEYWORDS)]
-    out += [(u, "unit") for u in UNITS]
+            what = type(entity).__name__.lower()
+            out.append(Completion(name, what, what))
+        known = found.names.entries()
+        for name, entry in sorted(_library(tuple(map(str, library_dirs(list(lib)))))):
+            if name not in known:
+                out.append(Completion(name, "gesture", f"library gesture, in "
+                                      f"{entry.path.name}: {entry.description}".rstrip(": "),
+                                      entry.path.name))
+    out += [Completion(k, "keyword", "keyword") for k in sorted(KEYWORDS)]
+    out += [Completion(u, "unit", "unit") for u in UNITS]
     return out
+
+
+def _library(dirs: tuple[str, ...]) -> list[tuple[str, Entry]]:
+    """The library's gestures along ``dirs``, read again only when one of its files
+    changed (a completion asks at every key)."""
+    files = library_files([Path(d) for d in dirs])
+    stamp = (dirs, tuple((str(f), *_stat(f)) for f in files))
+    if _LIBRARY.get("stamp") != stamp:
+        _LIBRARY.update(stamp=stamp, entries=list(scan([Path(d) for d in dirs]).entries
+                                                   .items()))
+    return _LIBRARY["entries"]
+
+
+_LIBRARY: dict = {}  #: the last library read, and the files' times and sizes it was read at
+
+
+def _stat(path: Path) -> tuple[int, int]:
+    try:
+        st = path.stat()
+    except OSError:
+        return (0, 0)
+    return (st.st_mtime_ns, st.st_size)
 
 
 def _files(path: str, suffix: str, lib: Sequence[str]) -> list[str]:
