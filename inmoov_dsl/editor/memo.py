@@ -54,8 +54,9 @@ class Memo:
         names = frozenset(program.names())
         kept: dict[Key, _Kept] = {}
         out = []
+        graph = _Graph(found, lines, block_of, head)
         for gesture in checkable(program):
-            deps = _depends(block_of[gesture], found, lines, block_of, head)
+            deps = graph.depends(block_of[gesture])
             key = (gesture, profile.name, profile.sha256, others,
                    tuple("\n".join(lines[found[k][0]:found[k][1]]) for k in deps))
             now = tuple(found[k][0] for k in deps)
@@ -77,20 +78,32 @@ class Memo:
         return out
 
 
-def _depends(block: int, found: list[tuple[int, int]], lines: list[str],
-             block_of: dict[str, int], head: list[int]) -> list[int]:
-    """The blocks the gesture of ``block`` depends on: its own, those of the names it
-    writes (and theirs), the robot and ``use`` lines; in the file's order."""
-    seen, todo = {block, *head}, [block]
-    while todo:
-        start, end = found[todo.pop()]
-        for row in lines[start:end]:
-            for word in WORD.findall(code(row)):
-                k = block_of.get(word)
-                if k is not None and k not in seen:
-                    seen.add(k)
-                    todo.append(k)
-    return sorted(seen)
+class _Graph:
+    """Which blocks each block's words name (the blocks that define them), each block
+    read once."""
+
+    def __init__(self, found: list[tuple[int, int]], lines: list[str],
+                 block_of: dict[str, int], head: list[int]):
+        self.found, self.lines, self.block_of, self.head = found, lines, block_of, head
+        self.named: dict[int, set[int]] = {}
+
+    def names(self, block: int) -> set[int]:
+        """The blocks the words of ``block`` name."""
+        if block not in self.named:
+            start, end = self.found[block]
+            words = {w for row in self.lines[start:end] for w in WORD.findall(code(row))}
+            self.named[block] = {self.block_of[w] for w in words if w in self.block_of}
+        return self.named[block]
+
+    def depends(self, block: int) -> list[int]:
+        """The blocks the gesture of ``block`` depends on: its own, those of the names
+        it writes (and theirs), the robot and ``use`` lines; in the file's order."""
+        seen, todo = {block, *self.head}, [block]
+        while todo:
+            for k in self.names(todo.pop()) - seen:
+                seen.add(k)
+                todo.append(k)
+        return sorted(seen)
 
 
 def _places(checked: Checked) -> list[Pos]:
