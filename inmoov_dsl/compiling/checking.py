@@ -89,4 +89,5 @@ def checkable(program: Program) -> list[str]:
     broken = program.broken
     if "*" in broken:
         return []
-    return [g for g in program.own if not broken or not broken & program.uses(g)]
+    tainted = program.users(set(broken)) if broken else set()
+    return [g for g in program.own if g not in tainted]

@@ -50,18 +50,27 @@ class Program:
                 found[name] = node.name.pos
         return found
 
-    def uses(self, name: str) -> set[str]:
-        """Every name the definition of ``name`` writes, and those their definitions
-        write, and so on (``name`` itself included)."""
-        seen, todo = {name}, [name]
+    def writes(self, name: str) -> set[str]:
+        """The names the definition of ``name`` writes (none for a name it does not
+        define)."""
+        node = self.gestures.get(name) or self.poses.get(name) or self.groups.get(name)
+        return set(_names(node))
+
+    def users(self, names: set[str]) -> set[str]:
+        """The group, pose and gesture names whose definitions write one of ``names``,
+        or the name of one that does, and so on."""
+        written: dict[str, set[str]] = {}
+        for table in (self.groups, self.poses, self.gestures):
+            for defined in table:
+                for word in self.writes(defined):
+                    written.setdefault(word, set()).add(defined)
+        found, todo = set(), list(names)
         while todo:
-            at = todo.pop()
-            node = self.gestures.get(at) or self.poses.get(at) or self.groups.get(at)
-            for word in _names(node):
-                if word not in seen:
-                    seen.add(word)
-                    todo.append(word)
-        return seen
+            for user in written.get(todo.pop(), ()):
+                if user not in found:
+                    found.add(user)
+                    todo.append(user)
+        return found
 
     def source(self, name: str) -> tuple[Pos, list[str]] | None:
         """The lines that define the group, pose or gesture ``name``: the comment block
