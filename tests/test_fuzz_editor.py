@@ -20,8 +20,8 @@ from inmoov_dsl.editor.knowledge import completions, definition, hover, outline,
 from inmoov_dsl.editor.timing import step_times
 from inmoov_dsl.editor.tokens import encoded, tokens
 
-MUTANTS = 30  #: analysed and asked everything (about 4 s)
-EDITS = 10  #: fed to the server (about 3 s)
+MUTANTS = 20  #: analysed and asked everything (about 4 s)
+EDITS = 8  #: fed to the server (about 3 s)
 LIMIT = 30.0  #: s per mutant, which a loaded machine meets (most take milliseconds; a
 #: mutant of 3,000 lines whose 1,000 gestures call each other takes 6 s on an idle one)
 

@@ -95,7 +95,7 @@ def test_checks_kept_tell_what_a_fresh_analysis_tells(library, tmp_path):
 
 def test_mutants_one_after_another_on_one_memo(library, tmp_path):
     memo = Memo()
-    for n in range(15):
+    for n in range(8):
         rng = random.Random(f"memo:{n}")
         seed = rng.choice(library)
         text = mutate(seed.data, rng, "gest").decode("utf-8", "replace")
