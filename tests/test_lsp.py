@@ -5,6 +5,7 @@ references, outline, inlay hints, code actions applied, semantic tokens, setting
 answer is awaited with a time limit (``soon``): a broken request fails, never hangs."""
 
 import asyncio
+import functools
 import sys
 
 import pytest
@@ -38,6 +39,12 @@ async def opened(client: LanguageClient, uri: str, text: str) -> list[lsp.Diagno
         lsp.TextDocumentItem(uri=uri, language_id="gest", version=1, text=text)))
     await soon(client.wait_for_notification(lsp.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS))
     return client.diagnostics[uri]
+
+
+async def hovered(client: LanguageClient, uri: str, line: int, character: int) -> str:
+    said = await soon(client.text_document_hover_async(lsp.HoverParams(
+        lsp.TextDocumentIdentifier(uri=uri), lsp.Position(line, character))))
+    return said.contents.value
 
 
 async def changed(client: LanguageClient, uri: str, version: int, text: str
@@ -89,17 +96,13 @@ async def test_hover_and_completion_know_the_robot(client, tmp_path):
     uri = (tmp_path / "h.gest").as_uri()
     text = "pose half: fingers 90\ng: half, wrist 30 over 1s\n"
     assert not await opened(client, uri, text)
+    hover_at = functools.partial(hovered, client, uri)
 
-    async def hovered(line, character):
-        said = await soon(client.text_document_hover_async(lsp.HoverParams(
-            lsp.TextDocumentIdentifier(uri=uri), lsp.Position(line, character))))
-        return said.contents.value
-
-    assert (await hovered(1, 10)).startswith("**servo wrist** (profile rhand): board 181 "
+    assert (await hover_at(1, 10)).startswith("**servo wrist** (profile rhand): board 181 "
                                              "(right hand), pin 2; values 0..180, rest 0")
-    assert await hovered(0, 12) == "**group fingers**: thumb, index, middle, ring, pinky"
-    assert (await hovered(1, 4)).startswith("**pose half**: fingers 90\n\n**step of g**")
-    assert await hovered(1, 0) == "**gesture g**: 1 step, 1.00 s as planned"
+    assert await hover_at(0, 12) == "**group fingers**: thumb, index, middle, ring, pinky"
+    assert (await hover_at(1, 4)).startswith("**pose half**: fingers 90\n\n**step of g**")
+    assert await hover_at(1, 0) == "**gesture g**: 1 step, 1.00 s as planned"
     listed = await soon(client.text_document_completion_async(lsp.CompletionParams(
         lsp.TextDocumentIdentifier(uri=uri), lsp.Position(1, 3))))
     items = {i.label: i.detail for i in listed.items}
@@ -174,10 +177,9 @@ async def test_inlay_hints_time_each_step_and_hover_tells_a_stretched_move(clien
     assert stretched > 0.5
     assert said[3] == (11, f"# at {0.6 + stretched:.2f} s, 1.00 s")  # after the stretch
     assert text.split("\n")[1] == "    index 180 over 0.6s"  # a hint, not text
-    hovered = await soon(client.text_document_hover_async(lsp.HoverParams(
-        lsp.TextDocumentIdentifier(uri=uri), lsp.Position(2, 14))))
-    assert "**step of g**: at 0.60 s" in hovered.contents.value
-    assert "stretched: asked 0.05 s" in hovered.contents.value
+    said = await hovered(client, uri, 2, 14)
+    assert "**step of g**: at 0.60 s" in said
+    assert "stretched: asked 0.05 s" in said
 
 
 @pytest.mark.asyncio
@@ -287,11 +289,7 @@ async def test_hover_on_a_use_path_and_a_say(client, tmp_path):
     uri = (tmp_path / "talk.gest").as_uri()
     text = 'robot inmoov\nuse "moves.gest"\ng: say "hi.wav" & up\n'
     assert not await opened(client, uri, text)
+    hover_at = functools.partial(hovered, client, uri)
 
-    async def hovered(line, character):
-        said = await soon(client.text_document_hover_async(lsp.HoverParams(
-            lsp.TextDocumentIdentifier(uri=uri), lsp.Position(line, character))))
-        return said.contents.value
-
-    assert await hovered(1, 8) == f"**use**: {tmp_path / 'moves.gest'}"
-    assert (await hovered(2, 11)).startswith("**say**: 0.75 s of sound (")
+    assert await hover_at(1, 8) == f"**use**: {tmp_path / 'moves.gest'}"
+    assert (await hover_at(2, 11)).startswith("**say**: 0.75 s of sound (")

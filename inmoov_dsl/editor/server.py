@@ -13,7 +13,7 @@ from lsprotocol import types as lsp
 
 from ..errors import Diagnostic, GestError
 from ..language.fmt import format_source
-from ..language.load import GEST_SUFFIX
+from ..language.load import GEST_SUFFIX, read_text
 from .actions import after_header, fixes
 from .analysis import Analysis
 from .documents import GestServer
@@ -175,10 +175,10 @@ def on_references(ls: GestServer, params: lsp.ReferenceParams) -> list[lsp.Locat
 
 
 def _saved(path: str) -> str:
+    """A gesture file as saved, read as ``use`` reads one ("" when it cannot be)."""
     try:
-        with open(path, encoding="utf-8") as f:
-            return f.read(1 << 20)
-    except (OSError, ValueError):
+        return read_text(path)
+    except (GestError, OSError, ValueError):
         return ""
 
 

@@ -62,7 +62,7 @@ class BlockParser:
                 return _without_robots(file, items), problem.error(file, lines), \
                     frozenset({"*"})
         start = found[bad[0]][0]
-        first = attempt("\n" * start + "\n".join(lines[start:]) + "\n", file, lines)
+        first = attempt(alone(lines, start, len(lines)), file, lines)
         if not isinstance(first, GestError):  # the first block with a problem has it
             first = each[bad[0]]
         broken = frozenset(defines(lines[found[k][0]]) for k in bad)
