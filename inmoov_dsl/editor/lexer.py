@@ -18,11 +18,9 @@ from pygments.token import Comment, Keyword, Name, Number, Operator, Punctuation
 
 from ..language.parse import UNITS
 from ..language.syntax import KEYWORDS
+from .text import NAME, NUMBER, PROFILE
 
 END = r"(?![A-Za-z0-9_])"  #: a word ends here (the grammar's keywords end so)
-NAME = r"[A-Za-z_][A-Za-z0-9_]*"
-PROFILE = r"[A-Za-z_][A-Za-z0-9_-]*"  #: ``robot rhand-maestro``: the grammar's ROBOT_NAME
-NUMBER = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)"
 
 
 def _either(texts) -> str:

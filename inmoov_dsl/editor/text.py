@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import re
 
-WORD = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+NAME = r"[A-Za-z_][A-Za-z0-9_]*"  #: the grammar's NAME
+PROFILE = r"[A-Za-z_][A-Za-z0-9_-]*"  #: ``robot rhand-maestro``: the grammar's ROBOT_NAME
+NUMBER = r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)"  #: the grammar's NUMBER
+WORD = re.compile(NAME)
 STRING = re.compile(r'"[^"]*"?')
 
 

@@ -11,15 +11,15 @@ from ..compiling.names import Gesture, Group, Pose, Servo
 from ..language.syntax import KEYWORDS
 from .analysis import Analysis
 from .knowledge import UNITS
+from .text import NUMBER, PROFILE, STRING
 
 #: the token types, in the order the editor is told them (the legend)
 TYPES = ("keyword", "number", "string", "comment", "namespace", "variable", "enum",
          "enumMember", "function")
 MODIFIERS = ("declaration", "defaultLibrary")
 KIND = {Servo: "variable", Group: "enum", Pose: "enumMember", Gesture: "function"}
-TOKEN = re.compile(r'(?P<comment>#.*)|(?P<string>"[^"]*"?)'
-                   r"|(?P<number>[+-]?(\d+(\.\d*)?|\.\d+))(?P<unit>[A-Za-z_]+)?"
-                   r"|(?P<word>[A-Za-z_][A-Za-z0-9_-]*)")
+TOKEN = re.compile(rf'(?P<comment>#.*)|(?P<string>{STRING.pattern})'
+                   rf"|(?P<number>{NUMBER})(?P<unit>[A-Za-z_]+)?|(?P<word>{PROFILE})")
 DEFINES = re.compile(r"^(\s*(group|pose)\s+)?([A-Za-z_][A-Za-z0-9_]*)\s*:")
 
 
