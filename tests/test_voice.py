@@ -176,9 +176,9 @@ def test_espeak_failing_names_the_voice():
 # -- the mouth ----------------------------------------------------------------------------
 def mouth(samples, rate=22050):
     sound = read_wav(wav(samples, rate), "v.wav")
-    s = speech.Speech(sound, JAW, INMOOV.voice, speech.loudness(sound),
-                      speech.aim(INMOOV.servos[JAW], INMOOV.voice))
-    track, moved = speech.track(s, INMOOV.servos[JAW], INMOOV.voice.closed)
+    s = speech.Speech(sound, JAW, INMOOV.voice, speech.loudness(sound))
+    track, moved, wait = speech.track(s, INMOOV.servos[JAW], INMOOV.voice.closed)
+    assert wait == 0  # the sound begins with silence: no wait
     return sound, track, moved
 
 
@@ -199,10 +199,9 @@ def test_the_mouth_stays_within_its_servo_s_limits():
     need_espeak()
     sound = read_wav(speaking.speak("Hello, I am InMoov, the robot you can print.", "en",
                                     150, 45), "hello")
-    s = speech.Speech(sound, JAW, INMOOV.voice, speech.loudness(sound),
-                      speech.aim(INMOOV.servos[JAW], INMOOV.voice))
+    s = speech.Speech(sound, JAW, INMOOV.voice, speech.loudness(sound))
     servo = INMOOV.servos[JAW]
-    track, moved = speech.track(s, servo, 0)
+    track, moved, _ = speech.track(s, servo, 0)
     t = np.arange(0, moved, 0.0005)
     assert np.abs(track.velocity(t)).max() <= servo.max_velocity * (1 + 1e-9)
     assert np.abs(track.acceleration(t)).max() <= servo.max_acceleration * (1 + 1e-9)

@@ -146,8 +146,8 @@ class Planner:
         if step.branches:
             return self._together(step, now, pose, builders, strict, told)
         if step.speech is not None:
-            length = speech.follow(step.speech, self.profile, now, pose, builders)
-            told[1].append((now, step.speech))
+            length, wait = speech.follow(step.speech, self.profile, now, pose, builders)
+            told[1].append((now + wait, step.speech))
             return PlannedStep(step.where, step.pos, "say", now, now + length, None, False,
                                (step.speech.servo,)), length
         return self._move(step, now, pose, builders)

@@ -1,13 +1,12 @@
-"""The mouth moving with a sound (pure): the sound's loudness as speech is heard, the
-opening it asks of the mouth, and the mouth's track through its servo's limits, planned
-ahead of the sound by the time the servo needs, so that the mouth is open when the sound
-is loud and closed in silence.
+"""The mouth moving with a sound (pure): the sound's loudness as a viewer sees it, the
+opening it asks of the mouth, and the mouth's track, planned for the whole sound at once
+under its servo's limits (``mouth.fit``), LEAD ahead of the sound.
 
-The loudness is the RMS of WINDOW-long windows every HOP, in decibels: at or below a
-gate (GATE dB under the loudest window, and never below FLOOR dBFS) it is silence, at
-the loudest it is 1. The track is what a controller re-planning with ruckig every HOP
-would follow, aiming each time at the opening LEAD later: a jerk-limited, time-optimal
-approach to a target that moves.
+The loudness is the RMS of each HOP of sound, averaged over SMOOTH (a syllable's
+swell), from 0 (silence: under GATE of the loudest) to 1 (the loudest). The track aims
+at the opening the loudness asks LEAD later. A silence of QUIET or more (in the
+loudness; about 250 ms of sound, less the averaging) closes the mouth and holds it still
+from CLOSING after it begins to the moment the next sound's opening starts.
 """
 
 from __future__ import annotations
@@ -15,33 +14,31 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from ruckig import InputParameter, Result, Ruckig, RuckigError, Trajectory
+from ruckig import InputParameter, Ruckig, Trajectory
 
 from ..profiles.data import Profile, Servo, Voice
 from ..voice.wav import Sound
+from .mouth import fit
 from .tracks import Track, TrackBuilder
 
-HOP = 0.010  #: s between loudness values, and between the tracker's plans
-WINDOW = 0.110  #: s of sound each loudness value hears: about a syllable
-GATE = 30.0  #: dB below the loudest window: quieter is silence
-FLOOR = -50.0  #: dBFS: quieter is silence, however quiet the loudest is
-EASE = (1.0, 1 - 1e-6, 1 - 1e-3, 1 - 1e-2, 0.95, 0.8)  #: of the acceleration, in turn
-RESPONSE = 0.040  #: s; the planned opening leads the sound by this (two servo frames)
-#: the tracker's lag behind a moving target, as a share of its servo's full swing time
-#: (measured on ten spoken sentences: benchmarks/voice.py)
-LAGGING = 0.3
+HOP = 0.010  #: s between loudness values, and between the track's knots
+SMOOTH = 0.100  #: s of sound each loudness value averages
+GATE = 0.03  #: of the loudest: quieter is silence
+LEAD = 0.040  #: s; the mouth's opening leads the sound by this (two servo frames)
+QUIET = 0.150  #: s of silent loudness that holds the mouth closed and still...
+CLOSING = 0.080  #: ...from this long after the silence begins (the mouth closing)
+AFTER = 0.300  #: s the track may take after the sound to close
 
 
 @dataclass(frozen=True, eq=False)
 class Speech:
-    """A ``say`` for one profile: its sound, the mouth's servo, the opening it follows
-    every HOP (closed..open) and how far ahead of the sound the track aims."""
+    """A ``say`` for one profile: its sound, the mouth's servo and the opening the sound
+    asks every HOP (closed..open)."""
 
     sound: Sound
     servo: int  #: the mouth's index in the profile
     voice: Voice
     levels: np.ndarray = field(repr=False)  #: loudness 0..1 every HOP
-    aim: float  #: s; how far ahead of the planned time the track aims
 
     @property
     def openings(self) -> np.ndarray:
@@ -53,95 +50,86 @@ class Speech:
 def loudness(sound: Sound) -> np.ndarray:
     """0 (silence) .. 1 (the loudest) every HOP s."""
     hop = max(1, round(sound.rate * HOP))
-    half = max(1, round(sound.rate * WINDOW / 2))
     x = sound.samples.astype(np.float64)
-    sums = np.concatenate(([0.0], np.cumsum(x * x)))
-    centres = np.arange(0, len(x), hop)
-    lo, hi = np.maximum(centres - half, 0), np.minimum(centres + half, len(x))
-    power = (sums[hi] - sums[lo]) / np.maximum(hi - lo, 1)
-    db = 10 * np.log10(power + 1e-12)
-    loudest = float(db.max()) if len(db) else FLOOR
-    gate = max(loudest - GATE, FLOOR)
-    if loudest <= gate:
-        return np.zeros(len(db))
-    return np.clip((db - gate) / (loudest - gate), 0.0, 1.0)
-
-
-def aim(servo: Servo, voice: Voice) -> float:
-    """How far ahead the track aims: RESPONSE, and what chasing a moving target costs
-    the tracker, LAGGING of its servo's time from closed to open (rest to rest, at its
-    limits)."""
-    return RESPONSE + LAGGING * _move_time(servo, voice.closed, voice.opened)
+    count = -(-len(x) // hop)
+    x = np.concatenate((x, np.zeros(count * hop - len(x))))
+    rms = np.sqrt((x.reshape(count, hop) ** 2).mean(axis=1))
+    width = max(1, round(SMOOTH / HOP))
+    heard = np.convolve(rms, np.ones(width) / width, mode="same")
+    loudest = float(heard.max()) if len(heard) else 0.0
+    if loudest <= 0:
+        return np.zeros(len(heard))
+    levels = heard / loudest
+    levels[levels < GATE] = 0.0
+    return levels
 
 
 def _move_time(servo: Servo, start: float, target: float) -> float:
     ruckig, inp, traj = Ruckig(1), InputParameter(1), Trajectory(1)
-    _limits(inp, servo)
+    inp.max_velocity = [servo.max_velocity]
+    inp.max_acceleration = [servo.max_acceleration]
+    inp.max_jerk = [servo.max_jerk]
     inp.current_position, inp.target_position = [float(start)], [float(target)]
     ruckig.calculate(inp, traj)
     return traj.duration
 
 
-def _limits(inp: InputParameter, servo: Servo) -> None:
-    inp.max_velocity = [servo.max_velocity]
-    inp.max_acceleration = [servo.max_acceleration]
-    inp.max_jerk = [servo.max_jerk]
+def delay(speech: Speech, servo: Servo) -> float:
+    """How long the sound waits after the step begins: a sound that starts at once
+    waits until the mouth, from rest, could be half open (LEAD before it)."""
+    voice = speech.voice
+    ready = LEAD + _move_time(servo, voice.closed, (voice.closed + voice.opened) / 2)
+    heard = np.flatnonzero(speech.levels)
+    onset = (heard[0] * HOP + SMOOTH / 2) if len(heard) else ready
+    return max(0, round((ready - onset) / HOP)) * HOP
 
 
-def track(speech: Speech, servo: Servo, start: float) -> tuple[Track, float]:
-    """The mouth's track from ``start`` (at rest), and how long it moves: every HOP it
-    plans again towards the opening ``speech.aim`` later, and after the sound it
-    closes and comes to rest."""
-    aims = speech.openings
-    ahead = round(speech.aim / HOP)
-    ruckig, inp, traj = Ruckig(1), InputParameter(1), Trajectory(1)
-    _limits(inp, servo)
-    builder = TrackBuilder(float(start))
-    state = (float(start), 0.0, 0.0)
-    closed, t, k = float(speech.voice.closed), 0.0, 0
-    while True:
-        aim = float(aims[k + ahead]) if k + ahead < len(aims) else closed
-        inp.target_position = [aim]
-        _calculate(ruckig, inp, traj, state)
-        if k + ahead >= len(aims) and aim == closed:  # the last aim: all the way
-            builder.phases(t, traj.profiles[0][0])
-            builder.hold(t + traj.duration, closed)
-            return builder.build(), t + traj.duration
-        builder.phases_for(t, traj.profiles[0][0], HOP)
-        if traj.duration > HOP:
-            p, v, a = traj.at_time(HOP)
-            state = (p[0], v[0], a[0])
-        else:  # there before the next plan: it waits there
-            builder.hold(t + traj.duration, aim)
-            state = (aim, 0.0, 0.0)
-        t, k = t + HOP, k + 1
+def track(speech: Speech, servo: Servo, start: float) -> tuple[Track, float, float]:
+    """The mouth's track from ``start`` (at rest), how long it moves, and when the
+    sound starts (``delay``): aiming LEAD ahead at the opening the sound asks, still
+    and closed in each long silence, and closed at rest after the sound."""
+    voice = speech.voice
+    closed = float(voice.closed)
+    wait = delay(speech, servo)
+    heard = np.arange(round((wait + speech.sound.duration + LEAD + AFTER) / HOP)) \
+        - round((wait - LEAD) / HOP)
+    inside = (heard >= 0) & (heard < len(speech.levels))
+    target = np.where(inside, speech.openings[np.clip(heard, 0, len(speech.levels) - 1)],
+                      closed)
+    fixed = np.full(len(target) + 2, np.nan)
+    fixed[:3] = start
+    free_from = int(np.ceil(_move_time(servo, start, closed) / HOP))
+    for a, b in _silences(target == closed, round(QUIET / HOP)):
+        a = max(a + round(CLOSING / HOP), free_from)
+        fixed[a:b + 2] = closed  # still and closed from knot a to knot b
+    fixed[-3:] = closed
+    span = (min(closed, voice.opened, start), max(closed, voice.opened, start))
+    c = fit(target, fixed, servo, HOP, span, closed)
+    p0, p1, p2, p3 = c[:-3], c[1:-2], c[2:-1], c[3:]
+    coefs = np.stack(((p0 + 4 * p1 + p2) / 6, (p2 - p0) / (2 * HOP),
+                      (p0 - 2 * p1 + p2) / HOP ** 2, (p3 - 3 * p2 + 3 * p1 - p0) / HOP ** 3), 1)
+    moving = np.flatnonzero(np.any(np.abs(coefs - [closed, 0, 0, 0]) > 1e-9, axis=1))
+    pieces = int(moving[-1]) + 1 if len(moving) else 0
+    breaks = np.arange(pieces + 1) * HOP
+    rest = np.array([[closed if pieces else float(start), 0.0, 0.0, 0.0]])
+    return Track(breaks, np.concatenate((coefs[:pieces], rest))), pieces * HOP, wait
 
 
-def _calculate(ruckig: Ruckig, inp: InputParameter, traj: Trajectory,
-               state: tuple[float, float, float]) -> None:
-    """ruckig's plan from ``state``. Where the last plan left the mouth braking on the
-    very edge of its limits (its velocity about to reach the limit, to the last bit),
-    ruckig's solver can stumble: the acceleration is eased inside first (by at most a
-    fifth, keeping position and velocity: nothing jumps)."""
-    p, v, a = state
-    inp.current_position, inp.current_velocity = [p], [v]
-    for ease in EASE:
-        inp.current_acceleration = [a * ease]
-        try:
-            if ruckig.calculate(inp, traj) in (Result.Working, Result.Finished):
-                return
-        except RuckigError:
-            continue
-    raise ValueError(f"the mouth's track cannot be planned from {state}")
+def _silences(silent: np.ndarray, shortest: int) -> list[tuple[int, int]]:
+    """The runs ``[a, b)`` of ``silent`` at least ``shortest`` long."""
+    edges = np.diff(np.concatenate(([0], silent.astype(np.int8), [0])))
+    runs = zip(np.flatnonzero(edges == 1).tolist(), np.flatnonzero(edges == -1).tolist(),
+               strict=True)
+    return [(a, b) for a, b in runs if b - a >= shortest]
 
 
 def follow(speech: Speech, profile: Profile, now: float, pose: list[int],
-           builders: list[TrackBuilder]) -> float:
+           builders: list[TrackBuilder]) -> tuple[float, float]:
     """Plan ``speech``'s mouth from ``now`` (its servo at rest at ``pose``) into the
-    gesture's tracks; the step's length: the sound's, or the mouth's if it closes
-    later."""
+    gesture's tracks; the step's length (until the sound ends, or the mouth closes if
+    later) and when the sound starts (from ``now``)."""
     i = speech.servo
-    mouth, moved = track(speech, profile.servos[i], pose[i])
+    mouth, moved, wait = track(speech, profile.servos[i], pose[i])
     builders[i].extend(mouth, now)
     pose[i] = speech.voice.closed
-    return max(speech.sound.duration, moved)
+    return max(wait + speech.sound.duration, moved), wait

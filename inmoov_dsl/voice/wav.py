@@ -51,7 +51,8 @@ def read_wav(data: bytes, source: str) -> Sound:
         with wave.open(io.BytesIO(data)) as w:
             channels, width, rate, frames = (w.getnchannels(), w.getsampwidth(),
                                              w.getframerate(), w.getnframes())
-            raw = w.readframes(min(frames, int(MAX_SECONDS * min(rate, MAX_RATE)) + 1))
+            wanted = min(frames, int(MAX_SECONDS * min(rate, MAX_RATE)) + 1)
+            raw = w.readframes(wanted)
     except (wave.Error, EOFError, ValueError) as exc:
         raise SoundError(f"'{source}' is not a WAV file say can play ({exc})",
                          "save it as PCM WAV (8, 16, 24 or 32 bits): compressed WAV is not "
@@ -59,12 +60,14 @@ def read_wav(data: bytes, source: str) -> Sound:
     if not 1 <= channels <= 2 or not 0 < rate <= MAX_RATE:
         raise SoundError(f"'{source}' has {channels} channels at {rate} Hz",
                          "say plays mono or stereo WAV at up to 384 kHz")
-    if frames == 0 or not raw:
+    if len(raw) // (width * channels) < wanted:  # less than the header says (a WAV
+        frames = len(raw) // (width * channels)  # written to a pipe says the most it can)
+    if frames == 0:
         raise SoundError(f"'{source}' holds no sound (0 samples)")
     if frames / rate > MAX_SECONDS:
         raise SoundError(f"'{source}' lasts {frames / rate:,.0f} s, more than "
                          f"{MAX_SECONDS:.0f} s", "split it into shorter sounds")
-    samples = _samples(raw, width).reshape(-1, channels).mean(axis=1)
+    samples = _samples(raw[:frames * width * channels], width).reshape(-1, channels).mean(axis=1)
     return Sound(samples.astype(np.float32), rate, source,
                  hashlib.sha256(data).hexdigest(), data)
 

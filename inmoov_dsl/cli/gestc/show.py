@@ -89,7 +89,7 @@ WIDTH = 60  #: characters on a line
 def sound_text(start: float, speech, plan) -> str:
     """A ``say``: its sound, and its loudness beside the mouth's planned opening, a
     character per SHOWN s (blank: silence or closed)."""
-    from ...compiling.speech import HOP, RESPONSE
+    from ...compiling.speech import HOP, LEAD
 
     sound, voice = speech.sound, speech.voice
     every = round(SHOWN / HOP)
@@ -100,7 +100,7 @@ def sound_text(start: float, speech, plan) -> str:
     opening = (track - voice.closed) / (voice.opened - voice.closed)
     rows = [f'say "{sound.source}" at {start:.3f} s: {sound.duration:.2f} s of sound; '
             f"the {voice.mouth} opens {voice.closed}..{voice.opened}, leading the sound by "
-            f"{RESPONSE * 1000:.0f} ms"]
+            f"{LEAD * 1000:.0f} ms"]
     for at in range(0, count, WIDTH):
         cut = slice(at, at + WIDTH)
         rows.append(f"  {start + at * SHOWN:7.2f} s  loudness  {_bars(levels[cut])}")
