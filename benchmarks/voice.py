@@ -1,29 +1,29 @@
-"""The mouth moving with the voice (``say``, docs/speaking.md): ten sentences spoken by
-espeak-ng, and the same sounds as WAV files read back, each said while the head looks
-around (``say "..." & look_around`` on the inmoov profile).
+"""The mouth moving with the voice (``say``, docs/speaking.md), measured as a viewer sees
+it: ten sentences spoken by espeak-ng in two voices at two speeds, and Debian's recorded
+human speech (alsa-utils) in several WAV formats (sox), each said while the head looks
+around (``say "said.wav" & look_around`` on the inmoov profile).
 
-For each: the correlation between the sound's loudness (per 20 ms frame) and the jaw's
-planned opening at its best time shift, and that shift (the planned opening should lead
-the sound by speech.RESPONSE); the jaw's track within its servo's limits; the head
-board's coverage; the time from the first loud sound to the mouth open, and from the
-sound's end to the mouth closed.
+Nothing of the planner measures it (tests/jawmeasure.py): the loudness is the RMS of
+each 20 ms frame of the WAV file, averaged over 100 ms; the jaw is the values its board
+receives, read from the compiled stream's bytes. For each sound: the correlation at the
+best shift and that shift (positive: the jaw ahead), the time from the last sound to
+the jaw closed, whether it stays still in every silence longer than 250 ms, the servo
+frames that needed a jaw value and got one, and how wide the jaw opens.
 
-    python benchmarks/voice.py
+    python benchmarks/voice.py      (espeak-ng, alsa-utils and sox; about a minute)
 """
 
 from __future__ import annotations
 
+import subprocess
+import sys
 import tempfile
 from pathlib import Path
 
-import numpy as np
+from common import ROOT
 
-from inmoov_dsl.compiling import speech
-from inmoov_dsl.compiling.compiler import compile_program
-from inmoov_dsl.compiling.metrics import measure
-from inmoov_dsl.language.load import load
-from inmoov_dsl.profiles.profile import load_profile
-from inmoov_dsl.voice.speak import speak
+sys.path.insert(0, str(ROOT / "tests"))
+import jawmeasure  # noqa: E402 (the tests' measure)
 
 SENTENCES = [
     "Hello, I am InMoov. I can wave and talk.",
@@ -37,75 +37,67 @@ SENTENCES = [
     "Thank you for visiting, have a nice day.",
     "Artificial intelligence is fascinating.",
 ]
-FRAME = 0.020  #: s; the loudness is compared frame by frame
-SHIFTS = range(-15, 16)  #: frames tried
+VOICES = ("en", "en-us+f3")  #: espeak-ng's default voice, and a woman's American voice
+SPEEDS = (150, 200)  #: words per minute: the profile's, and quick
+RECORDINGS = Path("/usr/share/sounds/alsa")
+#: sox's options for each format: bits, channels, rate
+FORMATS = {"16-bit mono 48 kHz": ("-b", "16", "-c", "1", "-r", "48000"),
+           "8-bit mono 8 kHz": ("-b", "8", "-c", "1", "-r", "8000"),
+           "16-bit stereo 16 kHz": ("-b", "16", "-c", "2", "-r", "16000"),
+           "8-bit stereo 22.05 kHz": ("-b", "8", "-c", "2", "-r", "22050"),
+           "16-bit mono 44.1 kHz": ("-b", "16", "-c", "1", "-r", "44100")}
 
 
-def figures(plan, profile) -> dict:
-    """The say step's figures in ``plan``."""
-    (start, s), = plan.sounds
-    jaw, servo = s.servo, profile.servos[s.servo]
-    track = plan.tracks[jaw]
-    per = round(FRAME / speech.HOP)
-    count = len(s.levels) // per
-    loud = s.levels[:count * per].reshape(count, per).mean(axis=1)
-    t = start + (np.arange(count) + 0.5) * FRAME
-    opening = track.position(t)
+def espeak(text: str, voice: str, speed: int) -> bytes:
+    """espeak-ng's WAV of ``text``."""
+    return subprocess.run(["espeak-ng", "-v", voice, "-s", str(speed), "--stdout", text],
+                          capture_output=True, check=True).stdout
 
-    def corr(shift: int) -> float:  # shift > 0: the opening leads the sound
-        a = opening[:count - shift] if shift >= 0 else opening[-shift:]
-        b = loud[shift:] if shift >= 0 else loud[:count + shift]
-        return float(np.corrcoef(a, b)[0, 1])
 
-    best = max(SHIFTS, key=corr)
-    dense = np.arange(0, plan.duration, 0.0005)
-    loud_at = np.flatnonzero(loud > 0.5)
-    open_at = np.flatnonzero(opening > s.voice.closed + 0.5 * (s.voice.opened - s.voice.closed))
-    closed = np.flatnonzero(track.position(dense) > s.voice.closed + 0.5)
-    silent_from = (np.flatnonzero(s.levels > 0)[-1] + 1) * speech.HOP
-    return {"corr": corr(best), "shift": best * FRAME,
-            "v": np.abs(track.velocity(dense)).max() / servo.max_velocity,
-            "a": np.abs(track.acceleration(dense)).max() / servo.max_acceleration,
-            "j": np.abs(track.coefs[:, 3]).max() / servo.max_jerk,
-            "open": (open_at[0] - loud_at[0]) * FRAME if len(open_at) and len(loud_at)
-            else float("nan"),
-            "close": dense[closed[-1]] - (start + silent_from) if len(closed) else 0.0,
-            "seconds": s.sound.duration}
+def converted(path: Path, options: tuple[str, ...], folder: Path) -> bytes:
+    """The recording at ``path`` in another WAV format, by sox."""
+    out = folder / "converted.wav"
+    subprocess.run(["sox", str(path), *options, "-e",
+                    "unsigned-integer" if options[1] == "8" else "signed-integer", str(out)],
+                   check=True)
+    return out.read_bytes()
+
+
+def cases(folder: Path):
+    """(what, WAV bytes) of every sound measured."""
+    for voice in VOICES:
+        for speed in SPEEDS:
+            for text in SENTENCES:
+                yield f"{text} ({voice}, {speed} wpm)", espeak(text, voice, speed)
+    names = list(FORMATS)
+    for k, path in enumerate(sorted(RECORDINGS.glob("*.wav"))):
+        if path.stem == "Noise":
+            continue
+        shown = path.stem.replace("_", " ")
+        formats = names if k == 0 else [names[k % len(names)]]
+        for name in formats:
+            yield f'"{shown}" (recorded, {name})', converted(path, FORMATS[name], folder)
 
 
 def main() -> None:
-    profile = load_profile("inmoov")
-    head = next(b.id for b in profile.boards if "jaw" in b.servos)
     folder = Path(tempfile.mkdtemp())
-    print(f"Lead chosen: {speech.RESPONSE * 1000:.0f} ms (the tracker aims "
-          f"{speech.aim(profile.servos[profile.index('jaw')], profile.voice) * 1000:.0f} ms "
-          f"ahead).\n")
-    print("| sentence | s | corr. (best) | best shift | jaw v / a / j of limit | head "
-          "coverage | loud to open | end to closed | as a WAV file |")
-    print("|---|---:|---:|---:|---|---:|---:|---:|---|")
-    worst = 1.0
-    for k, text in enumerate(SENTENCES):
-        wav = folder / f"s{k}.wav"
-        wav.write_bytes(speak(text, "en", profile.voice.speed, profile.voice.pitch))
-        rows = []
-        for said in (text, wav.name):
-            program = load(str(folder / f"s{k}.gest"),
-                           f'use "body.gest"\ng: say "{said}" & look_around\n',
-                           search=[str(folder), str(Path(__file__).resolve().parent.parent
-                                                    / "gestures")])
-            compiled, plan = compile_program(program, "g", profile)
-            f = figures(plan, profile)
-            cover = next(r.coverage for r in measure(plan, compiled.streams)
-                         if r.board == head)
-            rows.append((f, cover, compiled.streams))
-        (f, cover, streams), (_, _, from_file) = rows
-        same = all(a.data == b.data for a, b in zip(streams, from_file, strict=True))
-        worst = min(worst, f["corr"])
-        print(f"| {text} | {f['seconds']:.2f} | {f['corr']:.3f} | {f['shift'] * 1000:+.0f} ms"
-              f" | {f['v']:.2f} / {f['a']:.2f} / {f['j']:.2f} | {100 * cover:.1f}% | "
-              f"{f['open'] * 1000:.0f} ms | {f['close'] * 1000:.0f} ms | "
-              f"{'the same bytes' if same else 'DIFFERENT'} |")
-    print(f"\nLowest correlation: {worst:.3f}")
+    print("| sound | s | r (best shift) | best shift | last sound to closed | still in "
+          "silences | jaw values in their frame | widest opening |")
+    print("|---|---:|---:|---:|---:|---|---:|---:|")
+    worst, shifts, late, ok = 1.0, set(), 0.0, True
+    for what, wav in cases(folder):
+        f, widest = jawmeasure.said(wav, folder)
+        worst, late = min(worst, f.r), max(late, f.closed_after)
+        shifts.add(round(f.shift * 1000))
+        ok = ok and f.still_in_silence and f.reached == f.needed
+        still = "yes" if f.still_in_silence else "NO"
+        print(f"| {what} | {f.seconds:.2f} | {f.r:.3f} | {f.shift * 1000:+.0f} ms | "
+              f"{f.closed_after * 1000:.0f} ms | {still} ({f.silences}) | "
+              f"{f.reached}/{f.needed} | {100 * widest:.0f}% |")
+    print(f"\nLowest r: {worst:.3f}; best shifts: "
+          f"{', '.join(f'{s:+d}' for s in sorted(shifts))} ms; closed at most "
+          f"{late * 1000:.0f} ms after the last sound; still in every long silence and "
+          f"every jaw value in its frame: {'yes' if ok else 'NO'}")
 
 
 if __name__ == "__main__":
