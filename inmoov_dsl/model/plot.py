@@ -3,7 +3,9 @@
 One row per servo that moves: on the left its planned position over time, the values
 actually sent (as the board holds them, a step each time a pair arrives) and the
 keyframes, numbered like ``gestc show``'s steps; on the right its planned velocity
-between the profile's limits. Holds are shaded.
+between the profile's limits. Holds are shaded. Above them, a row per ``say``: the
+sound's waveform, its loudness and the mouth as its board receives it, so a person sees
+where they part.
 """
 
 from __future__ import annotations
@@ -45,7 +47,7 @@ def plot(plan: Plan, compiled: Compiled, path: str | os.PathLike) -> None:
     """Draw the gesture to ``path`` (the suffix picks the format: .png, .svg, .pdf)."""
     Figure, Patch = _matplotlib()  # noqa: N806 (classes)
     sent = sent_values(plan, compiled)
-    rows = moving_servos(plan, sent) or [0]
+    rows = [None] * len(plan.sounds) + (moving_servos(plan, sent) or [0])
     end = max(plan.duration, max((float(t[-1]) for t, _ in sent.values() if len(t)),
                                  default=0.0))
     end += 0.03 * end + 0.05  # room for the last keyframe's number
@@ -56,7 +58,16 @@ def plot(plan: Plan, compiled: Compiled, path: str | os.PathLike) -> None:
     fig.suptitle(f"{compiled.gesture} on {plan.profile.name}: {compiled.duration:.2f} s, "
                  f"{total:,} bytes", fontsize=13, x=0.01, ha="left")
     first_pos = first_vel = None
-    for row, i in enumerate(rows):
+    for k, (start, speech) in enumerate(plan.sounds):
+        ax = fig.add_subplot(grid[k, 0], sharex=first_pos)
+        first_pos = first_pos or ax
+        _sound_row(ax, start, speech, sent.get(speech.servo, (np.empty(0), np.empty(0))),
+                   plan.start[speech.servo], end)
+        key = fig.add_subplot(grid[k, 1])
+        key.axis("off")
+        key.legend(*ax.get_legend_handles_labels(), loc="center left", fontsize=9,
+                   frameon=False)
+    for row, i in enumerate(rows[len(plan.sounds):], len(plan.sounds)):
         pos = fig.add_subplot(grid[row, 0], sharex=first_pos)
         vel = fig.add_subplot(grid[row, 1], sharex=first_vel)
         first_pos, first_vel = first_pos or pos, first_vel or vel
@@ -64,11 +75,12 @@ def plot(plan: Plan, compiled: Compiled, path: str | os.PathLike) -> None:
         if row < len(rows) - 1:
             pos.tick_params(labelbottom=False)
             vel.tick_params(labelbottom=False)
-    first_pos.set_title("position (command degrees)", fontsize=10, loc="left")
-    first_vel.set_title("velocity (command degrees / s)", fontsize=10, loc="left")
+        if row == len(plan.sounds):
+            pos.set_title("position (command degrees)", fontsize=10, loc="left")
+            vel.set_title("velocity (command degrees / s)", fontsize=10, loc="left")
     pos.set_xlabel("time (s)")
     vel.set_xlabel("time (s)")
-    _legend(fig, first_pos, first_vel, plan, Patch)
+    _legend(fig, fig.axes[2 * len(plan.sounds)], first_vel, plan, Patch)
     fig.savefig(path, dpi=110)
 
 
@@ -104,6 +116,34 @@ def _servo_row(pos, vel, plan: Plan, i: int, sent: tuple[np.ndarray, np.ndarray]
         vel.axhline(sign * servo.max_velocity, color=LIMIT_COLOUR, ls="--", lw=1,
                     label="velocity limit" if sign > 0 else None)
     vel.set_ylim(-1.15 * servo.max_velocity, 1.15 * servo.max_velocity)
+
+
+def _sound_row(ax, start: float, speech, sent: tuple[np.ndarray, np.ndarray],
+               first: float, end: float) -> None:
+    """A ``say``'s row: its waveform (-1..1), its loudness (0..1) and the mouth as its
+    board receives it, from closed (0) to open (1)."""
+    from ..compiling.speech import HOP
+
+    sound, voice = speech.sound, speech.voice
+    bins = max(1, len(sound.samples) // 3000)
+    count = len(sound.samples) // bins
+    cut = sound.samples[:count * bins].reshape(count, bins)
+    at = start + (np.arange(count) + 0.5) * bins / sound.rate
+    ax.fill_between(at, cut.min(axis=1), cut.max(axis=1), color="#999999", lw=0,
+                    label="the sound")
+    ax.plot(start + np.arange(len(speech.levels)) * HOP, speech.levels, color=SOUND_COLOUR,
+            lw=1.6, label="its loudness")
+    times, values = sent
+    held_t = np.concatenate(([0.0], times, [end]))
+    held_v = np.concatenate(([first], values, [values[-1] if len(values) else first]))
+    ax.step(held_t, (held_v - voice.closed) / (voice.opened - voice.closed), where="post",
+            color=SENT_COLOUR, lw=1.2, label=f"the {voice.mouth} as its board receives it\n"
+            "(0 closed, 1 open)")
+    ax.set_xlim(0, end)
+    ax.set_ylim(-1.05, 1.15)
+    ax.grid(True, color="#dddddd", lw=0.6)
+    ax.set_title(f'say "{sound.source}" at {start:.2f} s', fontsize=10, loc="left")
+    ax.tick_params(labelbottom=False)
 
 
 def _sounds(ax, plan: Plan, servo: int) -> None:
