@@ -51,8 +51,9 @@ def fit(target: np.ndarray, fixed: np.ndarray, servo: Servo, hop: float,
                                            span)[3:3 + stop - first]
             knots = np.arange(parts[0][0] - 2, min(len(target), parts[-1][1]))
             values = (tried[knots] + 4 * tried[knots + 1] + tried[knots + 2]) / 6
-            r = _correlation(values, target[knots])
-            if r > best_r:
+            known = np.isfinite(values)  # (a long run's next part is not solved yet)
+            r = _correlation(values[known], target[knots][known])
+            if best is None or r > best_r:
                 best, best_r = tried, r
             if r >= FAITHFUL:
                 break
@@ -83,7 +84,8 @@ def _windows(free: np.ndarray) -> list[list[tuple[int, int, int]]]:
 
 
 def _correlation(a: np.ndarray, b: np.ndarray) -> float:
-    if len(a) < 2 or a.std() == 0 or b.std() == 0:
+    """Pearson's r; 1 where both are flat and equal, 0 where either is flat."""
+    if len(a) < 2 or np.ptp(a) < 1e-6 or np.ptp(b) < 1e-6:
         return 1.0 if np.allclose(a, b) else 0.0
     return float(np.corrcoef(a, b)[0, 1])
 
