@@ -83,3 +83,29 @@ def test_without_scipy_a_say_is_an_error_at_the_step_saying_how(tmp_path, monkey
     text = str(info.value)
     assert "s.gest:1:5: error: planning the mouth for 'say' needs scipy" in text
     assert "pip install 'inmoov-dsl[voice]'" in text
+
+
+def test_the_plot_of_a_say_draws_the_sound_its_loudness_and_the_jaw_received(tmp_path):
+    pytest.importorskip("matplotlib")
+    import numpy as np
+    from jawmeasure import received
+    from test_voice import INMOOV, vowel, wav
+
+    from inmoov_dsl.compiling.compiler import compile_program
+    from inmoov_dsl.language.load import load
+    from inmoov_dsl.model.plot import figure
+
+    (tmp_path / "v.wav").write_bytes(wav(vowel()))
+    program = load(str(tmp_path / "g.gest"), 'g: say "v.wav" & neck 100 over 1s\n')
+    compiled, plan = compile_program(program, "g", INMOOV)
+    row = figure(plan, compiled).axes[0]
+    assert row.get_title(loc="left") == 'say "v.wav" at 0.00 s'
+    lines = {line.get_label(): line for line in row.get_lines()}
+    assert set(lines) == {"its loudness", "the jaw as its board receives it\n(0 closed, 1 open)"}
+    # the jaw drawn is every value the head's board reads, as a share of open
+    jaw = INMOOV.servos[INMOOV.index("jaw")]
+    head = next(s for s in compiled.streams if s.board == 183)
+    values = [v for _, v in received(head.times, head.data, head.byte_time, jaw.id)]
+    drawn = lines["the jaw as its board receives it\n(0 closed, 1 open)"].get_ydata()
+    assert np.allclose(drawn[1:-1], np.array(values) / INMOOV.voice.opened)
+    assert max(values) >= 0.8 * INMOOV.voice.opened  # the vowel opens it wide

@@ -45,6 +45,11 @@ def moving_servos(plan: Plan, sent: dict) -> list[int]:
 
 def plot(plan: Plan, compiled: Compiled, path: str | os.PathLike) -> None:
     """Draw the gesture to ``path`` (the suffix picks the format: .png, .svg, .pdf)."""
+    figure(plan, compiled).savefig(path, dpi=110)
+
+
+def figure(plan: Plan, compiled: Compiled):
+    """The gesture drawn: a matplotlib ``Figure``."""
     Figure, Patch = _matplotlib()  # noqa: N806 (classes)
     sent = sent_values(plan, compiled)
     rows = [None] * len(plan.sounds) + (moving_servos(plan, sent) or [0])
@@ -81,7 +86,7 @@ def plot(plan: Plan, compiled: Compiled, path: str | os.PathLike) -> None:
     pos.set_xlabel("time (s)")
     vel.set_xlabel("time (s)")
     _legend(fig, fig.axes[2 * len(plan.sounds)], first_vel, plan, Patch)
-    fig.savefig(path, dpi=110)
+    return fig
 
 
 def _servo_row(pos, vel, plan: Plan, i: int, sent: tuple[np.ndarray, np.ndarray],
