@@ -29,8 +29,25 @@ OVERLAP = 300  #: ...looking this many knots further
 MARGIN = 1 - 1e-6  #: of each limit: floating point keeps to the inside
 
 
+NEEDS_SCIPY = "planning the mouth for 'say' needs scipy, which is not installed"
+
+
 class MouthError(ValueError):
     """The mouth's track cannot be planned (scipy missing, or the solver failing)."""
+
+
+def solvable() -> bool:
+    """Is the solver (scipy) there?"""
+    import importlib.util
+
+    return importlib.util.find_spec("scipy") is not None
+
+
+def runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """The runs ``[a, b)`` where ``mask`` is true."""
+    edges = np.diff(np.concatenate(([0], np.asarray(mask, dtype=np.int8), [0])))
+    return list(zip(np.flatnonzero(edges == 1).tolist(),
+                    np.flatnonzero(edges == -1).tolist(), strict=True))
 
 
 def fit(target: np.ndarray, fixed: np.ndarray, servo: Servo, hop: float,
@@ -66,12 +83,9 @@ def _windows(free: np.ndarray) -> list[list[tuple[int, int, int]]]:
     ``first..look-1`` and keeps ``first..stop-1``. A run longer than CHUNK is cut into
     parts, each its own window; shorter runs share a window up to CHUNK long. Every run
     has three fixed points on each side."""
-    edges = np.diff(np.concatenate(([0], free.astype(np.int8), [0])))
-    runs = zip(np.flatnonzero(edges == 1).tolist(), np.flatnonzero(edges == -1).tolist(),
-               strict=True)
     windows: list[list[tuple[int, int, int]]] = []
     group: list[tuple[int, int, int]] = []  # short runs sharing a window
-    for a, b in runs:
+    for a, b in runs(free):
         if group and b - group[0][0] > CHUNK:
             windows.append(group)
             group = []
@@ -99,8 +113,7 @@ def _solve(window: np.ndarray, offset: int, aim: np.ndarray, servo: Servo,
         from scipy import sparse
         from scipy.optimize import linprog
     except ImportError:
-        raise MouthError("planning the mouth for 'say' needs scipy, which is not "
-                         "installed") from None
+        raise MouthError(NEEDS_SCIPY) from None
     knots = np.arange(offset, min(len(aim), offset + len(window) - 2))
     (lo, hi), m, n, aim = span, len(window), len(knots), aim[knots]
     knots = knots - offset

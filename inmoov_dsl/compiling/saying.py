@@ -8,6 +8,7 @@ from ..language import syntax as ast
 from ..language.program import Program
 from ..profiles.data import Profile
 from ..voice.wav import SoundError
+from .mouth import NEEDS_SCIPY, solvable
 from .speech import Speech, loudness
 
 
@@ -25,18 +26,10 @@ def speech(step: ast.Say, program: Program, profile: Profile) -> Speech:
         sound = program.hear(step.text, step.pos.file, voice.voice, voice.speed, voice.pitch)
     except SoundError as exc:
         raise GestError(program.sources.error(exc.message, step.text_pos, exc.hint)) from None
-    if not _solver():
-        raise GestError(program.sources.error(
-            "planning the mouth for 'say' needs scipy, which is not installed", step.pos,
-            "python -m pip install 'inmoov-dsl[voice]'"))
+    if not solvable():
+        raise GestError(program.sources.error(NEEDS_SCIPY, step.pos,
+                                              "python -m pip install 'inmoov-dsl[voice]'"))
     return Speech(sound, profile.index(voice.mouth), voice, loudness(sound))
-
-
-def _solver() -> bool:
-    """Is scipy (the mouth's solver, ``compiling/mouth.py``) there?"""
-    import importlib.util
-
-    return importlib.util.find_spec("scipy") is not None
 
 
 def label(part: ast.Move | ast.Say) -> str:

@@ -18,7 +18,7 @@ from ruckig import InputParameter, Ruckig, Trajectory
 
 from ..profiles.data import Profile, Servo, Voice
 from ..voice.wav import Sound
-from .mouth import fit
+from .mouth import fit, runs
 from .tracks import Track, TrackBuilder
 
 HOP = 0.010  #: s between loudness values, and between the track's knots
@@ -99,7 +99,9 @@ def track(speech: Speech, servo: Servo, start: float) -> tuple[Track, float, flo
     fixed = np.full(len(target) + 2, np.nan)
     fixed[:3] = start
     free_from = int(np.ceil(_move_time(servo, start, closed) / HOP))
-    for a, b in _silences(target == closed, round(QUIET / HOP)):
+    for a, b in runs(target == closed):
+        if b - a < round(QUIET / HOP):
+            continue
         a = max(a + round(CLOSING / HOP), free_from)
         fixed[a:b + 2] = closed  # still and closed from knot a to knot b
     fixed[-3:] = closed
@@ -113,14 +115,6 @@ def track(speech: Speech, servo: Servo, start: float) -> tuple[Track, float, flo
     breaks = np.arange(pieces + 1) * HOP
     rest = np.array([[closed if pieces else float(start), 0.0, 0.0, 0.0]])
     return Track(breaks, np.concatenate((coefs[:pieces], rest))), pieces * HOP, wait
-
-
-def _silences(silent: np.ndarray, shortest: int) -> list[tuple[int, int]]:
-    """The runs ``[a, b)`` of ``silent`` at least ``shortest`` long."""
-    edges = np.diff(np.concatenate(([0], silent.astype(np.int8), [0])))
-    runs = zip(np.flatnonzero(edges == 1).tolist(), np.flatnonzero(edges == -1).tolist(),
-               strict=True)
-    return [(a, b) for a, b in runs if b - a >= shortest]
 
 
 def follow(speech: Speech, profile: Profile, now: float, pose: list[int],
