@@ -57,7 +57,7 @@ def espeak(text: str, voice: str, speed: int) -> bytes:
 def converted(path: Path, options: tuple[str, ...], folder: Path) -> bytes:
     """The recording at ``path`` in another WAV format, by sox."""
     out = folder / "converted.wav"
-    subprocess.run(["sox", str(path), *options, "-e",
+    subprocess.run(["sox", "-R", str(path), *options, "-e",
                     "unsigned-integer" if options[1] == "8" else "signed-integer", str(out)],
                    check=True)
     return out.read_bytes()

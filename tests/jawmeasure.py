@@ -30,9 +30,12 @@ import numpy as np
 FRAME = 0.020  #: s
 SMOOTH = 5  #: frames: 100 ms
 SILENT = 0.03  #: of the loudest frame's RMS (-30 dB)
-LONG_SILENCE = 0.250  #: s: the jaw stays still in a silence this long...
-CLOSING = 0.150  #: ...but for the closing after the sound before it...
-OPENING = 0.060  #: ...and the opening ahead of the sound after it
+#: s: the jaw stays still in a silence longer than this, but for the closing after the
+#: sound before it and the opening ahead of the sound after it (together this long: a
+#: longer silence has a time the jaw has nothing to do)
+LONG_SILENCE = 0.250
+CLOSING = 0.150  #: s: closed within this of the last sound (the issue's bound)...
+OPENING = 0.100  #: ...and the rest for the opening: a jaw needs it to open ahead
 SHIFTS = range(-10, 11)  #: frames tried: +-200 ms
 CANCEL, LAST_SIGNAL, MAX_VALUE = 255, 249, 180
 

@@ -29,7 +29,7 @@ def recording(name: str, tmp_path: Path, *sox: str) -> bytes:
     """Debian's recorded ``name`` (alsa-utils), converted by sox with ``sox`` options."""
     need("sox", str(RECORDINGS / f"{name}.wav"), packages="sox alsa-utils")
     out = tmp_path / f"{name}.wav"
-    subprocess.run(["sox", str(RECORDINGS / f"{name}.wav"), *sox, str(out)], check=True,
+    subprocess.run(["sox", "-R", str(RECORDINGS / f"{name}.wav"), *sox, str(out)], check=True,
                    timeout=60)
     return out.read_bytes()
 

@@ -176,7 +176,7 @@ def test_espeak_failing_names_the_voice():
 # -- the mouth ----------------------------------------------------------------------------
 def mouth(samples, rate=22050):
     sound = read_wav(wav(samples, rate), "v.wav")
-    s = speech.Speech(sound, JAW, INMOOV.voice, speech.loudness(sound))
+    s = speech.heard(sound, JAW, INMOOV.voice)
     track, moved, wait = speech.track(s, INMOOV.servos[JAW], INMOOV.voice.closed)
     assert wait == 0  # the sound begins with silence: no wait
     return sound, track, moved
@@ -199,7 +199,7 @@ def test_the_mouth_stays_within_its_servo_s_limits():
     need_espeak()
     sound = read_wav(speaking.speak("Hello, I am InMoov, the robot you can print.", "en",
                                     150, 45), "hello")
-    s = speech.Speech(sound, JAW, INMOOV.voice, speech.loudness(sound))
+    s = speech.heard(sound, JAW, INMOOV.voice)
     servo = INMOOV.servos[JAW]
     track, moved, _ = speech.track(s, servo, 0)
     t = np.arange(0, moved, 0.0005)

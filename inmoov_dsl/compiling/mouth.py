@@ -51,11 +51,11 @@ def runs(mask: np.ndarray) -> list[tuple[int, int]]:
 
 
 def fit(target: np.ndarray, fixed: np.ndarray, servo: Servo, hop: float,
-        span: tuple[float, float], closed: float) -> np.ndarray:
+        span: tuple[float, float], closed: float, judged: np.ndarray) -> np.ndarray:
     """The control points (``len(target) + 2``) of the track whose value at each knot k
-    is nearest ``target[k]``, or a smaller opening (from ``closed``) of the same shape;
-    ``fixed[j]`` (not NaN) fixes control point j. The track stays within ``span`` and
-    the servo's limits."""
+    is nearest ``target[k]``, or a smaller opening (from ``closed``) of the same shape
+    (the shape judged at the knots ``judged`` marks); ``fixed[j]`` (not NaN) fixes
+    control point j. The track stays within ``span`` and the servo's limits."""
     c = fixed.astype(float).copy()
     for parts in _windows(np.isnan(c)):
         best, best_r = None, -2.0
@@ -68,7 +68,8 @@ def fit(target: np.ndarray, fixed: np.ndarray, servo: Servo, hop: float,
                                            span)[3:3 + stop - first]
             knots = np.arange(parts[0][0] - 2, min(len(target), parts[-1][1]))
             values = (tried[knots] + 4 * tried[knots + 1] + tried[knots + 2]) / 6
-            known = np.isfinite(values)  # (a long run's next part is not solved yet)
+            known = np.isfinite(values) & judged[knots]  # (a long run's next part is
+            # not solved yet)
             r = _correlation(values[known], target[knots][known])
             if best is None or r > best_r:
                 best, best_r = tried, r

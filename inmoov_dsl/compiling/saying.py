@@ -9,7 +9,7 @@ from ..language.program import Program
 from ..profiles.data import Profile
 from ..voice.wav import SoundError
 from .mouth import NEEDS_SCIPY, solvable
-from .speech import Speech, loudness
+from .speech import Speech, heard
 
 
 def speech(step: ast.Say, program: Program, profile: Profile) -> Speech:
@@ -29,7 +29,7 @@ def speech(step: ast.Say, program: Program, profile: Profile) -> Speech:
     if not solvable():
         raise GestError(program.sources.error(NEEDS_SCIPY, step.pos,
                                               "python -m pip install 'inmoov-dsl[voice]'"))
-    return Speech(sound, profile.index(voice.mouth), voice, loudness(sound))
+    return heard(sound, profile.index(voice.mouth), voice)
 
 
 def label(part: ast.Move | ast.Say) -> str:

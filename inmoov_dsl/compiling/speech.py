@@ -4,9 +4,9 @@ under its servo's limits (``mouth.fit``), LEAD ahead of the sound.
 
 The loudness is the RMS of each HOP of sound, averaged over SMOOTH (a syllable's
 swell), from 0 (silence: under GATE of the loudest) to 1 (the loudest). The track aims
-at the opening the loudness asks LEAD later. A silence of QUIET or more (in the
-loudness; about 250 ms of sound, less the averaging) closes the mouth and holds it still
-from CLOSING after it begins to the moment the next sound's opening starts.
+at the opening the loudness asks LEAD later. A silence (hops whose own RMS is under GATE
+of the loudest hop's) of QUIET or more closes the mouth and holds it still, from CLOSING
+after it begins to OPENING before the next sound.
 """
 
 from __future__ import annotations
@@ -25,20 +25,25 @@ HOP = 0.010  #: s between loudness values, and between the track's knots
 SMOOTH = 0.100  #: s of sound each loudness value averages
 GATE = 0.03  #: of the loudest: quieter is silence
 LEAD = 0.040  #: s; the mouth's opening leads the sound by this (two servo frames)
-QUIET = 0.150  #: s of silent loudness that holds the mouth closed and still...
-CLOSING = 0.080  #: ...from this long after the silence begins (the mouth closing)
+QUIET = 0.250  #: s of silence that holds the mouth closed and still...
+CLOSING = 0.080  #: ...from this long after the silence begins (the mouth closing)...
+OPENING = 0.080  #: ...to this long before the next sound (the mouth opening ahead)
+#: s after a silence held still in which the jaw, starting from rest, cannot be fully
+#: where the sound wants it: the fit's shape is not judged there (``mouth.fit``)
+ONSET = 0.150
 AFTER = 0.300  #: s the track may take after the sound to close
 
 
 @dataclass(frozen=True, eq=False)
 class Speech:
-    """A ``say`` for one profile: its sound, the mouth's servo and the opening the sound
-    asks every HOP (closed..open)."""
+    """A ``say`` for one profile (``heard``): its sound, the mouth's servo, the opening
+    the sound asks every HOP (closed..open) and its long silences."""
 
     sound: Sound
     servo: int  #: the mouth's index in the profile
     voice: Voice
     levels: np.ndarray = field(repr=False)  #: loudness 0..1 every HOP
+    silent: np.ndarray = field(repr=False)  #: each HOP: is it silence?
 
     @property
     def openings(self) -> np.ndarray:
@@ -47,21 +52,42 @@ class Speech:
         return v.closed + (v.opened - v.closed) * self.levels
 
 
-def loudness(sound: Sound) -> np.ndarray:
-    """0 (silence) .. 1 (the loudest) every HOP s."""
-    hop = max(1, round(sound.rate * HOP))
-    x = sound.samples.astype(np.float64)
-    count = -(-len(x) // hop)
-    x = np.concatenate((x, np.zeros(count * hop - len(x))))
-    rms = np.sqrt((x.reshape(count, hop) ** 2).mean(axis=1))
+def heard(sound: Sound, servo: int, voice: Voice) -> Speech:
+    """The Speech of ``sound`` said by ``voice`` through servo ``servo`` (an index)."""
+    rms = _rms(sound.samples, sound.rate)
+    loudest = float(rms.max()) if len(rms) else 0.0
+    return Speech(sound, servo, voice, loudness(rms), rms <= GATE * loudest)
+
+
+def loudness(rms: np.ndarray) -> np.ndarray:
+    """0 (silence) .. 1 (the loudest) every HOP s, from each HOP's RMS (``_rms``)."""
     width = max(1, round(SMOOTH / HOP))
-    heard = np.convolve(rms, np.ones(width) / width, mode="same")
-    loudest = float(heard.max()) if len(heard) else 0.0
+    swell = np.convolve(rms, np.ones(width) / width, mode="same")
+    loudest = float(swell.max()) if len(swell) else 0.0
     if loudest <= 0:
-        return np.zeros(len(heard))
-    levels = heard / loudest
+        return np.zeros(len(swell))
+    levels = swell / loudest
     levels[levels < GATE] = 0.0
     return levels
+
+
+def _rms(x: np.ndarray, rate: float) -> np.ndarray:
+    """The RMS of each HOP of ``x`` (the hops' edges on the nearest sample, so that a
+    rate that is no multiple of 100 does not drift), 10 s at a time."""
+    count = max(1, int(np.ceil(len(x) / (rate * HOP) - 1e-9)))
+    edges = np.minimum(np.round(np.arange(count + 1) * rate * HOP).astype(np.int64), len(x))
+    power = np.zeros(count)
+    for first in range(0, count, 1000):
+        last = min(count, first + 1000)
+        lo, hi = int(edges[first]), int(edges[last])
+        if hi <= lo:
+            break
+        part = x[lo:hi].astype(np.float64)
+        starts = edges[first:last] - lo
+        some = int(np.count_nonzero(starts < hi - lo))  # (the last hops may hold none)
+        power[first:first + some] = np.add.reduceat(part * part, starts[:some])
+    widths = np.diff(edges)
+    return np.sqrt(np.where(widths > 0, power / np.maximum(widths, 1), 0.0))
 
 
 def _move_time(servo: Servo, start: float, target: float) -> float:
@@ -79,8 +105,8 @@ def delay(speech: Speech, servo: Servo) -> float:
     waits until the mouth, from rest, could be half open (LEAD before it)."""
     voice = speech.voice
     ready = LEAD + _move_time(servo, voice.closed, (voice.closed + voice.opened) / 2)
-    heard = np.flatnonzero(speech.levels)
-    onset = (heard[0] * HOP + SMOOTH / 2) if len(heard) else ready
+    sounding = np.flatnonzero(~speech.silent)
+    onset = sounding[0] * HOP if len(sounding) else ready
     return max(0, round((ready - onset) / HOP)) * HOP
 
 
@@ -91,22 +117,29 @@ def track(speech: Speech, servo: Servo, start: float) -> tuple[Track, float, flo
     voice = speech.voice
     closed = float(voice.closed)
     wait = delay(speech, servo)
-    heard = np.arange(round((wait + speech.sound.duration + LEAD + AFTER) / HOP)) \
-        - round((wait - LEAD) / HOP)
-    inside = (heard >= 0) & (heard < len(speech.levels))
-    target = np.where(inside, speech.openings[np.clip(heard, 0, len(speech.levels) - 1)],
-                      closed)
+    hop = np.arange(round((wait + speech.sound.duration + LEAD + AFTER) / HOP)) \
+        - round((wait - LEAD) / HOP)  # the sound's hop each knot aims at
+    inside = (hop >= 0) & (hop < len(speech.levels))
+    hop = np.clip(hop, 0, len(speech.levels) - 1)
+    target = np.where(inside, speech.openings[hop], closed)
     fixed = np.full(len(target) + 2, np.nan)
     fixed[:3] = start
     free_from = int(np.ceil(_move_time(servo, start, closed) / HOP))
-    for a, b in runs(target == closed):
+    now = np.arange(len(target)) - round(wait / HOP)  # the sound's hop at each knot
+    silent = np.ones(len(target), bool)
+    within = (now >= 0) & (now < len(speech.silent))
+    silent[within] = speech.silent[now[within]]
+    judged = np.ones(len(target), bool)
+    for a, b in runs(silent):
         if b - a < round(QUIET / HOP):
             continue
         a = max(a + round(CLOSING / HOP), free_from)
+        b = b - round(OPENING / HOP) if b < len(silent) else b
         fixed[a:b + 2] = closed  # still and closed from knot a to knot b
+        judged[b:b + round(ONSET / HOP)] = False
     fixed[-3:] = closed
     span = (min(closed, voice.opened, start), max(closed, voice.opened, start))
-    c = fit(target, fixed, servo, HOP, span, closed)
+    c = fit(target, fixed, servo, HOP, span, closed, judged)
     p0, p1, p2, p3 = c[:-3], c[1:-2], c[2:-1], c[3:]
     coefs = np.stack(((p0 + 4 * p1 + p2) / 6, (p2 - p0) / (2 * HOP),
                       (p0 - 2 * p1 + p2) / HOP ** 2, (p3 - 3 * p2 + 3 * p1 - p0) / HOP ** 3), 1)

@@ -1,6 +1,11 @@
 """A WAV file's sound (pure: bytes in, samples out): PCM, 8, 16, 24 or 32 bits, mono or
 stereo (mixed to mono), any sample rate. Anything else is a ``SoundError`` saying what
-the file is and what is taken."""
+the file is and what is taken.
+
+The file is read a second at a time, and a rate above KEPT_RATE is kept as the mean of
+each few samples (a whole number of them) down to at most KEPT_RATE: what speech needs
+and what a speaker plays, so that the samples of the longest, fastest file allowed take
+a hundred-odd MB, not a GB."""
 
 from __future__ import annotations
 
@@ -11,6 +16,7 @@ import numpy as np
 
 MAX_SECONDS = 600.0  #: the longest sound a step may say (10 minutes)
 MAX_RATE = 384_000  #: samples per second
+KEPT_RATE = 48_000  #: samples per second kept, at most
 
 
 class SoundError(Exception):
@@ -23,11 +29,12 @@ class SoundError(Exception):
 
 @dataclass(frozen=True, eq=False)
 class Sound:
-    """Mono samples in -1..1 at ``rate`` per second; ``digest`` names the bytes they came
-    from; ``source``: the file or the text, as the step says it."""
+    """Mono samples in -1..1 at ``rate`` per second (the file's, or a whole fraction of
+    it); ``digest`` names the bytes they came from; ``source``: the file or the text, as
+    the step says it."""
 
     samples: np.ndarray = field(repr=False)
-    rate: int
+    rate: float
     source: str
     digest: str
     wav: bytes = field(repr=False, default=b"")  #: the file's bytes, to play them as they are
@@ -51,25 +58,58 @@ def read_wav(data: bytes, source: str) -> Sound:
         with wave.open(io.BytesIO(data)) as w:
             channels, width, rate, frames = (w.getnchannels(), w.getsampwidth(),
                                              w.getframerate(), w.getnframes())
-            wanted = min(frames, int(MAX_SECONDS * min(rate, MAX_RATE)) + 1)
-            raw = w.readframes(wanted)
-    except (wave.Error, EOFError, ValueError) as exc:
-        raise SoundError(f"'{source}' is not a WAV file say can play ({exc})",
+            _check(source, channels, rate)
+            wanted = min(frames, int(MAX_SECONDS * rate) + 1)
+            samples, got = _read(w, wanted, width, channels, _factor(rate))
+            frames = frames if got == wanted else got  # (a header written to a pipe
+            # says the most it can: the file holds less)
+    except (wave.Error, EOFError, ValueError, RuntimeError, OverflowError) as exc:
+        # (wave's chunk reader raises a bare RuntimeError on a chunk cut short)
+        raise SoundError(f"'{source}' is not a WAV file say can play "
+                         f"({str(exc) or 'a chunk is cut short'})",
                          "save it as PCM WAV (8, 16, 24 or 32 bits): compressed WAV is not "
                          "read") from None
-    if not 1 <= channels <= 2 or not 0 < rate <= MAX_RATE:
-        raise SoundError(f"'{source}' has {channels} channels at {rate} Hz",
-                         "say plays mono or stereo WAV at up to 384 kHz")
-    if len(raw) // (width * channels) < wanted:  # less than the header says (a WAV
-        frames = len(raw) // (width * channels)  # written to a pipe says the most it can)
-    if frames == 0:
+    if frames == 0 or not len(samples):
         raise SoundError(f"'{source}' holds no sound (0 samples)")
     if frames / rate > MAX_SECONDS:
         raise SoundError(f"'{source}' lasts {frames / rate:,.0f} s, more than "
                          f"{MAX_SECONDS:.0f} s", "split it into shorter sounds")
-    samples = _samples(raw[:frames * width * channels], width).reshape(-1, channels).mean(axis=1)
-    return Sound(samples.astype(np.float32), rate, source,
-                 hashlib.sha256(data).hexdigest(), data)
+    return Sound(samples, rate / _factor(rate), source, hashlib.sha256(data).hexdigest(),
+                 data)
+
+
+def _check(source: str, channels: int, rate: int) -> None:
+    if not 1 <= channels <= 2 or not 0 < rate <= MAX_RATE:
+        raise SoundError(f"'{source}' has {channels} channels at {rate} Hz",
+                         "say plays mono or stereo WAV at up to 384 kHz")
+
+
+def _factor(rate: int) -> int:
+    """How many of the file's samples each kept one averages."""
+    return max(1, -(-rate // KEPT_RATE))
+
+
+def _read(w, wanted: int, width: int, channels: int, factor: int
+          ) -> tuple[np.ndarray, int]:
+    """Up to ``wanted`` frames of ``w``, a second at a time, mixed to mono and averaged
+    ``factor`` at a time (float32); and how many frames were read."""
+    size = width * channels
+    block = max(factor, w.getframerate() // factor * factor)  # about a second
+    out = np.empty(wanted // factor + 1, np.float32)
+    kept = got = 0
+    while got < wanted:
+        asked = min(block, wanted - got)
+        raw = w.readframes(asked)
+        count = len(raw) // size
+        mono = _samples(raw[:count * size], width).reshape(-1, channels).mean(axis=1)
+        whole = count // factor * factor  # (only the file's last block can leave some)
+        mono = mono[:whole].reshape(-1, factor).mean(axis=1) if whole else mono[:0]
+        out[kept:kept + len(mono)] = mono
+        kept, got = kept + len(mono), got + count
+        if count < asked:  # the file ends
+            break
+    # (a header written to a pipe claims more than the file holds: keep only what it does)
+    return (out[:kept] if kept + 1 >= len(out) else out[:kept].copy()), got
 
 
 def _samples(raw: bytes, width: int) -> np.ndarray:
