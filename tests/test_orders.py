@@ -3,6 +3,7 @@ started, finished or stopped; ``after`` queues, ``loop`` repeats, a stop holds t
 where it is and a relax lets it go. No real time passes (the repl tests' timeline)."""
 
 import itertools
+import random
 
 import pytest
 from test_repl import RHAND, ClockedPort, Timeline
@@ -156,3 +157,54 @@ def test_a_board_that_reads_late_holds_what_the_drive_says_after_any_stops(lag, 
     board.advance(timeline.t)
     assert board.positions() == {s.id: v for s, v in zip(RHAND.servos, loop.mirror.held(),
                                                          strict=True)}
+
+
+def mixed_requests(seed: int) -> list:
+    """A seeded sequence of requests, each some time after the one before (often at
+    once): take-overs, queued requests, loops, stops and relaxes."""
+    rng = random.Random(seed)
+    fingers = ["index", "middle", "ring", "pinky", "thumb", "wrist"]
+    t, script = 0.0, []
+    for k in range(rng.randint(3, 8)):
+        t += rng.choice([0.0, 0.001, 0.004, 0.011, 0.02, 0.05, 0.3, 0.7])
+        kind = rng.choice(["take", "take", "after", "loop", "stop", "relax"])
+        if kind in ("stop", "relax"):
+            script.append((t, Control(kind, f"c{k}")))
+            continue
+        moved = rng.sample(fingers, rng.randint(1, 3))
+        steps = ", ".join(f"{f} {rng.randint(0, 180)}" for f in moved)
+        steps += f" over {rng.choice([0.1, 0.5, 2])}s"
+        script.append((t, Order(steps, f"o{k}", after=kind == "after",
+                                loop=2 if kind == "loop" else 1)))
+    return script
+
+
+@pytest.mark.parametrize("port", ["drops", "keeps", "late"])
+def test_whatever_arrives_in_whatever_order_the_pose_reported_is_the_board_s(port):
+    """Seeded sequences of take-overs, queued requests, loops, stops and relaxes, each
+    at once after the one before or a little later: at the end, the pose the drive
+    reports (what the service and the repl say) is the one the board answers to DUMP."""
+    for seed in range(25):
+        timeline = Timeline(mixed_requests(seed))
+        board = VirtualBoard(BoardCore.from_profile(RHAND, RHAND.boards[0]), 9600)
+        wire = (LatePort(board, timeline, 0.03) if port == "late"
+                else ClockedPort(board, timeline, port == "drops"))
+        loop = Drive([Link(181, wire, "timeline")], RHAND, {}, PROGRAM, lambda note: None,
+                     now=timeline.now, sleep=timeline.sleep)
+        loop.run(timeline.next_line)
+        timeline.t += 5  # every move ends
+        while loop.out.sending():
+            loop.out.send(timeline.t)
+            timeline.t += 0.01
+        board.advance(timeline.t)
+        board.read(timeline.t)  # (what it said before: WAITs)
+        wire.write(bytes([Signal.CANCEL, Signal.DUMP]))
+        timeline.t += 1
+        if port == "late":
+            wire._deliver()
+        board.advance(timeline.t)
+        answer = board.read(timeline.t)
+        reply = answer[answer.index(Signal.START):answer.index(Signal.END)]
+        dumped = dict(zip(reply[3::2], reply[4::2], strict=True))
+        said = {s.id: v for s, v in zip(RHAND.servos, loop.mirror.held(), strict=True)}
+        assert dumped == said, (seed, mixed_requests(seed))
