@@ -11,6 +11,7 @@ port with nothing answering at all.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import select
 import termios
@@ -37,9 +38,11 @@ SPEEDS = {57600: termios.B57600, 115200: termios.B115200}
 class Bootloader:
     """An ATmega328P waiting in its bootloader, on a pseudo-terminal."""
 
-    def __init__(self, baud: int = 115200, silent: bool = False):
+    def __init__(self, baud: int = 115200, silent: bool = False,
+                 unplugged_after: int | None = None):
         self.baud = baud
         self.silent = silent
+        self.unplugged_after = unplugged_after  #: pages written before the cable goes
         self.flash = bytearray(b"\xff" * FLASH_SIZE)
         self.eeprom = bytearray(b"\xff" * EEPROM_SIZE)
         self.commands: list[int] = []  #: the command byte of every command answered
@@ -65,8 +68,9 @@ class Bootloader:
             return
         self._stop.set()
         self._thread.join(5)
-        os.close(self.master)
-        os.close(self.slave)
+        for fd in (self.master, self.slave):
+            with contextlib.suppress(OSError):  # (unplugged: the master is gone already)
+                os.close(fd)
 
     def __enter__(self) -> Bootloader:
         return self
@@ -156,6 +160,9 @@ class Bootloader:
                 target[self._address:end] = data
                 if memory == "F":
                     self.pages.append((self._address, length))
+            if len(self.pages) == self.unplugged_after:  # the cable goes: no answer, and
+                os.close(self.master)  # the port's other end is gone
+                return False
             return self._end()
         if cmd == READ_PAGE:
             args = self._take(3)

@@ -302,3 +302,44 @@ def test_a_file_that_is_not_intel_hex_is_refused(tmp_path, capsys, port):
     assert read_hex(good) == {0: 0x0C, 1: 0x94}
     with pytest.raises(GestError):
         read_hex(Path(tmp_path / "missing.hex"))
+
+
+def avrdudes_on(path: str) -> list[int]:
+    """The avrdude processes that have ``path`` on their command line (Linux's /proc)."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        try:
+            words = (entry / "cmdline").read_bytes().split(b"\0")
+        except OSError:
+            continue
+        if words and words[0].endswith(b"avrdude") and path.encode() in words:
+            found.append(int(entry.name))
+    return found
+
+
+@LINUX
+def test_a_board_unplugged_during_the_upload_ends_it_with_no_avrdude_left(tmp_path):
+    """The cable goes after three pages: avrdude waits forever on a port whose other end
+    is gone. gestc upload stops it after STALL s of silence and says what happened."""
+    need("avrdude")
+    import time
+
+    from inmoov_dsl.firmware.upload import STALL
+
+    hex_file = tmp_path / "big.hex"
+    records = [bytes([16, a >> 8, a & 0xFF, 0]) + bytes(range(16)) for a in range(0, 8192, 16)]
+    hex_file.write_text("".join(f":{r.hex()}{-sum(r) & 0xFF:02x}\n" for r in records) +
+                        ":00000001FF\n")
+    with Bootloader(unplugged_after=3) as board:
+        began = time.monotonic()
+        done = gestc_run("upload", "servo_rhand", "--port", board.path, "--hex",
+                         str(hex_file), timeout=STALL + 100)
+        took = time.monotonic() - began
+        left = avrdudes_on(board.path)
+    assert done.returncode == 1 and len(board.pages) == 3
+    assert STALL <= took < STALL + 60  # then stopped (a busy machine: the starts)
+    assert left == []
+    assert done.stderr.endswith(
+        f"gestc: error: the board on {board.path} stopped answering: avrdude heard nothing "
+        f"for {STALL:.0f} s, and was stopped\n  hint: was the cable pulled or the board "
+        "reset? plug it in and upload again: the bootloader is still there\n")

@@ -11,10 +11,12 @@ What avrdude says goes to the user as it comes; a failure becomes one of our mes
 
 from __future__ import annotations
 
+import queue
 import re
 import shutil
 import subprocess
 import sys
+import threading
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,6 +30,10 @@ from ..wire.ports import not_found, permission_denied
 from ..wire.stored import StoredSet
 from .sketches import sketch_names, sketches
 
+#: s avrdude may say nothing before the board is taken for gone (avrdude waits forever on
+#: a port whose other end has gone: a cable pulled mid-upload); it prints a progress
+#: mark every 2% of a write, and a line for each try to reach a board that is silent
+STALL = 8.0
 UNO_BAUD = 115200  #: Optiboot: an Uno, a Nano with the new bootloader
 OLD_NANO_BAUD = 57600  #: the old Nano bootloader (ATmegaBOOT)
 
@@ -215,20 +221,47 @@ def explain(output: str, port: str, boot: Loader = OPTIBOOT) -> Diagnostic:
 def flash(hex_file: Path, port: str, boot: Loader = OPTIBOOT, avrdude: str = "avrdude",
           options: Sequence[str] = ()) -> None:
     """Flash ``hex_file`` with avrdude, its progress shown as it comes; a failure is a
-    GestError saying what to do."""
+    GestError saying what to do. An avrdude silent for STALL s is stopped: the board is
+    gone. Whatever happens (Ctrl-C too), no avrdude is left running."""
     found = shutil.which(avrdude)
     if found is None:
         raise GestError(Diagnostic("error", f"{avrdude} not found", hint=INSTALL_AVRDUDE))
     proc = subprocess.Popen(avrdude_command(hex_file, port, boot, found, options),
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    chunks: queue.Queue[bytes] = queue.Queue()
+    threading.Thread(target=_pipe, args=(proc.stdout, chunks), daemon=True).start()
     said = bytearray()
     raw = getattr(sys.stderr, "buffer", None)  # a text-only stderr gets decoded text
-    while chunk := proc.stdout.read1(4096):  # progress bars come a character at a time
-        said += chunk
-        if raw is not None:
-            raw.write(chunk)
-        else:
-            sys.stderr.write(chunk.decode(errors="replace"))
-        sys.stderr.flush()
-    if proc.wait() != 0:
+    try:
+        while chunk := _next(chunks, port):  # progress bars come a character at a time
+            said += chunk
+            if raw is not None:
+                raw.write(chunk)
+            else:
+                sys.stderr.write(chunk.decode(errors="replace"))
+            sys.stderr.flush()
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        proc.wait()
+    if proc.returncode != 0:
         raise GestError(explain(said.decode(errors="replace"), port, boot))
+
+
+def _pipe(stream, chunks: queue.Queue) -> None:
+    """What avrdude prints, as it comes; b"" at its end."""
+    while chunk := stream.read1(4096):
+        chunks.put(chunk)
+    chunks.put(b"")
+
+
+def _next(chunks: queue.Queue, port: str) -> bytes:
+    """avrdude's next words (b"": it is done); a GestError after STALL s of silence."""
+    try:
+        return chunks.get(timeout=STALL)
+    except queue.Empty:
+        raise GestError(Diagnostic(
+            "error", f"the board on {port} stopped answering: avrdude heard nothing for "
+            f"{STALL:.0f} s, and was stopped",
+            hint="was the cable pulled or the board reset? plug it in and upload again: "
+            "the bootloader is still there")) from None
