@@ -535,3 +535,16 @@ def test_the_image_lists_what_it_stores_as_the_virtual_board_does(image):
     assert find_catalog(firmware, 181).names == tuple(NAMES)
     flash = int(re.search(r"servo_rhand: flash (\d+)", built)[1])
     assert flash - len(read_blob(book / "servo_rhand")) <= FIRMWARE_FLASH < flash
+
+
+@pytest.mark.parametrize(("profile", "board", "written"), [
+    ("rhand", [], "D99"), ("rhand", [], "d99"),
+    ("inmoov", ["--board", "servo_inmoov_left"], "A85")])
+def test_a_button_on_no_such_pin_is_named_as_the_user_wrote_it(profile, board, written,
+                                                             tmp_path, capsys):
+    gesture = "fist" if profile == "rhand" else "look_around"
+    assert gestc.main(["firmware", profile, *board, "-o", str(tmp_path), "--button",
+                       f"{written}={gesture}"]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith(f"gestc: error: --button {written}={gesture}: there is no such "
+                          "pin\n  hint: free pins on board 18")

@@ -46,6 +46,8 @@ class Request:
     idle: str | None = None
     idle_after: int = DEFAULT_IDLE_AFTER
     buttons: tuple[tuple[int, str], ...] = field(default=())  #: (pin, gesture)
+    #: (pin, as the user wrote it: D8, A0, 8) of the buttons, for what is said of them
+    written: tuple[tuple[int, str], ...] = field(default=())
 
     @property
     def every(self) -> tuple[str, ...]:
@@ -69,15 +71,18 @@ def parse_pin(text: str, analog: int = 14) -> int:
                                    "8=wave (pin D8), or A0=wave")) from None
 
 
-def check_pins(buttons: Sequence[tuple[int, str]], profile: Profile, board: Board) -> None:
+def check_pins(buttons: Sequence[tuple[int, str]], profile: Profile, board: Board,
+               written: Sequence[tuple[int, str]] = ()) -> None:
     """Each button's pin is free on ``board``: not the serial port's, a servo's, the
-    LED's or an analog-only one, and not two buttons'."""
+    LED's or an analog-only one, and not two buttons'; an error names a pin as
+    ``written`` says the user wrote it."""
     servos = {profile.servos[profile.index(n)].pin: n for n in board.servos}
     _, _, count, analog = kinds.arduino_of(board)
     nano = analog == 14  # a pin of an Uno is one of a Nano's
     seen: set[int] = set()
+    names = dict(written)
     for pin, gesture in buttons:
-        where = f"--button {pin_name(pin, analog)}={gesture}"
+        where = f"--button {names.get(pin, pin_name(pin, analog))}={gesture}"
         problem = ("it is the serial port's (D0, D1)" if pin in (0, 1) else
                    f"servo {servos[pin]} is on it" if pin in servos else
                    "the board's LED holds it low on a Nano" if pin == LED_PIN and nano else
@@ -147,7 +152,7 @@ def stored_set(gestures: Sequence[StoredGesture], request: Request, profile: Pro
         raise GestError(Diagnostic("error", f"board {board.id} has {len(board.servos)} "
                                    f"servos: a board with stored gestures has at most "
                                    f"{STORED_SERVOS} (a frame's servos are a 32-bit mask)"))
-    check_pins(request.buttons, profile, board)
+    check_pins(request.buttons, profile, board, request.written)
     number = {g.name: k for k, g in enumerate(gestures)}
     pair_us = round(protocol.PAIR_BYTES * protocol.byte_time(board.baud) * 1e6)
     flash = StoredSet(tuple(gestures), pair_us, limits(profile, board),

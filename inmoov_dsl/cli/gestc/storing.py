@@ -52,14 +52,16 @@ def request(args: argparse.Namespace, board: Board) -> Request:
     """What the options ask for, by gesture name (a button's pin as ``board``'s
     Arduino names it: A0 is 14 on an Uno, 54 on a Mega)."""
     names = tuple(n.strip() for spec in args.store for n in spec.split(",") if n.strip())
-    buttons = []
+    buttons, written = [], []
     for spec in args.button:
         pin, sep, gesture = spec.partition("=")
         if not sep or not gesture.strip():
             raise GestError(Diagnostic("error", f"--button {spec}: expected PIN=GESTURE",
                                        hint="--button D8=wave"))
         buttons.append((parse_pin(pin, kinds.arduino_of(board)[3]), gesture.strip()))
-    return Request(names, args.on_boot, args.idle, args.idle_after, tuple(buttons))
+        written.append((buttons[-1][0], pin.strip()))
+    return Request(names, args.on_boot, args.idle, args.idle_after, tuple(buttons),
+                   tuple(written))
 
 
 def stored_sets(args: argparse.Namespace, profile: Profile, board: Board, prog: str
@@ -85,7 +87,7 @@ def stored_sets(args: argparse.Namespace, profile: Profile, board: Board, prog: 
     named = {ref: found.refs[ref, False][0][1] for ref, store in found.refs if not store}
     asked = Request(tuple(name for _, name in found.order), named.get(asked.boot),
                     named.get(asked.idle), asked.idle_after,
-                    tuple((p, named[g]) for p, g in asked.buttons))
+                    tuple((p, named[g]) for p, g in asked.buttons), asked.written)
     flash = make_set(gestures, asked, profile, board)
     size = len(flash.to_bytes())
     print(f"{prog}: board {board.id} stores {len(gestures)} gesture"
