@@ -364,9 +364,10 @@ def _gest(seed: Seed, data: bytes):
 def _toml(seed: Seed, data: bytes):
     """Like ``load_profile``: decode, parse, check; then compile a gesture moving every
     servo on it, and read the result back and against the profile."""
-    from inmoov_dsl.compiling.compiled import check_profile, to_json
+    from inmoov_dsl.compiling.compiled import to_json
     from inmoov_dsl.compiling.compiled_reader import from_json
     from inmoov_dsl.compiling.compiler import compile_source
+    from inmoov_dsl.compiling.playable import check_profile
     from inmoov_dsl.errors import decode_utf8
     from inmoov_dsl.profiles.profile import parse_profile
 
@@ -388,8 +389,8 @@ def _toml(seed: Seed, data: bytes):
 def _gestc(seed: Seed, data: bytes):
     """Like the player: read the file (as bytes, or as text for even lengths), check
     what it accepts against the rules of the protocol, then against the profile."""
-    from inmoov_dsl.compiling.compiled import check_profile
     from inmoov_dsl.compiling.compiled_reader import from_json
+    from inmoov_dsl.compiling.playable import check_profile
     from inmoov_dsl.profiles.profile import load_profile
 
     if len(data) % 2 == 0:

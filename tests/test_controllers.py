@@ -285,8 +285,9 @@ def test_virtual_board_logs_every_servo_a_command_sets():
 def test_a_compiled_file_carries_the_board_s_kind_and_its_rules(profile):
     import json
 
-    from inmoov_dsl.compiling.compiled import check_profile, to_json
+    from inmoov_dsl.compiling.compiled import to_json
     from inmoov_dsl.compiling.compiled_reader import from_json
+    from inmoov_dsl.compiling.playable import check_profile
 
     compiled, _ = compile_program(load(str(LIBRARY["wave"].path)), "wave", profile)
     again = from_json(to_json(compiled), "wave.gestc")

@@ -12,9 +12,9 @@ from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 
 from inmoov_dsl import compile_source, from_json, load_profile, measure, protocol, to_json
-from inmoov_dsl.compiling.compiled import check_profile
 from inmoov_dsl.compiling.compiled_reader import read_compiled
 from inmoov_dsl.compiling.compiler import compile_program
+from inmoov_dsl.compiling.playable import check_profile
 from inmoov_dsl.errors import GestError
 from inmoov_dsl.language.load import load
 
@@ -331,3 +331,52 @@ def test_check_profile_refuses_boards_ids_and_bauds_the_profile_has_not(rhand, t
     assert info.value.first.message == (
         "'g' is timed for board 181 at 115200 baud, and profile 'rhand' runs that board "
         "at 9600")
+
+
+def _edited(compiled, edit):
+    """``compiled``'s file with its stream's times and bytes changed by ``edit``, read
+    back."""
+    doc = json.loads(to_json(compiled))
+    stream = doc["streams"][0]
+    edit(stream["times"], stream["bytes"])
+    return from_json(json.dumps(doc))
+
+
+def _twice(times, data):
+    """The first pair moved to just before the second: two in one frame."""
+    tau = 1 / 960
+    times[1], times[2] = times[3] - 2 * tau, times[3] - tau
+
+
+def _jump(times, data):
+    """The first value made 180: from 0 in one frame."""
+    data[2] = 180
+
+
+@pytest.mark.parametrize(("edit", "message"), [
+    (_twice, "'g' sends index (ID 2) two values in the servo frame ending at 0.06 s"),
+    (_jump, "'g' moves index (ID 2) from 0 to 180 between 0.000 s and 0.0"),
+])
+def test_a_compiled_file_that_breaks_its_servos_limits_is_refused_before_a_byte(
+        rhand, edit, message):
+    """A compiled file is a file people share: one that sends a servo more than the
+    compiler would (twice in a frame, or faster than its max_velocity) is refused
+    against the profile, as gestplay reads it, before anything is sent."""
+    compiled = compile_source("g: index 40 over 1s")
+    check_profile(from_json(to_json(compiled)), rhand)
+    with pytest.raises(GestError) as info:
+        check_profile(_edited(compiled, edit), rhand)
+    assert info.value.first.message.startswith(message), info.value.first.message
+    assert info.value.first.pos.line > 1  # the servo's board in the profile
+    assert "compile it again" in info.value.first.hint
+
+
+@pytest.mark.parametrize("version", ["true", "1.0", '"1"'])
+def test_a_version_that_is_not_the_integer_1_is_refused(version):
+    text = to_json(compile_source("g: index 9")).replace('"version": 1,',
+                                                         f'"version": {version},')
+    with pytest.raises(GestError) as info:
+        from_json(text, "g.gestc")
+    assert info.value.first.message.startswith("not a usable compiled gesture: format "
+                                               "version ")
+    assert info.value.first.message.endswith("this gestc reads 1")

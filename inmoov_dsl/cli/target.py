@@ -6,8 +6,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from ..compiling.compiled import Compiled, check_profile
+from ..compiling.compiled import Compiled
 from ..compiling.compiler import pick_gesture
+from ..compiling.playable import check_profile
 from ..compiling.robot import profile_for
 from ..errors import Diagnostic, GestError
 from ..language.library import find_gesture, library_dirs

@@ -17,9 +17,7 @@ from typing import Any
 import numpy as np
 
 from .. import protocol
-from ..boards import controller
-from ..errors import Diagnostic, GestError, Pos
-from ..profiles.data import Board, Profile
+from ..errors import Diagnostic, GestError
 
 FORMAT = "inmoov-dsl-compiled"  #: a .gestc document's "format"
 VERSION = 1  #: and its "version"
@@ -149,59 +147,6 @@ def to_json(c: Compiled) -> str:
                           "voice": list(q.voice) if q.voice else None, "sha256": q.sha256,
                           "duration": round(q.duration, 9)} for q in c.sounds]
     return json.dumps(doc, indent=1) + "\n"
-
-
-def check_profile(c: Compiled, profile: Profile) -> None:
-    """Raise GestError unless ``profile`` can play ``c``: each stream's board is a board
-    of the profile, its servo IDs are that board's servos', and its baud is no faster
-    than the board's link (bytes timed for a faster link would pile up). Errors point
-    at the board in the profile."""
-    boards = {b.id: b for b in profile.boards}
-    hint = f"compile it for this profile: gestc compile GESTURE --profile {profile.name}"
-    errors = []
-    for s in c.streams:
-        board = boards.get(s.board)
-        if board is None:
-            errors.append(Diagnostic(
-                "error", f"'{c.gesture}' has a stream for board {s.board}, and profile "
-                f"'{profile.name}' has no board {s.board} (its boards: "
-                f"{', '.join(str(b) for b in boards)})", _board_pos(profile, None), hint))
-            continue
-        if s.kind != board.kind:
-            errors.append(Diagnostic(
-                "error", f"'{c.gesture}' is for board {s.board} as a {s.kind}, and profile "
-                f"'{profile.name}' has a {board.kind} there", _board_pos(profile, board),
-                hint))
-            continue
-        kind = controller(profile, board)
-        if not kind.ours:
-            if stray := sorted(kind.addressed(s.data) - kind.addresses()):
-                errors.append(Diagnostic(
-                    "error", f"'{c.gesture}' sets {kind.address} {stray[0]} of board "
-                    f"{s.board}, which profile '{profile.name}' gives no servo",
-                    _board_pos(profile, board), hint))
-            continue
-        ids = {profile.servos[profile.index(n)].id for n in board.servos}
-        foreign = sorted(s.servo_ids - ids)
-        if foreign:
-            errors.append(Diagnostic(
-                "error", f"'{c.gesture}' commands servo ID{'s' if len(foreign) > 1 else ''} "
-                f"{', '.join(map(str, foreign))} on board {s.board}, which profile "
-                f"'{profile.name}' does not give that board", _board_pos(profile, board), hint))
-        if s.baud > board.baud:
-            errors.append(Diagnostic(
-                "error", f"'{c.gesture}' is timed for board {s.board} at {s.baud} baud, and "
-                f"profile '{profile.name}' runs that board at {board.baud}",
-                _board_pos(profile, board), "compile it again for the board's baud"))
-    if errors:
-        raise GestError(errors)
-
-
-def _board_pos(profile: Profile, board: Board | None) -> Pos:
-    """Where ``board`` (or the first board) is in the profile's file."""
-    board = board or (profile.boards[0] if profile.boards else None)
-    return (board.pos if board is not None and board.pos is not None
-            else Pos(profile.path or "<profile>", 1, 1))
 
 
 def to_timed(stream: Stream) -> str:

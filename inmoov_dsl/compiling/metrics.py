@@ -93,15 +93,21 @@ def _board_ids(profile: Profile, board: Board) -> frozenset[int]:
 
 def sent_values(plan: Plan, compiled: Compiled) -> dict[int, tuple[np.ndarray, np.ndarray]]:
     """Servo index -> (arrival times, values) of every pair the boards act on."""
-    profile = plan.profile
+    return values_sent(plan.profile, compiled.streams)
+
+
+def values_sent(profile: Profile, streams: tuple[Stream, ...]
+                ) -> dict[int, tuple[np.ndarray, np.ndarray]]:
+    """Servo index -> (arrival times, values) of every value ``streams`` set, each
+    board read by its kind (another kind's widths as the whole values nearest them)."""
     index = {s.id: i for i, s in enumerate(profile.servos)}
     boards = {b.id: b for b in profile.boards}
     out: dict[int, tuple[list[float], list[int]]] = {}
-    for stream in compiled.streams:
+    for stream in streams:
         board = boards[stream.board]
         if stream.kind == "rig":
             found = writes(stream, _board_ids(profile, board))
-        else:  # the widths as whole values (the firmware's widths nearest them)
+        else:
             kind = controller(profile, board)
             j = {s.id: k for k, s in enumerate(kind.servos)}
             found = [(t, sid, kind.widths[j[sid]].value(unit * kind.unit_us))
