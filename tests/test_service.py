@@ -536,3 +536,44 @@ def test_the_service_speaks_on_its_computer(sound_server, tmp_path):  # noqa: F8
             record.wait()
         assert service.stop()[0] == 143
         gone(ws)
+
+
+def _raw(service: Service, data: bytes, close_early: bool = False) -> bytes:
+    """``data`` sent as it is on a socket: the answer's first bytes (none if the client
+    goes before it)."""
+    import socket
+
+    with socket.create_connection((service.host, service.port), timeout=30) as s:
+        s.sendall(data)
+        if close_early:
+            return b""
+        return s.recv(4096)
+
+
+def test_malformed_http_and_handshakes_are_400s_and_a_line_at_most():
+    """A WebSocket handshake with a key that is not ASCII is a bad request (400), not a
+    500; malformed request lines and headers, and a client gone mid-body, put no
+    traceback and none of the request's bytes in the service's log: a line each at
+    most. The service goes on answering."""
+    with serving() as service:
+        host = f"{service.host}:{service.port}".encode()
+        handshake = (b"GET /api/events HTTP/1.1\r\nHost: " + host + b"\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                     b"Sec-WebSocket-Version: 13\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZ\xc3"
+                     b"\xa9==\r\n\r\n")
+        answer = _raw(service, handshake)
+        assert answer.startswith(b"HTTP/1.1 400 ") and b"Sec-WebSocket-Key" in answer
+        flood = b"X" * 7000
+        bad = [b"GET / HTTP/1.1\r\nHost: x\r\nBad Header " + flood + b"\r\n\r\n",
+               b"GARBAGE\x01\x02 /" + flood + b" HTTP/1.1\r\n\r\n",
+               b"GET / HTTP/9.9\r\n\r\n"]
+        for data in bad:
+            assert _raw(service, data).startswith(b"HTTP/1.0 400 ")
+        _raw(service, b"POST /api/play HTTP/1.1\r\nHost: x\r\nContent-Type: "
+                      b"application/json\r\nContent-Length: 5000\r\n\r\n{\"steps\": ",
+             close_early=True)
+        assert service.call("GET", "/api/pose")[0] == 200
+        _, log = service.stop()
+    lines = [line for line in log.splitlines()[1:] if line]  # after where it serves
+    assert "Traceback" not in log and "XXXX" not in log
+    assert len(lines) <= len(bad) + 2
+    assert all(line.startswith("gestplay serve: ") for line in lines), lines

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import asyncio
 import json
+import logging
 import sys
 import threading
 import uuid
@@ -154,9 +155,13 @@ async def _page(request: web.Request) -> web.Response:
         "connect-src 'self' ws: ; img-src 'self' data:; frame-src http://127.0.0.1:*"})
 
 
-async def _events(request: web.Request, service: Service) -> web.WebSocketResponse:
+async def _events(request: web.Request, service: Service) -> web.StreamResponse:
     ws = web.WebSocketResponse(heartbeat=20, max_msg_size=1024)
-    await ws.prepare(request)
+    try:
+        await ws.prepare(request)
+    except ValueError:  # aiohttp's word on a Sec-WebSocket-Key that is not ASCII
+        return _json(core.BadRequest("the WebSocket handshake is malformed (its "
+                                     "Sec-WebSocket-Key is not base64)").json(), 400)
     request.app[SOCKETS].add(ws)
     listener: asyncio.Queue = asyncio.Queue(QUEUE)
     service.listeners.add(listener)
@@ -212,6 +217,26 @@ async def _tick(service: Service) -> None:
         was_moving = moving
 
 
+class _OneLine(logging.Handler):
+    """What aiohttp says of a request it could not read or answer (a client's mistake:
+    a malformed request line or header, a client gone mid-body): one line, with no
+    traceback and none of the request's bytes (any local program could fill the log)."""
+
+    def emit(self, record: logging.LogRecord) -> None:
+        exc = record.exc_info[1] if record.exc_info else None
+        why = getattr(exc, "message", None) or (str(exc) if exc else "")
+        why = " ".join(str(why).split("\n", 1)[0].split())[:80]
+        named = type(exc).__name__ if exc else record.levelname.lower()
+        print(f"gestplay serve: {record.getMessage()[:120]}: {named}"
+              f"{': ' + why if why else ''}", file=sys.stderr)
+
+
+def _one_line(logger: logging.Logger) -> None:
+    """``logger`` speaks through _OneLine only."""
+    logger.handlers[:] = [_OneLine()]
+    logger.propagate = False
+
+
 def _new_id() -> str:
     return uuid.uuid4().hex[:12]
 
@@ -245,6 +270,7 @@ class Server:
             loop.close()
 
     async def _serve(self) -> None:
+        _one_line(logging.getLogger("aiohttp.server"))
         runner = web.AppRunner(app(self.service, self.guard), access_log=None,
                                handle_signals=False)
         await runner.setup()
