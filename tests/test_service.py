@@ -557,7 +557,8 @@ def test_malformed_http_and_handshakes_are_400s_and_a_line_at_most():
     most. The service goes on answering."""
     with serving() as service:
         host = f"{service.host}:{service.port}".encode()
-        handshake = (b"GET /api/events HTTP/1.1\r\nHost: " + host + b"\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+        handshake = (b"GET /api/events HTTP/1.1\r\nHost: " + host +
+                     b"\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
                      b"Sec-WebSocket-Version: 13\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZ\xc3"
                      b"\xa9==\r\n\r\n")
         answer = _raw(service, handshake)
