@@ -37,7 +37,6 @@ class Sound:
     rate: float
     source: str
     digest: str
-    wav: bytes = field(repr=False, default=b"")  #: the file's bytes, to play them as they are
     path: str = ""  #: the file it was read from (none for spoken text)
 
     @property
@@ -58,7 +57,7 @@ def read_wav(data: bytes, source: str) -> Sound:
         with wave.open(io.BytesIO(data)) as w:
             channels, width, rate, frames = (w.getnchannels(), w.getsampwidth(),
                                              w.getframerate(), w.getnframes())
-            _check(source, channels, rate)
+            _check(source, channels, rate, width)
             wanted = min(frames, int(MAX_SECONDS * rate) + 1)
             samples, got = _read(w, wanted, width, channels, _factor(rate))
             frames = frames if got == wanted else got  # (a header written to a pipe
@@ -74,14 +73,17 @@ def read_wav(data: bytes, source: str) -> Sound:
     if frames / rate > MAX_SECONDS:
         raise SoundError(f"'{source}' lasts {frames / rate:,.0f} s, more than "
                          f"{MAX_SECONDS:.0f} s", "split it into shorter sounds")
-    return Sound(samples, rate / _factor(rate), source, hashlib.sha256(data).hexdigest(),
-                 data)
+    return Sound(samples, rate / _factor(rate), source, hashlib.sha256(data).hexdigest())
 
 
-def _check(source: str, channels: int, rate: int) -> None:
+def _check(source: str, channels: int, rate: int, width: int) -> None:
+    """What the header says is a sound this module reads."""
     if not 1 <= channels <= 2 or not 0 < rate <= MAX_RATE:
         raise SoundError(f"'{source}' has {channels} channels at {rate} Hz",
                          "say plays mono or stereo WAV at up to 384 kHz")
+    if width not in (1, 2, 3, 4):
+        raise SoundError(f"'{source}' has samples of {8 * width} bits", "save the file as "
+                         "PCM WAV of 8, 16, 24 or 32 bits")
 
 
 def _factor(rate: int) -> int:
