@@ -266,7 +266,11 @@ class Server:
         except BaseException as exc:  # noqa: BLE001 (handed to the thread that started it)
             self.error = exc
             self.ready.set()
-        finally:
+        finally:  # a client that sent half a request still has its handler waiting
+            pending = asyncio.all_tasks(loop)
+            for task in pending:
+                task.cancel()
+            loop.run_until_complete(asyncio.gather(*pending, return_exceptions=True))
             loop.close()
 
     async def _serve(self) -> None:
