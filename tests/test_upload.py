@@ -343,3 +343,61 @@ def test_a_board_unplugged_during_the_upload_ends_it_with_no_avrdude_left(tmp_pa
         f"gestc: error: the board on {board.path} stopped answering: avrdude heard nothing "
         f"for {STALL:.0f} s, and was stopped\n  hint: was the cable pulled or the board "
         "reset? plug it in and upload again: the bootloader is still there\n")
+
+
+def _hex(records: list[bytes]) -> str:
+    return "".join(f":{r.hex()}{-sum(r) & 0xFF:02x}\n" for r in records)
+
+
+def _bad_hex(rng, how: int) -> str:
+    """A small image's Intel HEX, mutated: a record of another kind or too short, an
+    address at the end of the space, a checksum or a character wrong, lines lost."""
+    records = [bytes([16, a >> 8, a & 0xFF, 0]) + bytes(range(16)) for a in range(0, 512, 16)]
+    k = rng.randrange(len(records))
+    if how == 0:  # an extended address record with too little data
+        records.insert(k, bytes([rng.randrange(2), 0, 0, rng.choice([2, 4])]) +
+                       bytes(rng.randrange(2)))
+    elif how == 1:  # the last bytes of the address space, and beyond
+        records[k] = bytes([16, 0xFF, 0xF8, 0]) + bytes(16)
+    elif how == 2:  # a record kind no loader knows
+        records[k] = bytes([1, 0, 0, rng.randrange(6, 256), 0])
+    text = _hex(records) + ":00000001FF\n"
+    if how == 3:  # a checksum wrong
+        at = text.index("\n", rng.randrange(len(text) - 20)) - 1
+        text = text[:at] + ("0" if text[at] != "0" else "1") + text[at + 1:]
+    elif how == 4:  # a character that is no hex digit
+        at = rng.randrange(len(text))
+        text = text[:at] + rng.choice("gZ :\x00é") + text[at + 1:]
+    elif how == 5:  # lines lost, the end too
+        text = "".join(rng.sample(text.splitlines(True), rng.randrange(len(records))))
+    return text
+
+
+@LINUX
+def test_seeded_bad_hex_files_and_boards_that_go_end_with_a_word_and_no_avrdude(
+        tmp_path, capsys, monkeypatch):
+    """gestc upload's path with bad input: hex files mutated (seeded), to a board that
+    answers, stays silent or loses its cable mid-write. Each ends with exit 0 or a
+    ``gestc: error:`` line, in bounded time, with no traceback and no avrdude left."""
+    need("avrdude")
+    import random
+    import time
+
+    from inmoov_dsl.firmware import upload
+
+    monkeypatch.setattr(upload, "STALL", 1.5)
+    rng = random.Random(35)
+    for k in range(14):  # each mutation twice
+        hex_file = tmp_path / f"m{k}.hex"
+        hex_file.write_text(_bad_hex(rng, k % 7), encoding="utf-8")
+        board = rng.choice([{}, {}, {"silent": True}, {"unplugged_after": 1}])
+        with Bootloader(**board) as loader:
+            began = time.monotonic()
+            code = gestc.main(["upload", "servo_rhand", "--port", loader.path, "--hex",
+                               str(hex_file), "--avrdude-option=-xattempts=1"])
+            took = time.monotonic() - began
+            left = avrdudes_on(loader.path)
+        err = capsys.readouterr().err
+        assert code in (0, 1) and left == [] and took < 60, (k, board, err[-500:])
+        assert "Traceback" not in err
+        assert code == 0 or "gestc: error: " in err, (k, err[-500:])

@@ -95,7 +95,8 @@ def read_hex(path: Path) -> dict[int, int]:
             record = bytes.fromhex(line[1:]) if line.startswith(":") else b""
         except ValueError:
             record = b""
-        if len(record) < 5 or len(record) != record[0] + 5 or sum(record) % 256:
+        if len(record) < 5 or len(record) != record[0] + 5 or sum(record) % 256 or \
+                (record[3] in (2, 4) and record[0] != 2):  # an address record: 2 bytes
             raise GestError(Diagnostic("error", f"{path}:{n}: not an Intel HEX record",
                                        hint="give the .hex that the build wrote"))
         address, kind, data = record[1] << 8 | record[2], record[3], record[4:-1]
