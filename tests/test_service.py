@@ -578,3 +578,30 @@ def test_malformed_http_and_handshakes_are_400s_and_a_line_at_most():
     assert "Traceback" not in log and "XXXX" not in log
     assert len(lines) <= len(bad) + 2
     assert all(line.startswith("gestplay serve: ") for line in lines), lines
+
+
+def test_a_flood_of_bad_requests_is_ten_lines_a_minute_then_a_count(capsys):
+    pytest.importorskip("aiohttp")
+    import logging
+
+    from inmoov_dsl.service.http import _OneLine
+
+    clock = {"t": 100.0}
+    line = _OneLine(now=lambda: clock["t"])
+    try:
+        raise ValueError("Bad status line: b'" + "X" * 5000 + "'")
+    except ValueError:
+        import sys as system
+        record = logging.LogRecord("aiohttp.server", logging.ERROR, "", 0,
+                                   "Error handling request from %s", ("127.0.0.1",),
+                                   system.exc_info())
+    for _ in range(25):
+        line.emit(record)
+        clock["t"] += 1
+    clock["t"] += 60
+    line.emit(record)
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 12
+    assert lines[0] == ("gestplay serve: Error handling request from 127.0.0.1: ValueError: "
+                        "Bad status line: b'" + "X" * 61)
+    assert lines[10] == "gestplay serve: and 15 more requests it could not read in that minute"

@@ -12,8 +12,10 @@ from __future__ import annotations
 import asyncio
 import json
 import logging
+import math
 import sys
 import threading
+import time
 import uuid
 from importlib import metadata, resources
 from typing import Any
@@ -220,9 +222,26 @@ async def _tick(service: Service) -> None:
 class _OneLine(logging.Handler):
     """What aiohttp says of a request it could not read or answer (a client's mistake:
     a malformed request line or header, a client gone mid-body): one line, with no
-    traceback and none of the request's bytes (any local program could fill the log)."""
+    traceback and none of the request's bytes, and at most LOUD lines a minute (then
+    how many more there were), so that no local program can fill the log."""
+
+    LOUD = 10  #: lines a minute
+
+    def __init__(self, now=time.monotonic):
+        super().__init__()
+        self.now, self.since, self.said, self.more = now, -math.inf, 0, 0
 
     def emit(self, record: logging.LogRecord) -> None:
+        t = self.now()
+        if t - self.since >= 60:
+            if self.more:
+                print(f"gestplay serve: and {self.more:,} more requests it could not "
+                      "read in that minute", file=sys.stderr)
+            self.since, self.said, self.more = t, 0, 0
+        if self.said >= self.LOUD:
+            self.more += 1
+            return
+        self.said += 1
         exc = record.exc_info[1] if record.exc_info else None
         why = getattr(exc, "message", None) or (str(exc) if exc else "")
         why = " ".join(str(why).split("\n", 1)[0].split())[:80]
