@@ -103,3 +103,19 @@ def test_bad_wavs_are_sounds_or_clear_errors_and_say_plans_or_tells(tmp_path):
             compile_source('g: say "m.wav"\n', profile=INMOOV, file=str(tmp_path / "g.gest"))
         except GestError as exc:
             assert all(d.pos is not None for d in exc.diagnostics), (k, str(exc))
+
+
+def test_a_wav_written_to_a_pipe_is_read_for_what_it_holds():
+    """espeak-ng --stdout writes its header before it knows the length: the sizes say
+    the most they can."""
+    data = bytearray(base(2, 1, 22050))
+    data[4:8] = data[40:44] = struct.pack("<I", 0x7FFFFFFF)
+    assert abs(read_wav(bytes(data), "p.wav").duration - 0.3) < 1e-3
+
+
+@pytest.mark.parametrize(("rate", "kept"), [(8000, 8000), (48000, 48000), (96000, 48000),
+                                             (384000, 48000), (352800, 44100)])
+def test_a_fast_rate_is_kept_at_48_khz_at_most_and_lasts_as_long(rate, kept):
+    sound = read_wav(base(2, 2, rate, 0.05), "r.wav")
+    assert sound.rate == kept and abs(sound.duration - 0.05) < 1e-4
+    assert sound.samples.dtype == np.float32
