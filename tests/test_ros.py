@@ -33,6 +33,7 @@ from toolchain import need
 from inmoov_dsl.errors import GestError
 from inmoov_dsl.model import joints
 from inmoov_dsl.profiles.profile import load_profile
+from inmoov_dsl.resources import STATE_ENV
 from inmoov_dsl.ros import core, trajectory
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -249,7 +250,10 @@ def ros_env(ros_python, tmp_path_factory) -> dict[str, str]:
     env = {**os.environ, "ROS_MASTER_URI": f"http://127.0.0.1:{port}", "ROS_IP": "127.0.0.1",
            "ROS_HOME": str(home), "ROS_LOG_DIR": str(home / "log"),
            "PATH": f"{ros_python.parent}{os.pathsep}{os.environ['PATH']}",
-           "PYTHONUNBUFFERED": "1"}
+           "PYTHONUNBUFFERED": "1",
+           # virtual boards of its own (made before the tests' own state directories:
+           # the user's would carry the poses other programs left)
+           STATE_ENV: str(home / "state")}
     env.pop("ROS_PACKAGE_PATH", None)
     master = subprocess.Popen(["roscore", "-p", str(port)], env=env, stdin=subprocess.DEVNULL,
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,

@@ -584,10 +584,10 @@ def test_a_flood_of_bad_requests_is_ten_lines_a_minute_then_a_count(capsys):
     pytest.importorskip("aiohttp")
     import logging
 
-    from inmoov_dsl.service.http import _OneLine
+    from inmoov_dsl.service.log import OneLine
 
     clock = {"t": 100.0}
-    line = _OneLine(now=lambda: clock["t"])
+    line = OneLine(now=lambda: clock["t"])
     try:
         raise ValueError("Bad status line: b'" + "X" * 5000 + "'")
     except ValueError:

@@ -12,10 +12,8 @@ from __future__ import annotations
 import asyncio
 import json
 import logging
-import math
 import sys
 import threading
-import time
 import uuid
 from importlib import metadata, resources
 from typing import Any
@@ -27,6 +25,7 @@ from ..live.orders import Control
 from . import core, openapi
 from .guard import Guard
 from .hub import QUEUE, Service
+from .log import one_line
 
 TICKER = web.AppKey("ticker", asyncio.Task)  #: the pose events' clock
 SOCKETS = web.AppKey("sockets", set)  #: the open events sockets, closed as it stops
@@ -219,43 +218,6 @@ async def _tick(service: Service) -> None:
         was_moving = moving
 
 
-class _OneLine(logging.Handler):
-    """What aiohttp says of a request it could not read or answer (a client's mistake:
-    a malformed request line or header, a client gone mid-body): one line, with no
-    traceback and none of the request's bytes, and at most LOUD lines a minute (then
-    how many more there were), so that no local program can fill the log."""
-
-    LOUD = 10  #: lines a minute
-
-    def __init__(self, now=time.monotonic):
-        super().__init__()
-        self.now, self.since, self.said, self.more = now, -math.inf, 0, 0
-
-    def emit(self, record: logging.LogRecord) -> None:
-        t = self.now()
-        if t - self.since >= 60:
-            if self.more:
-                print(f"gestplay serve: and {self.more:,} more requests it could not "
-                      "read in that minute", file=sys.stderr)
-            self.since, self.said, self.more = t, 0, 0
-        if self.said >= self.LOUD:
-            self.more += 1
-            return
-        self.said += 1
-        exc = record.exc_info[1] if record.exc_info else None
-        why = getattr(exc, "message", None) or (str(exc) if exc else "")
-        why = " ".join(str(why).split("\n", 1)[0].split())[:80]
-        named = type(exc).__name__ if exc else record.levelname.lower()
-        print(f"gestplay serve: {record.getMessage()[:120]}: {named}"
-              f"{': ' + why if why else ''}", file=sys.stderr)
-
-
-def _one_line(logger: logging.Logger) -> None:
-    """``logger`` speaks through _OneLine only."""
-    logger.handlers[:] = [_OneLine()]
-    logger.propagate = False
-
-
 def _new_id() -> str:
     return uuid.uuid4().hex[:12]
 
@@ -293,7 +255,7 @@ class Server:
             loop.close()
 
     async def _serve(self) -> None:
-        _one_line(logging.getLogger("aiohttp.server"))
+        one_line(logging.getLogger("aiohttp.server"))
         runner = web.AppRunner(app(self.service, self.guard), access_log=None,
                                handle_signals=False)
         await runner.setup()
