@@ -17,8 +17,9 @@ from .metrics import values_sent
 def check_profile(c: Compiled, profile: Profile) -> None:
     """Raise GestError unless ``profile`` can play ``c``: each stream's board is a board
     of the profile, its servo IDs are that board's servos', and its baud is no faster
-    than the board's link (bytes timed for a faster link would pile up). Errors point
-    at the board in the profile."""
+    than the board's link (bytes timed for a faster link would pile up); then what each
+    servo is sent keeps its limits (``within_limits``). Errors point at the board in
+    the profile."""
     boards = {b.id: b for b in profile.boards}
     hint = f"compile it for this profile: gestc compile GESTURE --profile {profile.name}"
     errors = []
@@ -99,5 +100,3 @@ def _board_pos(profile: Profile, board: Board | None) -> Pos:
     board = board or (profile.boards[0] if profile.boards else None)
     return (board.pos if board is not None and board.pos is not None
             else Pos(profile.path or "<profile>", 1, 1))
-
-
