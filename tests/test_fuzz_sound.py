@@ -5,14 +5,12 @@ RuntimeError; a stereo file whose data ends mid-frame failed at a reshape.)"""
 
 from __future__ import annotations
 
-import io
 import random
 import struct
-import wave
 
 import numpy as np
 import pytest
-from test_voice import INMOOV
+from test_voice import INMOOV, wav
 
 from inmoov_dsl.compiling.compiler import compile_source
 from inmoov_dsl.errors import GestError
@@ -20,24 +18,9 @@ from inmoov_dsl.voice.wav import SoundError, read_wav
 
 
 def base(width: int, channels: int, rate: int, seconds: float = 0.3) -> bytes:
-    """A WAV of a tone with a pause."""
+    """A WAV of a tone with a pause (test_voice's ``wav`` writes it)."""
     t = np.arange(int(rate * seconds)) / rate
-    x = 0.5 * np.sin(2 * np.pi * 220 * t) * (t < seconds / 2)
-    x = np.repeat(x[:, None], channels, axis=1).ravel()
-    if width == 1:
-        raw = np.round(x * 127 + 128).astype(np.uint8).tobytes()
-    elif width == 3:
-        v = np.round(x * (2 ** 23 - 1)).astype(np.int32)
-        raw = np.stack([v & 255, (v >> 8) & 255, (v >> 16) & 255], 1).astype(np.uint8).tobytes()
-    else:
-        raw = np.round(x * (2 ** (8 * width - 1) - 1)).astype(f"<i{width}").tobytes()
-    out = io.BytesIO()
-    with wave.open(out, "wb") as w:
-        w.setnchannels(channels)
-        w.setsampwidth(width)
-        w.setframerate(rate)
-        w.writeframes(raw)
-    return out.getvalue()
+    return wav(0.5 * np.sin(2 * np.pi * 220 * t) * (t < seconds / 2), rate, width, channels)
 
 
 BASES = [base(1, 1, 8000), base(2, 2, 22050), base(3, 1, 44100), base(4, 2, 48000),
