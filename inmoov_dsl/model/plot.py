@@ -101,11 +101,7 @@ def _servo_row(pos, vel, plan: Plan, i: int, sent: tuple[np.ndarray, np.ndarray]
                 ax.axvspan(step.start, step.end, color=HOLD_COLOUR, lw=0)
         ax.grid(True, color="#dddddd", lw=0.6)
         ax.set_xlim(0, end)
-    # the values the board holds: the start pose, then each pair as it arrives
-    times, values = sent
-    held_t = np.concatenate(([0.0], times, [end]))
-    held_v = np.concatenate(([plan.start[i]], values, [values[-1] if len(values)
-                                                       else plan.start[i]]))
+    held_t, held_v = _held(sent, plan.start[i], end)
     pos.plot(t, track.position(t), color=PLAN_COLOUR, lw=2.4, alpha=0.55,
              label="planned position")
     pos.step(held_t, held_v, where="post", color=SENT_COLOUR, lw=0.9,
@@ -123,6 +119,15 @@ def _servo_row(pos, vel, plan: Plan, i: int, sent: tuple[np.ndarray, np.ndarray]
     vel.set_ylim(-1.15 * servo.max_velocity, 1.15 * servo.max_velocity)
 
 
+def _held(sent: tuple[np.ndarray, np.ndarray], first: float, end: float
+          ) -> tuple[np.ndarray, np.ndarray]:
+    """The values a board holds, to draw as steps up to ``end``: ``first`` (the start
+    pose), then each value ``sent`` as it arrives."""
+    times, values = sent
+    return (np.concatenate(([0.0], times, [end])),
+            np.concatenate(([first], values, [values[-1] if len(values) else first])))
+
+
 def _sound_row(ax, start: float, speech, sent: tuple[np.ndarray, np.ndarray],
                first: float, end: float) -> None:
     """A ``say``'s row: its waveform (-1..1), its loudness (0..1) and the mouth as its
@@ -138,9 +143,7 @@ def _sound_row(ax, start: float, speech, sent: tuple[np.ndarray, np.ndarray],
                     label="the sound")
     ax.plot(start + np.arange(len(speech.levels)) * HOP, speech.levels, color=SOUND_COLOUR,
             lw=1.6, label="its loudness")
-    times, values = sent
-    held_t = np.concatenate(([0.0], times, [end]))
-    held_v = np.concatenate(([first], values, [values[-1] if len(values) else first]))
+    held_t, held_v = _held(sent, first, end)
     ax.step(held_t, (held_v - voice.closed) / (voice.opened - voice.closed), where="post",
             color=SENT_COLOUR, lw=1.2, label=f"the {voice.mouth} as its board receives it\n"
             "(0 closed, 1 open)")
