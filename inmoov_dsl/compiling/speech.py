@@ -117,18 +117,13 @@ def track(speech: Speech, servo: Servo, start: float) -> tuple[Track, float, flo
     voice = speech.voice
     closed = float(voice.closed)
     wait = delay(speech, servo)
-    hop = np.arange(round((wait + speech.sound.duration + LEAD + AFTER) / HOP)) \
-        - round((wait - LEAD) / HOP)  # the sound's hop each knot aims at
-    inside = (hop >= 0) & (hop < len(speech.levels))
-    hop = np.clip(hop, 0, len(speech.levels) - 1)
-    target = np.where(inside, speech.openings[hop], closed)
+    knots = np.arange(round((wait + speech.sound.duration + LEAD + AFTER) / HOP))
+    # the opening the sound asks LEAD after each knot; whether it is silent at each
+    target = _per_knot(speech.openings, knots - round((wait - LEAD) / HOP), closed)
+    silent = _per_knot(speech.silent, knots - round(wait / HOP), True)
     fixed = np.full(len(target) + 2, np.nan)
     fixed[:3] = start
     free_from = int(np.ceil(_move_time(servo, start, closed) / HOP))
-    now = np.arange(len(target)) - round(wait / HOP)  # the sound's hop at each knot
-    silent = np.ones(len(target), bool)
-    within = (now >= 0) & (now < len(speech.silent))
-    silent[within] = speech.silent[now[within]]
     judged = np.ones(len(target), bool)
     for a, b in runs(silent):
         if b - a < round(QUIET / HOP):
@@ -148,6 +143,13 @@ def track(speech: Speech, servo: Servo, start: float) -> tuple[Track, float, flo
     breaks = np.arange(pieces + 1) * HOP
     rest = np.array([[closed if pieces else float(start), 0.0, 0.0, 0.0]])
     return Track(breaks, np.concatenate((coefs[:pieces], rest))), pieces * HOP, wait
+
+
+def _per_knot(values: np.ndarray, hops: np.ndarray, outside) -> np.ndarray:
+    """``values`` (one a HOP of the sound) at the sound's hop ``hops``, ``outside``
+    before and after the sound."""
+    inside = (hops >= 0) & (hops < len(values))
+    return np.where(inside, values[np.clip(hops, 0, len(values) - 1)], outside)
 
 
 def follow(speech: Speech, profile: Profile, now: float, pose: list[int],
