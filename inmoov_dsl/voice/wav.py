@@ -115,15 +115,13 @@ def _read(w, wanted: int, width: int, channels: int, factor: int
 
 
 def _samples(raw: bytes, width: int) -> np.ndarray:
-    """PCM bytes as floats in -1..1 (8-bit WAV is unsigned, the rest signed)."""
+    """Whole PCM samples of ``width`` bytes (1 to 4: ``_check``) as floats in -1..1
+    (8-bit WAV is unsigned, the rest signed)."""
     if width == 1:
         return (np.frombuffer(raw, np.uint8).astype(np.float64) - 128) / 128
     if width == 3:
-        b = np.frombuffer(raw[:len(raw) // 3 * 3], np.uint8).reshape(-1, 3).astype(np.int32)
+        b = np.frombuffer(raw, np.uint8).reshape(-1, 3).astype(np.int32)
         values = b[:, 0] | (b[:, 1] << 8) | (b[:, 2] << 16)
         return np.where(values & 0x800000, values - (1 << 24), values) / float(1 << 23)
-    if width in (2, 4):
-        kind = np.int16 if width == 2 else np.int32
-        return np.frombuffer(raw[:len(raw) // width * width], kind) / float(1 << (8 * width - 1))
-    raise SoundError(f"samples of {8 * width} bits are not read", "save the file as PCM WAV "
-                     "of 8, 16, 24 or 32 bits")
+    kind = np.int16 if width == 2 else np.int32
+    return np.frombuffer(raw, kind) / float(1 << (8 * width - 1))
