@@ -10,12 +10,11 @@ best shift and that shift (positive: the jaw ahead), the time from the last soun
 the jaw closed, whether it stays still in every silence longer than 250 ms, the servo
 frames that needed a jaw value and got one, and how wide the jaw opens.
 
-    python benchmarks/voice.py      (espeak-ng, alsa-utils and sox; about a minute)
+    python benchmarks/voice.py      (espeak-ng, alsa-utils and sox; a few seconds)
 """
 
 from __future__ import annotations
 
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
@@ -39,28 +38,13 @@ SENTENCES = [
 ]
 VOICES = ("en", "en-us+f3")  #: espeak-ng's default voice, and a woman's American voice
 SPEEDS = (150, 200)  #: words per minute: the profile's, and quick
-RECORDINGS = Path("/usr/share/sounds/alsa")
-#: sox's options for each format: bits, channels, rate
-FORMATS = {"16-bit mono 48 kHz": ("-b", "16", "-c", "1", "-r", "48000"),
-           "8-bit mono 8 kHz": ("-b", "8", "-c", "1", "-r", "8000"),
-           "16-bit stereo 16 kHz": ("-b", "16", "-c", "2", "-r", "16000"),
-           "8-bit stereo 22.05 kHz": ("-b", "8", "-c", "2", "-r", "22050"),
-           "16-bit mono 44.1 kHz": ("-b", "16", "-c", "1", "-r", "44100")}
-
-
-def espeak(text: str, voice: str, speed: int) -> bytes:
-    """espeak-ng's WAV of ``text``."""
-    return subprocess.run(["espeak-ng", "-v", voice, "-s", str(speed), "--stdout", text],
-                          capture_output=True, check=True).stdout
-
-
-def converted(path: Path, options: tuple[str, ...], folder: Path) -> bytes:
-    """The recording at ``path`` in another WAV format, by sox."""
-    out = folder / "converted.wav"
-    subprocess.run(["sox", "-R", str(path), *options, "-e",
-                    "unsigned-integer" if options[1] == "8" else "signed-integer", str(out)],
-                   check=True)
-    return out.read_bytes()
+UNSIGNED, SIGNED = ("-e", "unsigned-integer"), ("-e", "signed-integer")
+#: sox's options for each format: bits, encoding, channels, rate
+FORMATS = {"16-bit mono 48 kHz": ("-b", "16", *SIGNED, "-c", "1", "-r", "48000"),
+           "8-bit mono 8 kHz": ("-b", "8", *UNSIGNED, "-c", "1", "-r", "8000"),
+           "16-bit stereo 16 kHz": ("-b", "16", *SIGNED, "-c", "2", "-r", "16000"),
+           "8-bit stereo 22.05 kHz": ("-b", "8", *UNSIGNED, "-c", "2", "-r", "22050"),
+           "16-bit mono 44.1 kHz": ("-b", "16", *SIGNED, "-c", "1", "-r", "44100")}
 
 
 def cases(folder: Path):
@@ -68,15 +52,16 @@ def cases(folder: Path):
     for voice in VOICES:
         for speed in SPEEDS:
             for text in SENTENCES:
-                yield f"{text} ({voice}, {speed} wpm)", espeak(text, voice, speed)
+                yield f"{text} ({voice}, {speed} wpm)", jawmeasure.spoken(text, voice, speed)
     names = list(FORMATS)
-    for k, path in enumerate(sorted(RECORDINGS.glob("*.wav"))):
+    for k, path in enumerate(sorted(jawmeasure.RECORDINGS.glob("*.wav"))):
         if path.stem == "Noise":
             continue
         shown = path.stem.replace("_", " ")
         formats = names if k == 0 else [names[k % len(names)]]
         for name in formats:
-            yield f'"{shown}" (recorded, {name})', converted(path, FORMATS[name], folder)
+            yield (f'"{shown}" (recorded, {name})',
+                   jawmeasure.converted(path, folder / "converted.wav", *FORMATS[name]))
 
 
 def main() -> None:

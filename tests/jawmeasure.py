@@ -22,11 +22,14 @@ both voices and speeds, the recordings).
 from __future__ import annotations
 
 import io
+import subprocess
 import wave
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
+RECORDINGS = Path("/usr/share/sounds/alsa")  #: Debian's recorded speech (alsa-utils)
 FRAME = 0.020  #: s
 SMOOTH = 5  #: frames: 100 ms
 SILENT = 0.03  #: of the loudest frame's RMS (-30 dB)
@@ -38,6 +41,19 @@ CLOSING = 0.150  #: s: closed within this of the last sound (the issue's bound).
 OPENING = 0.100  #: ...and the rest for the opening: a jaw needs it to open ahead
 SHIFTS = range(-10, 11)  #: frames tried: +-200 ms
 CANCEL, LAST_SIGNAL, MAX_VALUE = 255, 249, 180
+
+
+def spoken(text: str, voice: str, speed: int) -> bytes:
+    """espeak-ng's WAV of ``text`` in ``voice`` at ``speed`` words per minute."""
+    return subprocess.run(["espeak-ng", "-v", voice, "-s", str(speed), "--stdout", text],
+                          capture_output=True, check=True, timeout=60).stdout
+
+
+def converted(path: Path, out: Path, *options: str) -> bytes:
+    """The WAV at ``path`` in another format (sox ``options``; repeatable: no random
+    dither), written to ``out``."""
+    subprocess.run(["sox", "-R", str(path), *options, str(out)], check=True, timeout=60)
+    return out.read_bytes()
 
 
 def samples(wav: bytes) -> tuple[np.ndarray, int]:

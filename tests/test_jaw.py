@@ -9,29 +9,22 @@ value in its frame, and the mouth opening wide."""
 from __future__ import annotations
 
 import importlib.util
-import subprocess
 from pathlib import Path
 
 import pytest
-from jawmeasure import said
+from jawmeasure import RECORDINGS, converted, said, spoken
 from toolchain import need
-
-RECORDINGS = Path("/usr/share/sounds/alsa")
 
 
 def espeak(text: str, voice: str, speed: int) -> bytes:
     need("espeak-ng", packages="espeak-ng")
-    return subprocess.run(["espeak-ng", "-v", voice, "-s", str(speed), "--stdout", text],
-                          capture_output=True, check=True, timeout=60).stdout
+    return spoken(text, voice, speed)
 
 
 def recording(name: str, tmp_path: Path, *sox: str) -> bytes:
     """Debian's recorded ``name`` (alsa-utils), converted by sox with ``sox`` options."""
     need("sox", str(RECORDINGS / f"{name}.wav"), packages="sox alsa-utils")
-    out = tmp_path / f"{name}.wav"
-    subprocess.run(["sox", "-R", str(RECORDINGS / f"{name}.wav"), *sox, str(out)], check=True,
-                   timeout=60)
-    return out.read_bytes()
+    return converted(RECORDINGS / f"{name}.wav", tmp_path / f"{name}.wav", *sox)
 
 
 SOUNDS = {
