@@ -110,8 +110,7 @@ def test_an_old_nano_answers_only_at_57600_baud(tmp_path, capsys):
     hex_file = tmp_path / "blink.hex"
     image = bytes(range(256)) * 3
     records = [bytes([16, a >> 8, a & 0xFF, 0]) + image[a:a + 16] for a in range(0, 768, 16)]
-    hex_file.write_text("".join(f":{r.hex()}{-sum(r) & 0xFF:02x}\n" for r in records) +
-                        ":00000001FF\n")
+    hex_file.write_text(_hex(records) + ":00000001FF\n")
     with Bootloader(baud=57600) as nano:
         assert gestc.main(["upload", "servo_rhand", "--port", nano.path, "--hex",
                            str(hex_file), "--old-bootloader"]) == 0
@@ -304,6 +303,11 @@ def test_a_file_that_is_not_intel_hex_is_refused(tmp_path, capsys, port):
         read_hex(Path(tmp_path / "missing.hex"))
 
 
+def _hex(records: list[bytes]) -> str:
+    """Intel HEX data records, each with its checksum."""
+    return "".join(f":{r.hex()}{-sum(r) & 0xFF:02x}\n" for r in records)
+
+
 def avrdudes_on(path: str) -> list[int]:
     """The avrdude processes that have ``path`` on their command line (Linux's /proc)."""
     found = []
@@ -328,8 +332,7 @@ def test_a_board_unplugged_during_the_upload_ends_it_with_no_avrdude_left(tmp_pa
 
     hex_file = tmp_path / "big.hex"
     records = [bytes([16, a >> 8, a & 0xFF, 0]) + bytes(range(16)) for a in range(0, 8192, 16)]
-    hex_file.write_text("".join(f":{r.hex()}{-sum(r) & 0xFF:02x}\n" for r in records) +
-                        ":00000001FF\n")
+    hex_file.write_text(_hex(records) + ":00000001FF\n")
     with Bootloader(unplugged_after=3) as board:
         began = time.monotonic()
         done = gestc_run("upload", "servo_rhand", "--port", board.path, "--hex",
@@ -343,10 +346,6 @@ def test_a_board_unplugged_during_the_upload_ends_it_with_no_avrdude_left(tmp_pa
         f"gestc: error: the board on {board.path} stopped answering: avrdude heard nothing "
         f"for {STALL:.0f} s, and was stopped\n  hint: was the cable pulled or the board "
         "reset? plug it in and upload again: the bootloader is still there\n")
-
-
-def _hex(records: list[bytes]) -> str:
-    return "".join(f":{r.hex()}{-sum(r) & 0xFF:02x}\n" for r in records)
 
 
 def _bad_hex(rng, how: int) -> str:
