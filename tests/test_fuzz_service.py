@@ -10,7 +10,7 @@ import random
 import socket
 import struct
 
-from test_service import serving
+from test_service import answer, serving
 
 METHODS = [b"GET", b"POST", b"PUT", b"DELETE", b"OPTIONS", b"HEAD", b"G\xc3\xa9T", b"",
            b"POST POST"]
@@ -44,23 +44,6 @@ def request(rng: random.Random, host: bytes) -> tuple[bytes, bool, bool]:
     if rng.random() < 0.1:
         data, whole = data[:rng.randrange(len(data))], False
     return data, rng.random() < 0.1, whole and b"Content-Length: 9999" not in data
-
-
-def answer(host: str, port: int, data: bytes, leave: bool, whole: bool) -> bytes:
-    """The first bytes of the answer; b"" if the client left first, or the service
-    waits for the rest of a request that is not whole (it would close it in time)."""
-    with socket.create_connection((host, port), timeout=30) as s:
-        s.sendall(data)
-        if leave:
-            return b""
-        s.settimeout(30 if whole else 0.3)
-        try:
-            return s.recv(64)
-        except ConnectionResetError:
-            return b""
-        except TimeoutError:
-            assert not whole, data[:300]  # a whole request is answered
-            return b""
 
 
 def frame(rng: random.Random) -> bytes:
