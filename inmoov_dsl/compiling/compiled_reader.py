@@ -37,7 +37,7 @@ class CompiledReader(Fields):
         if not isinstance(doc, dict) or doc.get("format") != FORMAT:
             raise self.bad("it is not a gestc file", ("format",))
         version = doc.get("version")
-        if type(version) is not int or version != VERSION:  # (not true, not 1.0)
+        if not whole(version) or version != VERSION:  # (not true, not 1.0)
             raise self.bad(f"format version {shown(doc.get('version'))}, this gestc reads "
                            f"{VERSION}", ("version",))
         streams = self.field(doc, "streams", list, ())
