@@ -201,18 +201,20 @@ async def _start_ticker(application: web.Application, service: Service) -> None:
 
 async def _tick(service: Service) -> None:
     """A pose event at most every POSE_EVERY while the hand moves (and once as it
-    stops), when the pose has changed."""
-    last, was_moving = None, False
+    stops), when the pose has changed: with the id of the request that moves it (the
+    pose as it stops, too: the drive loop may have ended that request already)."""
+    last, was_moving, mover = None, False, None
     while True:
         await asyncio.sleep(POSE_EVERY)
         moving = service.moving()
+        mover = service.drive.tracker.playing or (mover if was_moving else None)
         if service.listeners and (moving or was_moving):
             held = service.drive.mirror.held()
             if held != last:
                 last = held
                 if service.view is not None:
                     service.view.pose(held)
-                service.publish({"event": "pose", "id": service.drive.tracker.playing,
+                service.publish({"event": "pose", "id": mover,
                                  "servos": dict(zip(service.profile.names, held,
                                                     strict=True))})
         was_moving = moving
