@@ -202,12 +202,15 @@ async def _start_ticker(application: web.Application, service: Service) -> None:
 async def _tick(service: Service) -> None:
     """A pose event at most every POSE_EVERY while the hand moves (and once as it
     stops), when the pose has changed: with the id of the request that moves it (the
-    pose as it stops, too: the drive loop may have ended that request already)."""
+    pose as it stops, too: the drive loop may have ended that request already; and
+    none before the drive loop names the request that begins to move it)."""
     last, was_moving, mover = None, False, None
     while True:
         await asyncio.sleep(POSE_EVERY)
-        moving = service.moving()
-        mover = service.drive.tracker.playing or (mover if was_moving else None)
+        moving, playing = service.moving(), service.drive.tracker.playing
+        if moving and not was_moving and playing is None:
+            continue  # a move is submitted, not begun: its request is named with its bytes
+        mover = playing or (mover if was_moving else None)
         if service.listeners and (moving or was_moving):
             held = service.drive.mirror.held()
             if held != last:
