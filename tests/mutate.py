@@ -300,20 +300,25 @@ def attempt(seed: Seed, data: bytes, limit: float = 5.0) -> Outcome:
 
 
 def within(seconds: float, fn: Callable[[], object]):
-    """``fn()``, or Hang after ``seconds``: a timer signal in the main thread (which
-    interrupts Python code wherever it loops), a watchdog thread elsewhere (which
-    cannot stop ``fn``, but does not wait for it)."""
+    """``fn()``, or Hang after ``seconds`` of this process's CPU time (a busy machine
+    does not stretch it; a loop that hangs spends it) or ten times as long by the wall
+    clock (a wait that hangs): timer signals in the main thread (which interrupt Python
+    code wherever it loops), a watchdog thread elsewhere (which cannot stop ``fn``, but
+    does not wait for it)."""
     if hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread():
         def alarm(signum, frame):
             raise Hang
 
-        old = signal.signal(signal.SIGALRM, alarm)
-        signal.setitimer(signal.ITIMER_REAL, seconds)
+        old = {sig: signal.signal(sig, alarm) for sig in (signal.SIGPROF, signal.SIGALRM)}
+        signal.setitimer(signal.ITIMER_PROF, seconds)
+        signal.setitimer(signal.ITIMER_REAL, 10 * seconds)
         try:
             return fn()
         finally:
+            signal.setitimer(signal.ITIMER_PROF, 0)
             signal.setitimer(signal.ITIMER_REAL, 0)
-            signal.signal(signal.SIGALRM, old)
+            for sig, handler in old.items():
+                signal.signal(sig, handler)
     box: list = []
 
     def work():

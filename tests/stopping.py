@@ -42,16 +42,19 @@ def wait_for(condition, what: str, timeout: float = SETTLE) -> None:
 
 
 def stop_mid_gesture(log: Path, argv: list[str], signum: int, into: float
-                     ) -> tuple[subprocess.CompletedProcess, float, list[float], list[int]]:
+                     ) -> tuple[subprocess.CompletedProcess, int, list[float], list[int]]:
     """Play ``gestplay ARGV``, send ``signum`` ``into`` s after its first pair's ID (the
     thumb, 1) reached the board, wait for it to end and for the board to log the CANCEL:
-    (the player's ending, when it was signalled, the log's times and bytes)."""
+    (the player's ending, how many bytes the board had logged when it was signalled, the
+    log's times and bytes). A count, not a time: the simulated board stamps bytes left
+    waiting in the pty from when they could have begun, which a busy machine makes
+    earlier than they were written."""
     player = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestplay", *argv],
                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         wait_for(lambda: " 1\n" in log.read_text(), "the first pair", 60)
         time.sleep(into)  # the gesture is well under way (it lasts longer than this)
-        signalled = time.monotonic()
+        signalled = len(received(log)[1])
         player.send_signal(signum)
         out, err = player.communicate(timeout=SETTLE)
     finally:
@@ -64,9 +67,10 @@ def stop_mid_gesture(log: Path, argv: list[str], signum: int, into: float
     return ended, signalled, times, data
 
 
-def after_signal(times: list[float], data: list[int], signalled: float
+def after_signal(times: list[float], data: list[int], signalled: int
                  ) -> list[tuple[float, int]]:
-    """What reached the board after the signal: it ends in the CANCEL."""
-    after = [(t, b) for t, b in zip(times, data, strict=True) if t > signalled]
+    """What reached the board after the signal (``signalled``: the bytes it had logged
+    then): it ends in the CANCEL."""
+    after = list(zip(times, data, strict=True))[signalled:]
     assert after and after[-1][1] == Signal.CANCEL
     return after

@@ -1,11 +1,12 @@
 """Whatever the input, the compiler answers with diagnostics, never a crash or a hang."""
 
 import random
+import time
 
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from mutate import KINDS, attempt, mutate, seeds
+from mutate import KINDS, Hang, attempt, mutate, seeds, within
 
 from inmoov_dsl import compile_source
 from inmoov_dsl.errors import GestError
@@ -44,7 +45,7 @@ def test_any_token_soup_compiles_or_is_a_diagnostic(text):
 
 # -- seeded mutants of real files (tests/mutate.py; benchmarks/fuzz.py runs 20,000) ----
 MUTANTS = {"gest": 150, "toml": 300, "gestc": 400}  #: per kind: the file runs in ~12 s
-LIMIT = 5.0  #: s per input, which a loaded machine meets (most take milliseconds)
+LIMIT = 5.0  #: s of CPU per input (the wall clock may take ten times; most take ms)
 
 
 @pytest.fixture(scope="module")
@@ -56,7 +57,7 @@ def library_seeds():
 def test_mutants_are_accepted_or_refused_with_a_place(library_seeds, kind):
     """Every mutant is accepted (and then keeps every rule of the protocol) or refused
     with GestErrors that each read ``file:line:col: error: ...``; none raises anything
-    else, none takes more than LIMIT seconds (a timer interrupts it)."""
+    else, none takes more than LIMIT seconds of CPU (a timer interrupts it)."""
     problems, statuses = [], set()
     for n in range(MUTANTS[kind]):
         rng = random.Random(f"test:{kind}:{n}")
@@ -75,3 +76,20 @@ def test_the_seeds_themselves_are_accepted(library_seeds):
     for kind in KINDS:
         for seed in library_seeds[kind]:
             assert attempt(seed, seed.data, 30.0).status == "accepted", seed.name
+
+
+def test_an_input_that_loops_or_waits_is_called_a_hang():
+    """The fuzzers' time bound: a loop is stopped by the CPU it spends, whatever the
+    machine's load (time spent waiting for a core is not counted); a wait, by ten
+    times the bound on the wall clock."""
+    def spin():
+        while True:
+            pass
+
+    started = time.monotonic()
+    with pytest.raises(Hang):
+        within(0.2, spin)
+    with pytest.raises(Hang):
+        within(0.05, lambda: time.sleep(5))
+    assert time.monotonic() - started < 4.5  # neither ran on (a bound a loaded machine meets)
+    assert within(0.1, lambda: time.sleep(0.2) or 42) == 42  # waiting spends no CPU
