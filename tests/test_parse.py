@@ -219,17 +219,17 @@ def test_a_file_over_the_size_limit_is_refused_before_parsing():
 
     from inmoov_dsl.language.parse import MAX_SOURCE
     text = "g: index 9\n" * (MAX_SOURCE // 11 + 1)
-    started = time.perf_counter()
+    started = time.process_time()
     with pytest.raises(GestError) as info:
         parse(text, "big.gest")
-    assert time.perf_counter() - started < 1.0
+    assert time.process_time() - started < 1.0  # CPU s: a busy machine does not stretch it
     first = info.value.first
     assert first.message == (f"the file is longer than {MAX_SOURCE:,} characters "
                              f"({len(text):,}): it is not parsed")
     assert (first.pos.line, first.pos.column) == (MAX_SOURCE // 11 + 1, MAX_SOURCE % 11 + 1)
     with pytest.raises(GestError) as info:  # one line of 1.7 MB: a hang before
         parse("g: " + "index 9, " * 190_000 + "index 9", "line.gest")
-    assert time.perf_counter() - started < 2.0
+    assert time.process_time() - started < 2.0
     assert info.value.first.pos.column == MAX_SOURCE + 1
 
 

@@ -190,9 +190,9 @@ def test_poses_built_from_each_other_cost_their_text_not_two_to_the_depth(rhand)
     import time
     lines = ["pose p0: index 1, fingers 2"] + [f"pose p{i}: p{i - 1}, p{i - 1}, thumb {i}"
                                                for i in range(1, 60)]
-    started = time.perf_counter()
+    started = time.process_time()
     (step,) = steps_of("\n".join([*lines, "g: p59"]), rhand)
-    assert time.perf_counter() - started < 1.0  # 2^59 expansions before
+    assert time.process_time() - started < 1.0  # CPU s (load-proof); 2^59 expansions before
     assert names(step, rhand)[:2] == [("index", 2), ("thumb", 59)]
 
 
@@ -200,11 +200,11 @@ def test_gestures_calling_each_other_twice_cost_their_output_not_two_to_the_dept
     # one expansion pass within the step budget: 2^59 steps fail at the budget, fast
     import time
     lines = ["g0: index 1"] + [f"g{i}:\n    g{i - 1}\n    g{i - 1}" for i in range(1, 60)]
-    started = time.perf_counter()
+    started = time.process_time()
     assert error_of("\n".join(lines), rhand, "g59")[0] == (
         "main.gest:176:1: error: gesture 'g59' expands to more than 100,000 steps")
     steps = steps_of("\n".join(lines), rhand, "g16")  # 65,536 steps: within the budget
-    assert time.perf_counter() - started < 1.0
+    assert time.process_time() - started < 1.0
     assert len(steps) == 2 ** 16 and {s.targets for s in steps} == {((2, 1),)}
     assert steps[0].where == steps[-1].where == "g16 > g15 > g14 > g13 > g12 > g11 > g10 > " \
         "g9 > g8 > g7 > g6 > g5 > g4 > g3 > g2 > g1 > g0"
