@@ -62,9 +62,23 @@ def stop_mid_gesture(log: Path, argv: list[str], signum: int, into: float
             player.kill()
             player.wait()
     ended = subprocess.CompletedProcess(argv, player.returncode, out, err)
-    wait_for(lambda: received(log)[1][-1:] == [Signal.CANCEL], "the CANCEL at the board")
+    wait_for(ended_in_cancel(log), "the CANCEL at the board, then nothing")
     times, data = received(log)
     return ended, signalled, times, data
+
+
+def ended_in_cancel(log: Path, quiet: float = 0.5):
+    """A condition for ``wait_for``: the board's last byte is a CANCEL, and nothing has
+    come for ``quiet`` s. A run's filler is the CANCEL byte too: until the port has given
+    the board all it held before the player's CANCEL, a filler can be the last byte."""
+    seen = {"count": -1, "since": 0.0}
+
+    def condition() -> bool:
+        data, now = received(log)[1], time.monotonic()
+        if len(data) != seen["count"]:
+            seen["count"], seen["since"] = len(data), now
+        return data[-1:] == [Signal.CANCEL] and now - seen["since"] >= quiet
+    return condition
 
 
 def after_signal(times: list[float], data: list[int], signalled: int
@@ -72,5 +86,5 @@ def after_signal(times: list[float], data: list[int], signalled: int
     """What reached the board after the signal (``signalled``: the bytes it had logged
     then): it ends in the CANCEL."""
     after = list(zip(times, data, strict=True))[signalled:]
-    assert after and after[-1][1] == Signal.CANCEL
+    assert after and after[-1][1] == Signal.CANCEL, (signalled, len(data), after[-8:])
     return after
