@@ -599,10 +599,9 @@ def test_a_flood_of_bad_requests_is_ten_lines_a_minute_then_a_count(capsys):
     try:
         raise ValueError("Bad status line: b'" + "X" * 5000 + "'")
     except ValueError:
-        import sys as system
         record = logging.LogRecord("aiohttp.server", logging.ERROR, "", 0,
                                    "Error handling request from %s", ("127.0.0.1",),
-                                   system.exc_info())
+                                   sys.exc_info())
     for _ in range(25):
         line.emit(record)
         clock["t"] += 1

@@ -109,8 +109,7 @@ def test_an_old_nano_answers_only_at_57600_baud(tmp_path, capsys):
     need("avrdude")
     hex_file = tmp_path / "blink.hex"
     image = bytes(range(256)) * 3
-    records = [bytes([16, a >> 8, a & 0xFF, 0]) + image[a:a + 16] for a in range(0, 768, 16)]
-    hex_file.write_text(_hex(records) + ":00000001FF\n")
+    hex_file.write_text(_hex(_records(image)) + ":00000001FF\n")
     with Bootloader(baud=57600) as nano:
         assert gestc.main(["upload", "servo_rhand", "--port", nano.path, "--hex",
                            str(hex_file), "--old-bootloader"]) == 0
@@ -303,6 +302,12 @@ def test_a_file_that_is_not_intel_hex_is_refused(tmp_path, capsys, port):
         read_hex(Path(tmp_path / "missing.hex"))
 
 
+def _records(image: bytes) -> list[bytes]:
+    """``image`` from address 0 as Intel HEX data records of 16 bytes, without their
+    checksums."""
+    return [bytes([16, a >> 8, a & 0xFF, 0]) + image[a:a + 16] for a in range(0, len(image), 16)]
+
+
 def _hex(records: list[bytes]) -> str:
     """Intel HEX data records, each with its checksum."""
     return "".join(f":{r.hex()}{-sum(r) & 0xFF:02x}\n" for r in records)
@@ -331,8 +336,7 @@ def test_a_board_unplugged_during_the_upload_ends_it_with_no_avrdude_left(tmp_pa
     from inmoov_dsl.firmware.upload import STALL
 
     hex_file = tmp_path / "big.hex"
-    records = [bytes([16, a >> 8, a & 0xFF, 0]) + bytes(range(16)) for a in range(0, 8192, 16)]
-    hex_file.write_text(_hex(records) + ":00000001FF\n")
+    hex_file.write_text(_hex(_records(bytes(range(16)) * 512)) + ":00000001FF\n")
     with Bootloader(unplugged_after=3) as board:
         began = time.monotonic()
         done = gestc_run("upload", "servo_rhand", "--port", board.path, "--hex",
@@ -351,7 +355,7 @@ def test_a_board_unplugged_during_the_upload_ends_it_with_no_avrdude_left(tmp_pa
 def _bad_hex(rng, how: int) -> str:
     """A small image's Intel HEX, mutated: a record of another kind or too short, an
     address at the end of the space, a checksum or a character wrong, lines lost."""
-    records = [bytes([16, a >> 8, a & 0xFF, 0]) + bytes(range(16)) for a in range(0, 512, 16)]
+    records = _records(bytes(range(16)) * 32)
     k = rng.randrange(len(records))
     if how == 0:  # an extended address record with too little data
         records.insert(k, bytes([rng.randrange(2), 0, 0, rng.choice([2, 4])]) +
