@@ -12,6 +12,7 @@ import pytest
 
 from inmoov_dsl import compile_file, from_json, to_json
 from inmoov_dsl.cli import gestc
+from inmoov_dsl.editor.analysis import analyse
 
 ROOT = Path(__file__).resolve().parent.parent
 COUNT = str(ROOT / "gestures" / "count.gest")
@@ -393,6 +394,39 @@ def test_check_reports_every_error_of_a_file(tmp_path, capsys):
                       ("2", "14", "unknown servo or group 'midle'"),
                       ("4", "4", "unknown servo or group 'thum'")]
     assert err.count("hint: did you mean") == 3
+
+
+EVERY_ERROR = [  # tests/data/every_error.gest: (line, column, message)
+    ("3", "4", "unknown servo or group 'wrsit'"),
+    ("3", "20", "value 200 is outside 0..180"),
+    ("5", "11", "value 200 is outside 0..180"),
+    ("6", "19", "unknown unit 'h'"),
+    ("8", "15", "unknown servo or group 'indx'"),
+    ("9", "23", "unknown unit 'sec'"),
+    ("11", "11", "value 200 is outside 0..180"),
+    ("11", "22", "value 300 is outside 0..180"),
+    ("11", "33", "value 999 is outside 0..180"),
+    ("13", "13", "unexpected end of line; expected ':'"),
+    ("14", "9", "unknown servo or group 'indx'"),
+    ("15", "11", "unexpected name 's'; expected '&', ',', 'over', 'stagger', 'through' or "
+                 "the end of the line"),
+    ("17", "3", "unexpected name 'index'; expected ':'")]
+
+
+def test_check_tells_every_error_of_every_step_in_one_pass(capsys):
+    """Names, values, units and colons, several to a step and in any order: each told at
+    its place in one pass (an error in a step leaves the rest of the text checked), and
+    the gesture that is right is not an error."""
+    mine = Path(__file__).parent / "data" / "every_error.gest"
+    assert gestc.main(["check", str(mine)]) == 1
+    err = capsys.readouterr().err
+    assert re.findall(rf"^{re.escape(str(mine))}:(\d+):(\d+): error: (.*)$", err,
+                      re.M) == EVERY_ERROR
+    assert "did you mean 'wrist'?" in err and "did you mean 'wait'?" in err
+    found = analyse(mine.read_text(), str(mine))  # what an editor is told: the same
+    assert [(str(d.pos.line), str(d.pos.column), d.message) for d in found.diagnostics] \
+        == EVERY_ERROR
+    assert list(found.plans) == ["ok"]  # the steps with errors are not planned, the rest is
 
 
 def test_check_tells_syntax_and_name_errors_together(tmp_path, capsys):

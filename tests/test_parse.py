@@ -254,7 +254,7 @@ def test_lines_are_counted_at_newlines_only():
 
 
 def test_repeats_nested_too_deep_are_a_syntax_error():
-    from inmoov_dsl.language.parse import MAX_DEPTH
+    from inmoov_dsl.language.tree import MAX_DEPTH
     parse("g: " + "repeat 2: " * MAX_DEPTH + "index 9", "e.gest")
     with pytest.raises(GestError) as info:
         parse("g: " + "repeat 2: " * (MAX_DEPTH + 1) + "index 9", "e.gest")

@@ -13,6 +13,8 @@ from ..profiles.data import Profile
 from .compiled import Compiled
 from .compiler import compile_program
 from .plan import Plan
+from .resolve import resolver
+from .robot import profile_for
 from .stretch import without_count
 
 Told = set[tuple[str, object, str]]  #: (severity, place, message) already told
@@ -43,10 +45,14 @@ def check_gesture(program: Program, gesture: str, profile: str | Profile | None 
                   strict: bool = False,
                   also: Callable[[Program, Compiled, Plan], None] | None = None) -> Checked:
     """Compile ``gesture``: what it tells (``also``: a further check of the compiled
-    gesture, whose GestError is an error too)."""
+    gesture, whose GestError is an error too). One whose text has errors the parser told
+    (``Program.unplayable``) is only resolved: its names are checked, it has no plan."""
     gathered = Errors()
     compiled = plan = None
     with gathered:
+        if gesture in program.unplayable():
+            resolver(program, profile_for(program, profile)).gesture(gesture)
+            return Checked(tuple(gathered.found), (), None)
         compiled, plan = compile_program(program, gesture, profile, None, strict)
         if also is not None:
             also(program, compiled, plan)

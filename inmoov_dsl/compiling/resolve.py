@@ -174,11 +174,11 @@ class Resolver(Targets):
         if len(move.targets) != 1:
             return None
         target = move.targets[0]
-        what = "servo or group" if target.value is not None else ANYTHING
+        what = "servo or group" if target.valued else ANYTHING
         if not isinstance(self.lookup(target.name, what), Gesture):
             return None
         name = target.name.text
-        if target.value is not None:
+        if target.valued:
             self.fail(f"'{name}' is a gesture; it takes no value", target.value_pos)
         for timing in (move.over, move.stagger, move.through):
             if timing is not None:

@@ -61,8 +61,7 @@ class Targets:
         errors = Errors()
         for t in targets:
             with errors:  # each target's error told, not only the first's
-                match self.lookup(t.name, "servo or group" if t.value is not None
-                                  else ANYTHING):
+                match self.lookup(t.name, "servo or group" if t.valued else ANYTHING):
                     case Pose():
                         out.update(self._pose(t, chain))
                     case Gesture():
@@ -78,7 +77,7 @@ class Targets:
         """The targets of the pose ``t`` names, expanded once (with how deep poses nest
         in it): poses built from poses cost the size of their text, not 2^depth."""
         name = t.name.text
-        if t.value is not None:
+        if t.valued:
             self.fail(f"'{name}' is a pose; it takes no value", t.value_pos,
                       f"write just '{name}'")
         if name in chain:
@@ -103,11 +102,13 @@ class Targets:
         name = t.name.text
         kind, members = ("servo", (found.name,)) if isinstance(found, Servo) \
             else ("group", found.members)
-        if t.value is None:
+        if not t.valued:
             self.fail(f"{kind} '{name}' needs a value", t.name.pos, f"for example '{name} 90'")
         if name in direct:
             self.fail(f"'{name}' is set twice in this step", t.name.pos)
         direct.add(name)
+        if t.value is None:  # refused by the parser, which told why: the step is not played
+            return
         for member in members:
             index = self.profile.index(member)
             servo = self.profile.servos[index]

@@ -5,7 +5,7 @@ extra): the package imports this module only when it colours something.
 
 The lexer reads the terminals of ``grammar/gest.lark`` (a name, a number, a string, a
 comment; a robot's profile name may hold dashes); the keywords and the units are the
-language's own (``syntax.KEYWORDS``, ``parse.UNITS``), never listed here."""
+language's own (``syntax.KEYWORDS``, ``tree.UNITS``), never listed here."""
 
 from __future__ import annotations
 
@@ -16,8 +16,8 @@ from pygments.formatters import TerminalFormatter
 from pygments.lexer import RegexLexer, bygroups, this, using
 from pygments.token import Comment, Keyword, Name, Number, Operator, Punctuation, String, Whitespace
 
-from ..language.parse import UNITS
 from ..language.syntax import KEYWORDS
+from ..language.tree import UNITS
 from .text import NAME, NUMBER, PROFILE
 
 END = r"(?![A-Za-z0-9_])"  #: a word ends here (the grammar's keywords end so)

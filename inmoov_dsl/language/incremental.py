@@ -8,13 +8,28 @@ from __future__ import annotations
 import dataclasses
 import re
 from functools import cache
+from typing import NamedTuple
 
 from ..errors import GestError, Pos
 from . import syntax as ast
-from .parse import alone, attempt, blocks, every_error, module_of, prepared
+from .parse import alone, attempt, attempt_block, blocks, every_error, in_order, prepared
 from .parse_errors import SyntaxProblem
+from .tree import module_of
 
-Parsed = tuple[ast.Item, ...] | GestError  #: a block's items, or its first problem
+Parsed = ast.Module | GestError  #: a block's items (and its flaws), or its errors
+
+
+class Partial(NamedTuple):
+    """What of a text parses, and what does not."""
+
+    module: ast.Module  #: the blocks that parse, as a file
+    error: GestError | None  #: every syntax error ``parse`` raises for the text
+    #: the names the blocks that do not parse would define (``*``: a robot or ``use``
+    #: line, which every name may depend on)
+    broken: frozenset[str]
+    #: the names of the blocks that parse with errors (a value, a unit, a step's line):
+    #: read for their names, never planned
+    flawed: frozenset[str]
 
 
 class BlockParser:
@@ -26,16 +41,13 @@ class BlockParser:
     def parse(self, text: str, file: str) -> ast.Module:
         """As ``parse.parse(text, file)``; the blocks it has seen (anywhere in a text it
         parsed last) are not parsed again."""
-        module, error, _broken = self.parse_partly(text, file)
-        if error is not None:
-            raise error
-        return module
+        found = self.parse_partly(text, file)
+        if found.error is not None:
+            raise found.error
+        return found.module
 
-    def parse_partly(self, text: str, file: str
-                     ) -> tuple[ast.Module, GestError | None, frozenset[str]]:
-        """The blocks of ``text`` that parse, as a file; the syntax errors ``parse``
-        raises for it (None: none); and the names the blocks that do not parse would
-        define (``*``: a robot or ``use`` line, which every name may depend on)."""
+    def parse_partly(self, text: str, file: str) -> Partial:
+        """The blocks of ``text`` that parse, as a file, and its syntax errors."""
         text, lines = prepared(text, file)
         kept: dict[tuple[str, str], tuple[int, Parsed]] = {}
         each: list[Parsed] = []
@@ -44,23 +56,26 @@ class BlockParser:
             key = (file, "\n".join(lines[start:end]))
             was = self.seen.get(key) or kept.get(key)
             if was is None:
-                parsed = attempt(alone(lines, start, end), file, lines)
-                was = (start, parsed.items if isinstance(parsed, ast.Module) else parsed)
+                was = (start, attempt_block(lines, start, end, file))
             elif was[0] != start:
                 was = (start, shifted(was[1], start - was[0]))
             kept[key] = was
             each.append(was[1])
         self.seen = {k: v for k, v in {**self.seen, **kept}.items() if k[0] != file or
                      k in kept}
-        items = tuple(i for parsed in each if not isinstance(parsed, GestError)
-                      for i in parsed)
-        bad = [k for k, parsed in enumerate(each) if isinstance(parsed, GestError)]
+        parsed = [p for p in each if isinstance(p, ast.Module)]
+        items = tuple(i for p in parsed for i in p.items)
+        flaws = [d for p in parsed for d in p.flaws]
+        flawed = frozenset(defines(lines[found[k][0]]) for k, p in enumerate(each)
+                           if isinstance(p, ast.Module) and p.flaws)
+        bad = [k for k, p in enumerate(each) if isinstance(p, GestError)]
         if not bad:
             try:
-                return module_of(file, items), None, frozenset()
+                return Partial(module_of(file, items),
+                               GestError(flaws) if flaws else None, frozenset(), flawed)
             except SyntaxProblem as problem:  # a robot line below the first
-                return _without_robots(file, items), problem.error(file, lines), \
-                    frozenset({"*"})
+                return Partial(_without_robots(file, items), GestError(in_order(
+                    [problem.error(file, lines).first, *flaws])), frozenset({"*"}), flawed)
         start = found[bad[0]][0]
         first = attempt(alone(lines, start, len(lines)), file, lines)
         if not isinstance(first, GestError):  # the first block with a problem has it
@@ -70,7 +85,7 @@ class BlockParser:
             module = module_of(file, items)
         except SyntaxProblem:
             module, broken = _without_robots(file, items), broken | {"*"}
-        return module, every_error(first, list(each)), broken
+        return Partial(module, every_error(first, list(each)), broken, flawed)
 
 
 def _without_robots(file: str, items: tuple[ast.Item, ...]) -> ast.Module:
@@ -102,7 +117,7 @@ def shifted(parsed: Parsed, lines: int) -> Parsed:
     """``parsed`` moved down by ``lines`` (up when negative)."""
     if isinstance(parsed, GestError):
         return GestError([_moved(d, lines) for d in parsed.diagnostics])
-    return tuple(_moved(item, lines) for item in parsed)
+    return _moved(parsed, lines)
 
 
 def _moved(node, lines: int):

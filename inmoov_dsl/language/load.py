@@ -10,6 +10,7 @@ import functools
 import os
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Any
 
 from ..errors import Diagnostic, GestError, Pos, SourceMap, decode_utf8
 from ..resources import read_regular
@@ -23,8 +24,8 @@ GEST_SUFFIX = ".gest"
 
 Reader = Callable[[str], str]  #: path -> its text
 Parser = Callable[[str, str], ast.Module]  #: (text, file) -> its syntax tree
-#: (text, file) -> the blocks that parse, the syntax errors, the names of those that do not
-Partly = Callable[[str, str], tuple[ast.Module, GestError | None, frozenset[str]]]
+#: (text, file) -> what of it parses and what does not (``incremental.Partial``)
+Partly = Callable[[str, str], Any]
 
 
 def read_text(path: str) -> str:
@@ -104,7 +105,7 @@ class _Loader:
         program.sources.add(file, source)
         program.texts[file] = source
         if is_root and self.partly is not None:
-            module, error, program.broken = self.partly(source, file)
+            module, error, program.broken, program.flawed = self.partly(source, file)
             program.syntax = () if error is None else error.diagnostics
         else:
             module = self.parse(source, file)

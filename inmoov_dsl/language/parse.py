@@ -5,27 +5,21 @@ from __future__ import annotations
 
 import functools
 import hashlib
-import math
 import sys
 import threading
-from typing import Any
 
-from lark import Lark, Token, Transformer, UnexpectedInput, v_args
+from lark import Lark, UnexpectedInput
 from lark import __version__ as lark_version
 
-from ..errors import Diagnostic, GestError, Pos
-from ..protocol import MAX_VALUE
+from ..errors import Diagnostic, GestError
 from ..resources import grammar_path, private_cache_dir, private_file
 from . import syntax as ast
 from .indent import GestIndenter
-from .parse_errors import SyntaxProblem, lark_problem, pos_span, shown, tok_span
+from .parse_errors import SyntaxProblem, lark_problem
+from .tree import TO_AST
 
-MAX_REPEAT = 1000
-MAX_DURATION = 600.0  #: s, the longest single move or wait
 MAX_SOURCE = 1_000_000  #: characters in one .gest file, checked before parsing
 MAX_LINE = 10_000  #: characters in one line, checked before parsing
-MAX_DEPTH = 100  #: repeats within repeats
-UNITS = {"s": 1.0, "ms": 0.001}
 
 
 @functools.cache
@@ -59,174 +53,22 @@ def _cache_file(grammar: str) -> str | bool:
     return str(path) if private_file(path) else False
 
 
-@v_args(inline=True)
-class _ToAst(Transformer):
-    """Parse-tree rules -> syntax dataclasses. ``file`` is set for each parse."""
-
-    file = "<string>"
-    depths: dict[int, int] = {}  #: id of a Repeat -> how many repeats deep it goes
-
-    def _pos(self, tok: Token) -> Pos:
-        return Pos(self.file, tok.line, tok.column, max(1, len(str(tok))))
-
-    def start(self, *items):
-        return module_of(self.file, items)
-
-    def _name(self, tok: Token) -> ast.Name:
-        return ast.Name(str(tok), self._pos(tok))
-
-    def robot_stmt(self, name: Token):
-        if name.type == "STRING":
-            path = str(name)[1:-1]
-            if not path.endswith(".toml"):
-                raise SyntaxProblem(f"a robot is a profile's name or a .toml file, not "
-                                    f"'{shown(path)}'", tok_span(name),
-                                    'robot inmoov, or robot "my_hand.toml"')
-            return ast.Robot(path, self._pos(name), is_file=True)
-        return ast.Robot(str(name), self._pos(name))
-
-    def use_stmt(self, path: Token):
-        return ast.Use(path[1:-1], self._pos(path))
-
-    def group_def(self, name: Token, *members: Token):
-        return ast.GroupDef(self._name(name), tuple(self._name(m) for m in members))
-
-    def pose_def(self, name: Token, *targets: ast.Target):
-        return ast.PoseDef(self._name(name), targets)
-
-    def gesture_line(self, name: Token, step):
-        return ast.GestureDef(self._name(name), (step,))
-
-    def gesture_block(self, name: Token, *steps):
-        return ast.GestureDef(self._name(name), steps)
-
-    def repeat_block(self, count: Token, *steps):
-        return self._repeat(count, steps)
-
-    def repeat_line(self, count: Token, step):
-        return self._repeat(count, (step,))
-
-    def _repeat(self, count: Token, body: tuple) -> ast.Repeat:
-        """A repeat; one inside more than MAX_DEPTH others is an error (what walks the
-        tree, the formatter say, may recurse)."""
-        depth = 1 + max((self.depths.get(id(s), 0) for s in body), default=0)
-        if depth > MAX_DEPTH:
-            raise SyntaxProblem(f"repeats are nested more than {MAX_DEPTH} deep",
-                                tok_span(count))
-        node = ast.Repeat(self._count(count), body, self._pos(count))
-        self.depths[id(node)] = depth
-        return node
-
-    def _count(self, tok: Token) -> int:
-        text = str(tok)
-        digits = text.lstrip("+-")
-        # a count with more digits than MAX_REPEAT is too large before int() sees it
-        if not digits.isdigit() or len(digits.lstrip("0")) > len(str(MAX_REPEAT)) \
-                or not 1 <= int(text) <= MAX_REPEAT:
-            raise SyntaxProblem(f"repeat count must be a whole number from 1 to "
-                                f"{MAX_REPEAT}, got {shown(text)}", tok_span(tok))
-        return int(text)
-
-    def wait(self, duration: ast.Duration):
-        return ast.Wait(duration, duration.pos, "wait")
-
-    def hold(self, duration: ast.Duration):
-        return ast.Wait(duration, duration.pos, "hold")
-
-    def move(self, *parts):
-        side = self._name(parts[0]) if isinstance(parts[0], Token) else None
-        targets = tuple(p for p in parts if isinstance(p, ast.Target))
-        timing: dict[str, Any] = {}  # over and stagger: a Duration; through: a Pos
-        for kind, value in (p for p in parts if isinstance(p, tuple)):
-            if kind in timing:
-                raise SyntaxProblem(f"'{kind}' is given twice in this step",
-                                    pos_span(getattr(value, "pos", value)))
-            timing[kind] = value
-        return ast.Move(targets, timing.get("over"), timing.get("stagger"),
-                        (side or targets[0].name).pos, timing.get("through"), side)
-
-    def together(self, *parts: ast.Move | ast.Say):
-        return ast.Together(parts, parts[0].pos)
-
-    def say(self, keyword: Token, text: Token):
-        return ast.Say(text[1:-1], self._pos(keyword), self._pos(text))
-
-    def over(self, duration: ast.Duration):  # the timings: (kind, value)
-        return ("over", duration)
-
-    def stagger(self, duration: ast.Duration):
-        return ("stagger", duration)
-
-    def through(self, keyword: Token):
-        return ("through", self._pos(keyword))
-
-    def target(self, name: Token, value: Token | None = None):
-        if value is None:
-            return ast.Target(self._name(name), None, None)
-        text = str(value)
-        number = float(text)  # inf when it has hundreds of digits
-        outside = SyntaxProblem(f"value {shown(text)} is outside 0..{MAX_VALUE}",
-                                tok_span(value), f"0 is straight, {MAX_VALUE} is curled")
-        if not math.isfinite(number) or abs(number) > 1e9:
-            raise outside
-        if number != int(number) or "." in text:
-            lo, hi = int(number // 1), int(number // 1) + 1
-            raise SyntaxProblem(f"values are whole degrees, got {shown(text)}",
-                                tok_span(value), f"use {lo} or {hi}")
-        if not 0 <= number <= MAX_VALUE:
-            raise outside
-        return ast.Target(self._name(name), int(number), self._pos(value))
-
-    def duration(self, number: Token, unit: Token | None = None):
-        text = str(number)
-        if unit is None:
-            raise SyntaxProblem(f"the duration {shown(text)} needs a unit", tok_span(number),
-                                f"write {shown(text)}s or {shown(text)}ms")
-        if str(unit) not in UNITS:
-            raise SyntaxProblem(f"unknown unit '{shown(str(unit))}'", tok_span(unit),
-                                f"use s or ms, as in {shown(text)}s or {shown(text)}ms")
-        seconds = float(text) * UNITS[str(unit)]  # inf when it has hundreds of digits
-        span = (number.line, number.column, len(text) + len(str(unit)))
-        if not seconds > 0:
-            raise SyntaxProblem(f"a duration must be greater than 0, got {shown(text)}{unit}",
-                                span)
-        if seconds > MAX_DURATION:
-            raise SyntaxProblem(f"duration {shown(text)}{unit} is too long (at most "
-                                f"{MAX_DURATION:g} s per step)", span,
-                                "split a long hold into several waits")
-        pos = self._pos(number)
-        return ast.Duration(seconds, Pos(pos.file, pos.line, pos.column, span[2]), text,
-                            str(unit))
-
-
-def module_of(file: str, items: tuple[ast.Item, ...]) -> ast.Module:
-    """The file of ``items``; a SyntaxProblem unless its robot line, if any, is its
-    first."""
-    for item in items[1:]:
-        if isinstance(item, ast.Robot):
-            raise SyntaxProblem("a file names its robot once, on its first line",
-                                pos_span(item.pos), "move the robot line to the top of "
-                                "the file, above its gestures" if not isinstance(
-                                    items[0], ast.Robot) else "keep one robot line")
-    return ast.Module(file, tuple(items))
-
-
-_TO_AST = _ToAst()
+_TO_AST = TO_AST
 _LOCK = threading.Lock()  # the parser and its transformer are shared
 
 
 def parse(text: str, file: str = "<string>") -> ast.Module:
     """Parse one .gest source text; raise GestError on any syntax problem: every one it
-    has, an error in one gesture (one top-level block) not hiding those of the others. A
-    text longer than MAX_SOURCE characters, or with a line longer than MAX_LINE, is
-    refused before parsing."""
+    has, an error in one gesture (one top-level block) not hiding those of the others,
+    nor one step's those of the next. A text longer than MAX_SOURCE characters, or with a
+    line longer than MAX_LINE, is refused before parsing."""
     text, lines = prepared(text, file)
     parsed = attempt(text, file, lines)
     if isinstance(parsed, ast.Module):
+        if parsed.flaws:
+            raise GestError(parsed.flaws)
         return parsed
-    # each block alone: its errors (a block's end is no file's end: an error there is
-    # the cut's, and one at the file's end is the first already)
-    raise every_error(parsed, [attempt(alone(lines, start, end), file, lines)
+    raise every_error(parsed, [attempt_block(lines, start, end, file)
                                for start, end in blocks(lines)])
 
 
@@ -249,36 +91,91 @@ def alone(lines: list[str], start: int, end: int) -> str:
     return "\n" * start + "\n".join(lines[start:end]) + "\n"
 
 
+CUT = "unexpected end of the file"  #: how a block's end, read alone, is told
+
+
 def every_error(first: GestError, each: list[ast.Module | GestError]) -> GestError:
-    """The text's errors: its ``first``, and each block's (``each``) but those at a
-    block's end (the cut's); a line keeps its first error (the whole file's first)."""
-    found = [first, *(p for p in each if isinstance(p, GestError)
-                      and not p.first.message.startswith("unexpected end of the file"))]
-    errors: dict[int, Diagnostic] = {}
-    for error in found:
-        errors.setdefault(error.first.pos.line, error.first)
-    return GestError(sorted(errors.values(), key=lambda d: (d.pos.line, d.pos.column)))
+    """The text's errors: its ``first``, and each block's (``each``: its errors, or the
+    flaws of one that parses) but those at a block's end (the cut's: one at the file's
+    end is the first already); the line of the first keeps that one."""
+    head = first.first
+    found = [head, *(d for parsed in each for d in (
+        parsed.diagnostics if isinstance(parsed, GestError) else parsed.flaws)
+        if not d.message.startswith(CUT) and d.pos.line != head.pos.line)]
+    return GestError(in_order(found))
+
+
+def in_order(found: list[Diagnostic]) -> list[Diagnostic]:
+    """``found`` in the file's order, each told once."""
+    once = {(d.pos.line, d.pos.column, d.message): d for d in reversed(found)}
+    return sorted(once.values(), key=lambda d: (d.pos.line, d.pos.column))
 
 
 def attempt(text: str, file: str, lines: list[str]) -> ast.Module | GestError:
-    """``text`` (the file's ``lines``, or a block of them) parsed, or its first syntax
-    problem."""
+    """``text`` (the file's ``lines``, or a block of them) parsed, its flaws kept in it,
+    or its first syntax problem."""
     try:
         with _LOCK:
-            _TO_AST.file, _TO_AST.depths = file, {}
-            return parser().parse(text)
+            _TO_AST.file, _TO_AST.depths, _TO_AST.flaws = file, {}, []
+            module = parser().parse(text)
+            flaws = _TO_AST.flaws
     except SyntaxProblem as problem:  # tree-less mode: callbacks' exceptions come as they are
         return problem.error(file, lines)
     except UnexpectedInput as exc:
         return lark_problem(exc, text, lines).error(file, lines)
+    if not flaws:
+        return module
+    return ast.Module(file, module.items, tuple(in_order(
+        [p.error(file, lines).first for p in flaws])))
+
+
+MAX_SKIPPED = 100  #: lines of one block left out so that those after them are read
+
+
+def attempt_block(lines: list[str], start: int, end: int, file: str
+                  ) -> ast.Module | GestError:
+    """The block of ``lines`` from ``start`` to ``end`` parsed alone (``attempt``). A line
+    of its steps that does not parse is told and left out, so that the lines after it
+    are read too: the block then parses with that error among its flaws."""
+    own, told, skipped = lines[start:end], [], set()
+    while True:
+        parsed = attempt("\n" * start + "\n".join(own) + "\n", file, lines)
+        if isinstance(parsed, ast.Module):
+            return parsed if not told else ast.Module(file, parsed.items,
+                                                      tuple(in_order([*told, *parsed.flaws])))
+        k = parsed.first.pos.line - 1 - start
+        if not 0 < k < len(own) or k in skipped or len(skipped) >= MAX_SKIPPED or \
+                not _starts(own[0]):
+            # the block's name line, a line left out (what is left is not the text's), or
+            # lines before the first block
+            return GestError(told) if told else parsed
+        told.append(parsed.first)
+        skipped.add(k)
+        own[k] = _left_out(own, k)
+
+
+def _left_out(own: list[str], k: int) -> str:
+    """What stands for line ``k`` of a block's lines (``own``), which does not parse: an
+    empty line, or a repeat of its indentation when the lines below are indented under
+    it (a ``repeat 2`` without its colon), so that those are read as its body."""
+    indent = len(own[k]) - len(own[k].lstrip(" \t"))
+    below = next((row for row in own[k + 1:] if row.strip() and
+                  not row.lstrip().startswith("#")), "")
+    if len(below) - len(below.lstrip(" \t")) > indent:
+        return own[k][:indent] + "repeat 1:"
+    return ""
 
 
 def blocks(lines: list[str]) -> list[tuple[int, int]]:
     """(first, end) line index of each top-level block: a line that starts at column 1
     (not a comment) and the indented, blank and comment lines after it."""
-    starts = [k for k, line in enumerate(lines)
-              if line[:1] not in ("", " ", "\t", "#") and not line.startswith("\ufeff#")]
+    starts = [k for k, line in enumerate(lines) if _starts(line)]
     return list(zip(starts, [*starts[1:], len(lines)][:len(starts)], strict=True))
+
+
+def _starts(line: str) -> bool:
+    """Does ``line`` start a top-level block (at column 1, not a comment)?"""
+    return line[:1] not in ("", " ", "\t", "#") and not line.startswith("\ufeff#")
 
 
 def _check_size(text: str, size: int, lines: list[str]) -> None:

@@ -40,7 +40,11 @@ class Program:
     #: names its blocks that do not parse would define (``*``: a robot or use line)
     syntax: tuple[Diagnostic, ...] = ()
     broken: frozenset[str] = frozenset()
+    #: the names of the root file's blocks that parse with errors (a value, a unit, a
+    #: step's line): read for their names, never planned
+    flawed: frozenset[str] = frozenset()
     digests: dict[str, str] = field(default_factory=dict, repr=False)
+    _unplayable: frozenset[str] | None = field(default=None, repr=False, compare=False)
 
     def names(self) -> dict[str, Pos]:
         """Every group, pose and gesture the program defines -> where it is defined."""
@@ -55,6 +59,12 @@ class Program:
         define)."""
         node = self.gestures.get(name) or self.poses.get(name) or self.groups.get(name)
         return set(_names(node))
+
+    def unplayable(self) -> frozenset[str]:
+        """The flawed names and their users (``users``): what cannot be planned."""
+        if self._unplayable is None:
+            self._unplayable = self.flawed | frozenset(self.users(set(self.flawed)))
+        return self._unplayable
 
     def users(self, names: set[str]) -> set[str]:
         """The group, pose and gesture names whose definitions write one of ``names``,

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..errors import Pos
+from ..errors import Diagnostic, Pos
 
 #: the language's keywords: never a gesture, pose, group or servo name
 KEYWORDS = frozenset({"robot", "use", "group", "pose", "wait", "hold", "repeat", "over", "stagger",
@@ -24,8 +24,13 @@ class Target:
     """``index 180`` (servo or group with a value) or ``fist`` (a pose or gesture name)."""
 
     name: Name
-    value: int | None
+    value: int | None  #: None: none written, or one refused (``value_pos`` is set)
     value_pos: Pos | None
+
+    @property
+    def valued(self) -> bool:
+        """Was a value written (one the parser refused too)?"""
+        return self.value_pos is not None
 
 
 @dataclass(frozen=True)
@@ -146,6 +151,10 @@ class Module:
 
     file: str
     items: tuple[Item, ...]
+    #: the errors of steps whose shape is known (a value, a unit, a line that does not
+    #: parse in a block that does): their definitions are read, for their names, but
+    #: cannot be played
+    flaws: tuple[Diagnostic, ...] = ()
 
     @property
     def robot(self) -> Robot | None:

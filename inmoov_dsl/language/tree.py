@@ -1,0 +1,197 @@
+"""The parse tree's rules as the syntax tree's dataclasses (Lark's tree-less LALR mode
+calls them as it parses). A value, a unit or a count that is wrong is a flaw: told at its
+place while the parse goes on, with a placeholder, so one step's mistakes do not hide the
+next ones'."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from lark import Token, Transformer, v_args
+
+from ..errors import Pos
+from ..protocol import MAX_VALUE
+from . import syntax as ast
+from .parse_errors import Span, SyntaxProblem, pos_span, shown, tok_span
+
+MAX_REPEAT = 1000
+MAX_DURATION = 600.0  #: s, the longest single move or wait
+MAX_DEPTH = 100  #: repeats within repeats
+UNITS = {"s": 1.0, "ms": 0.001}
+
+
+@v_args(inline=True)
+class _ToAst(Transformer):
+    """Parse-tree rules -> syntax dataclasses. ``file`` is set for each parse."""
+
+    file = "<string>"
+    depths: dict[int, int] = {}  #: id of a Repeat -> how many repeats deep it goes
+    #: the problems of a step that leave its shape known (a value, a unit, a count): told
+    #: all, each at its place, while the parse goes on with a placeholder
+    flaws: list[SyntaxProblem] = []
+
+    def _pos(self, tok: Token) -> Pos:
+        return Pos(self.file, tok.line, tok.column, max(1, len(str(tok))))
+
+    def start(self, *items):
+        return module_of(self.file, items)
+
+    def _name(self, tok: Token) -> ast.Name:
+        return ast.Name(str(tok), self._pos(tok))
+
+    def robot_stmt(self, name: Token):
+        if name.type == "STRING":
+            path = str(name)[1:-1]
+            if not path.endswith(".toml"):
+                raise SyntaxProblem(f"a robot is a profile's name or a .toml file, not "
+                                    f"'{shown(path)}'", tok_span(name),
+                                    'robot inmoov, or robot "my_hand.toml"')
+            return ast.Robot(path, self._pos(name), is_file=True)
+        return ast.Robot(str(name), self._pos(name))
+
+    def use_stmt(self, path: Token):
+        return ast.Use(path[1:-1], self._pos(path))
+
+    def group_def(self, name: Token, *members: Token):
+        return ast.GroupDef(self._name(name), tuple(self._name(m) for m in members))
+
+    def pose_def(self, name: Token, *targets: ast.Target):
+        return ast.PoseDef(self._name(name), targets)
+
+    def gesture_line(self, name: Token, step):
+        return ast.GestureDef(self._name(name), (step,))
+
+    def gesture_block(self, name: Token, *steps):
+        return ast.GestureDef(self._name(name), steps)
+
+    def repeat_block(self, count: Token, *steps):
+        return self._repeat(count, steps)
+
+    def repeat_line(self, count: Token, step):
+        return self._repeat(count, (step,))
+
+    def _repeat(self, count: Token, body: tuple) -> ast.Repeat:
+        """A repeat; one inside more than MAX_DEPTH others is an error (what walks the
+        tree, the formatter say, may recurse)."""
+        depth = 1 + max((self.depths.get(id(s), 0) for s in body), default=0)
+        if depth > MAX_DEPTH:
+            raise SyntaxProblem(f"repeats are nested more than {MAX_DEPTH} deep",
+                                tok_span(count))
+        node = ast.Repeat(self._count(count), body, self._pos(count))
+        self.depths[id(node)] = depth
+        return node
+
+    def _count(self, tok: Token) -> int:
+        text = str(tok)
+        digits = text.lstrip("+-")
+        # a count with more digits than MAX_REPEAT is too large before int() sees it
+        if not digits.isdigit() or len(digits.lstrip("0")) > len(str(MAX_REPEAT)) \
+                or not 1 <= int(text) <= MAX_REPEAT:
+            self.flaws.append(SyntaxProblem(f"repeat count must be a whole number from 1 "
+                                            f"to {MAX_REPEAT}, got {shown(text)}",
+                                            tok_span(tok)))
+            return 1
+        return int(text)
+
+    def wait(self, duration: ast.Duration):
+        return ast.Wait(duration, duration.pos, "wait")
+
+    def hold(self, duration: ast.Duration):
+        return ast.Wait(duration, duration.pos, "hold")
+
+    def move(self, *parts):
+        side = self._name(parts[0]) if isinstance(parts[0], Token) else None
+        targets = tuple(p for p in parts if isinstance(p, ast.Target))
+        timing: dict[str, Any] = {}  # over and stagger: a Duration; through: a Pos
+        for kind, value in (p for p in parts if isinstance(p, tuple)):
+            if kind in timing:
+                self.flaws.append(SyntaxProblem(f"'{kind}' is given twice in this step",
+                                                pos_span(getattr(value, "pos", value))))
+            timing.setdefault(kind, value)
+        return ast.Move(targets, timing.get("over"), timing.get("stagger"),
+                        (side or targets[0].name).pos, timing.get("through"), side)
+
+    def together(self, *parts: ast.Move | ast.Say):
+        return ast.Together(parts, parts[0].pos)
+
+    def say(self, keyword: Token, text: Token):
+        return ast.Say(text[1:-1], self._pos(keyword), self._pos(text))
+
+    def over(self, duration: ast.Duration):  # the timings: (kind, value)
+        return ("over", duration)
+
+    def stagger(self, duration: ast.Duration):
+        return ("stagger", duration)
+
+    def through(self, keyword: Token):
+        return ("through", self._pos(keyword))
+
+    def target(self, name: Token, value: Token | None = None):
+        if value is None:
+            return ast.Target(self._name(name), None, None)
+        problem = _value_problem(str(value), tok_span(value))
+        if problem is not None:  # a value was written: the name is still looked up
+            self.flaws.append(problem)
+            return ast.Target(self._name(name), None, self._pos(value))
+        return ast.Target(self._name(name), int(float(str(value))), self._pos(value))
+
+    def duration(self, number: Token, unit: Token | None = None):
+        text = str(number)
+        span = (number.line, number.column, len(text) + len(str(unit or "")))
+        pos = self._pos(number)
+        pos = Pos(pos.file, pos.line, pos.column, span[2])
+        problem = _duration_problem(number, unit, span)
+        if problem is not None:  # its length unknown: the step's plan is too
+            self.flaws.append(problem)
+            return ast.Duration(math.nan, pos, text, str(unit or ""))
+        return ast.Duration(float(text) * UNITS[str(unit)], pos, text, str(unit))
+
+
+def _value_problem(text: str, span: Span) -> SyntaxProblem | None:
+    """What is wrong with a servo's value as written, or None."""
+    number = float(text)  # inf when it has hundreds of digits
+    if not math.isfinite(number) or abs(number) > 1e9 or not 0 <= number <= MAX_VALUE:
+        return SyntaxProblem(f"value {shown(text)} is outside 0..{MAX_VALUE}", span,
+                             f"0 is straight, {MAX_VALUE} is curled")
+    if number != int(number) or "." in text:
+        lo = int(number // 1)
+        return SyntaxProblem(f"values are whole degrees, got {shown(text)}", span,
+                             f"use {lo} or {lo + 1}")
+    return None
+
+
+def _duration_problem(number: Token, unit: Token | None, span: Span
+                      ) -> SyntaxProblem | None:
+    """What is wrong with a duration as written (``span``: where it is), or None."""
+    text = str(number)
+    if unit is None:
+        return SyntaxProblem(f"the duration {shown(text)} needs a unit", tok_span(number),
+                             f"write {shown(text)}s or {shown(text)}ms")
+    if str(unit) not in UNITS:
+        return SyntaxProblem(f"unknown unit '{shown(str(unit))}'", tok_span(unit),
+                             f"use s or ms, as in {shown(text)}s or {shown(text)}ms")
+    seconds = float(text) * UNITS[str(unit)]  # inf when it has hundreds of digits
+    if not seconds > 0:
+        return SyntaxProblem(f"a duration must be greater than 0, got {shown(text)}{unit}",
+                             span)
+    if seconds > MAX_DURATION:
+        return SyntaxProblem(f"duration {shown(text)}{unit} is too long (at most "
+                             f"{MAX_DURATION:g} s per step)", span,
+                             "split a long hold into several waits")
+    return None
+
+
+def module_of(file: str, items: tuple[ast.Item, ...]) -> ast.Module:
+    """The file of ``items``; a SyntaxProblem unless its robot line, if any, is its
+    first."""
+    for item in items[1:]:
+        if isinstance(item, ast.Robot):
+            raise SyntaxProblem("a file names its robot once, on its first line",
+                                pos_span(item.pos), "move the robot line to the top of "
+                                "the file, above its gestures" if not isinstance(
+                                    items[0], ast.Robot) else "keep one robot line")
+    return ast.Module(file, tuple(items))
+
+
+TO_AST = _ToAst()  #: the one builder: parse sets its file and clears its state, under its lock
