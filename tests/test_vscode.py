@@ -1,8 +1,11 @@
 """The VS Code extension (editors/vscode). Its TextMate grammar gives every token of
 every library file the scope the project's own lexer (Lark, grammar/gest.lark) says it
 has, checked by a tool we did not write (vscode-tmgrammar-test) on test files made here
-from the lexer's tokens; the extension packages (vsce) into a .vsix that carries what VS
-Code needs; its client starts the configured command and tells it the robot.
+from the lexer's tokens; `npm ci` and the packager (vsce) print no warning, and the .vsix
+carries what VS Code needs and nothing else: one JavaScript file that esbuild bundles
+(the client and the language client library, no node_modules), which loads in Node with
+nothing beside it but VS Code's own module; the client starts the configured command and
+tells it the robot.
 
 The tests that run node skip without node and npm, except under CI=true, where that
 fails."""
@@ -27,6 +30,7 @@ from inmoov_dsl.language.syntax import KEYWORDS
 
 ROOT = Path(__file__).resolve().parent.parent
 EXTENSION = ROOT / "editors" / "vscode"
+BUNDLE = "dist/extension.js"  #: what esbuild writes and the manifest's main names
 GRAMMAR = EXTENSION / "syntaxes" / "gest.tmLanguage.json"
 LIBRARY = sorted((ROOT / "gestures").glob("*.gest"))
 
@@ -172,16 +176,52 @@ def _run(args: list, cwd: Path, timeout: float = 300) -> subprocess.CompletedPro
                           text=True, timeout=timeout)
 
 
+def warnings(done: subprocess.CompletedProcess) -> list[str]:
+    """The lines of a command's output, standard error too, that warn: npm's `npm warn`
+    (`npm WARN` before npm 9), vsce's ` WARNING `, esbuild's `[WARNING]`; not npm's
+    echo of a script it runs (`> esbuild ... --log-level=warning`)."""
+    return [line for line in (done.stdout + done.stderr).splitlines()
+            if re.search(r"warn", line, re.I) and not line.startswith("> ")]
+
+
 @pytest.fixture(scope="session")
-def installed(tmp_path_factory) -> Path:
-    """A copy of the extension with its locked node modules (npm ci), once a session."""
+def npm_ci(tmp_path_factory) -> tuple[Path, subprocess.CompletedProcess]:
+    """A copy of the extension (no node_modules, no build output) and what `npm ci` did
+    in it, as the docs run it (no audit: not a warning, and a registry call), once a
+    session."""
     need("node", "npm", packages="nodejs npm")
     work = tmp_path_factory.mktemp("vscode") / "vscode"
-    shutil.copytree(EXTENSION, work, ignore=shutil.ignore_patterns("node_modules", "*.vsix"))
-    done = _run(["npm", "ci", "--no-audit", "--no-fund", "--prefer-offline", "--ignore-scripts"],
-                work, timeout=600)
+    shutil.copytree(EXTENSION, work,
+                    ignore=shutil.ignore_patterns("node_modules", "*.vsix", "dist"))
+    done = _run(["npm", "ci", "--no-audit", "--no-fund", "--prefer-offline"], work,
+                timeout=600)
+    return work, done
+
+
+@pytest.fixture(scope="session")
+def installed(npm_ci) -> Path:
+    """The copy of the extension with its locked node modules."""
+    work, done = npm_ci
     assert done.returncode == 0, done.stdout + done.stderr
     return work
+
+
+@pytest.fixture(scope="session")
+def packaged(installed) -> tuple[subprocess.CompletedProcess, Path]:
+    """`npm run package` (vsce, which bundles first) and the .vsix it made, once."""
+    done = _run(["npm", "run", "package"], installed)
+    assert done.returncode == 0, done.stdout + done.stderr
+    version = json.loads((installed / "package.json").read_text())["version"]
+    return done, installed / f"inmoov-gest-{version}.vsix"
+
+
+def test_npm_ci_prints_no_warning(npm_ci):
+    """No deprecated package, no install script left undecided (package.json's
+    allowScripts declines vsce-sign's and esbuild's), nothing else to warn of."""
+    _, done = npm_ci
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert warnings(done) == [], done.stdout + done.stderr
+    assert re.search(r"added \d+ packages", done.stdout), done.stdout
 
 
 @pytest.fixture(scope="session")
@@ -228,20 +268,37 @@ def test_a_grammar_without_its_keyword_rule_fails(installed, cases, tmp_path):
     assert {name for name, _ in errors} == with_keywords
 
 
-def test_the_extension_packages(installed):
-    done = _run(["npm", "run", "package"], installed)
-    assert done.returncode == 0, done.stdout + done.stderr
-    version = json.loads((installed / "package.json").read_text())["version"]
-    with zipfile.ZipFile(installed / f"inmoov-gest-{version}.vsix") as vsix:
+def test_the_bundle_is_built_not_kept():
+    """`npm run bundle` (esbuild) writes dist/extension.js from extension.js, vsce runs
+    it before it packages, the manifest's main is it, and git ignores it."""
+    manifest = json.loads((EXTENSION / "package.json").read_text(encoding="utf-8"))
+    assert manifest["main"] == f"./{BUNDLE}"
+    bundle = manifest["scripts"]["bundle"].split()
+    assert bundle[:3] == ["esbuild", "extension.js", "--bundle"]
+    assert {f"--outfile={BUNDLE}", "--external:vscode", "--platform=node",
+            "--format=cjs"} <= set(bundle)
+    assert manifest["scripts"]["vscode:prepublish"] == "npm run bundle"
+    assert "esbuild" in manifest["devDependencies"]
+    lock = json.loads((EXTENSION / "package-lock.json").read_text(encoding="utf-8"))
+    assert lock["packages"][""]["devDependencies"] == manifest["devDependencies"]
+    assert lock["packages"][""]["dependencies"] == manifest["dependencies"]
+    assert "dist/" in (EXTENSION / ".gitignore").read_text(encoding="utf-8").split()
+
+
+def test_the_extension_packages(packaged):
+    done, path = packaged
+    assert warnings(done) == [], done.stdout + done.stderr
+    with zipfile.ZipFile(path) as vsix:
         names = set(vsix.namelist())
         manifest = json.loads(vsix.read("extension/package.json"))
         grammar = vsix.read("extension/syntaxes/gest.tmLanguage.json")
-    assert {"extension/package.json", "extension/extension.js", "extension/LICENSE.txt",
-            "extension/syntaxes/gest.tmLanguage.json", "extension/language-configuration.json",
-            "extension/node_modules/vscode-languageclient/package.json",
-            "extension/node_modules/vscode-languageclient/node.js"} <= names
-    assert not [n for n in names if "/node_modules/vscode-tmgrammar-test/" in n
-                or "/node_modules/@vscode/vsce" in n], "the build tools are not shipped"
+    # what VS Code reads, and one JavaScript file: no node_modules, no source, no tools
+    assert names == {"extension.vsixmanifest", "[Content_Types].xml",
+                     "extension/package.json", "extension/readme.md", "extension/LICENSE.txt",
+                     "extension/language-configuration.json",
+                     "extension/syntaxes/gest.tmLanguage.json", f"extension/{BUNDLE}"}
+    assert not [n for n in names if "node_modules" in n]
+    assert [n for n in names if n.endswith(".js")] == [f"extension/{BUNDLE}"]
     assert grammar == GRAMMAR.read_bytes()
     language, = manifest["contributes"]["languages"]
     assert (language["id"], language["extensions"]) == ("gest", [".gest"])
@@ -252,7 +309,79 @@ def test_the_extension_packages(installed):
     assert " ".join(settings["gest.server.command"]["default"]) == "gestc lsp"
     assert settings["gest.robot"]["default"] == ""
     assert "onLanguage:gest" in manifest["activationEvents"]
-    assert f"extension/{manifest['main'].removeprefix('./')}" in names
+    assert manifest["main"] == f"./{BUNDLE}"
+
+
+#: Node: load the bundle (argv[2]) as VS Code does, with a stand-in for the vscode module
+#: that answers whatever the bundled language client reads of it as it loads; activate
+#: it with a command setting that is no command (the extension says so and starts
+#: nothing), deactivate it; print what the bundle required and showed, as JSON.
+LOAD_BUNDLE = r"""
+"use strict";
+const Module = require("module");
+const bundle = require("path").resolve(process.argv[2]);
+const required = new Set();
+const errors = [];
+const settings = { "server.command": [], robot: "" };
+
+/** What the stand-in answers for a name it does not know: a class, whose members are
+ * more of them (the client extends some of VS Code's classes as it loads). */
+function anything() {
+    return new Proxy(function () {}, {
+        get: (target, key) => (key in target ? target[key] : (target[key] = anything())),
+    });
+}
+
+const vscode = new Proxy({
+    workspace: {
+        getConfiguration: () => ({ get: (key) => settings[key] }),
+        onDidChangeConfiguration: () => ({ dispose() {} }),
+    },
+    window: { showErrorMessage: (message) => errors.push(message) },
+}, { get: (target, key) => (key in target ? target[key] : (target[key] = anything())) });
+
+const load = Module._load;
+Module._load = function (request, parent, ...rest) {
+    if (parent && parent.filename === bundle) {
+        required.add(request);
+    }
+    return request === "vscode" ? vscode : load.call(this, request, parent, ...rest);
+};
+
+(async () => {
+    const extension = require(bundle);
+    await extension.activate({ subscriptions: [] });
+    await extension.deactivate();
+    console.log(JSON.stringify({
+        exports: Object.keys(extension).sort(),
+        required: [...required].filter((r) => r !== "vscode" && !Module.isBuiltin(r)),
+        errors,
+    }));
+})();
+"""
+
+
+def test_the_bundle_loads_alone(packaged, tmp_path):
+    """The .vsix's dist/extension.js, alone in a folder (no node_modules anywhere
+    above it), loads in Node with a stand-in for VS Code's module: it requires nothing
+    else but Node's own modules, exports activate and deactivate, and runs the
+    extension's code (a command setting that is no command is told, and nothing
+    starts)."""
+    _, path = packaged
+    with zipfile.ZipFile(path) as vsix:
+        code = vsix.read(f"extension/{BUNDLE}")
+    alone = tmp_path / "extension.js"
+    alone.write_bytes(code)
+    loader = tmp_path / "load_bundle.js"
+    loader.write_text(LOAD_BUNDLE, encoding="utf-8")
+    done = _run(["node", loader, alone], tmp_path, timeout=60)
+    assert done.returncode == 0, done.stderr[-4000:]
+    seen = json.loads(done.stdout)
+    assert seen["exports"] == ["activate", "deactivate"]
+    assert seen["required"] == [], "the bundle requires only vscode and Node's modules"
+    error, = seen["errors"]
+    assert error.startswith("Gest: gest.server.command must be a list of strings"), error
+    assert b"inmoov-dsl[lsp]" in code  # the extension's own text, bundled
 
 
 def test_the_client_starts_the_command_and_tells_it_the_robot():
