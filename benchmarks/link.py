@@ -16,7 +16,7 @@ from common import library_gestures
 
 from inmoov_dsl import load_profile, measure
 from inmoov_dsl.compiling.compiler import compile_program
-from inmoov_dsl.profiles.data import Board
+from inmoov_dsl.hardware import Board
 
 ROBOT_BAUDS = (9600, 19200, 38400, 57600, 115200)
 

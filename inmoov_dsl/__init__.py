@@ -40,9 +40,9 @@ if TYPE_CHECKING:
     from .compiling.metrics import LinkReport, measure
     from .compiling.plan import Plan
     from .errors import Diagnostic, GestError
+    from .hardware import Profile
     from .language.library import load_library
     from .language.load import load
-    from .profiles.data import Profile
     from .profiles.profile import load_profile
 
 

@@ -262,12 +262,25 @@ def test_a_board_s_kind_is_checked_in_the_profile(tmp_path):
         parse_profile(wrong, "p.toml")
     assert "'kind' must be one of rig, maestro, pca9685" in str(exc.value)
     assert "did you mean 'maestro'" in str(exc.value.first.hint)
+    assert len(exc.value.diagnostics) == 1  # not its servos' pins 0 and 1, as a rig's
     micro = text.replace('model = "mini12"', 'model = "micro6"').replace("pin = 5", "pin = 6")
     with pytest.raises(GestError, match=r"has channels 0\.\.5"):
         parse_profile(micro, "p.toml")
     twice = text.replace("pin = 5", "pin = 4")
     with pytest.raises(GestError, match="channel 4 of board 181 is servo 'ring'"):
         parse_profile(twice, "p.toml")
+
+
+def test_a_kind_is_one_folder_and_the_profile_reader_names_none():
+    """Each kind's part of a profile is declared in its folder (``table.py``), listed
+    once in ``boards.TABLES``; the profile reader names no kind."""
+    from inmoov_dsl.boards import TABLES
+
+    folders = {p.parent.name for p in (ROOT / "inmoov_dsl" / "boards").glob("*/table.py")}
+    assert folders == set(TABLES) == {"rig", "maestro", "pca9685", "mrlcomm"}
+    for module in (ROOT / "inmoov_dsl" / "profiles").glob("*.py"):
+        code = module.read_text()
+        assert not [k for k in TABLES if f'"{k}"' in code], module.name
 
 
 def test_virtual_board_logs_every_servo_a_command_sets():

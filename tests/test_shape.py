@@ -2,6 +2,7 @@
 functions, classes and modules, and a docstring on everything public."""
 
 import ast
+import re
 from pathlib import Path
 
 import pytest
@@ -107,3 +108,34 @@ def test_everything_public_says_what_it_is_for():
                 if isinstance(node, ast.ClassDef):
                     todo.append((node.body, f"{owner}.{node.name}"))
     assert not missing, f"no docstring: {missing}"
+
+
+def folder_order() -> list[str]:
+    """The folders of docs/code.md's table, top (imported by the others) first."""
+    text = (PACKAGE.parent / "docs" / "code.md").read_text(encoding="utf-8")
+    found = []
+    for row in re.findall(r"^\| (`[^|]+`) \|", text, re.M):
+        found += re.findall(r"`(\w+)/`", row)
+    return found
+
+
+def test_a_folder_imports_only_the_folders_above_it_in_the_map():
+    """docs/code.md's rule, kept: a folder imports only from the folders above it in
+    its table (and the root), never from one below."""
+    order = folder_order()
+    assert order[:4] == ["voice", "language", "boards", "profiles"]
+    assert sorted(order) == sorted(p.name for p in PACKAGE.iterdir()
+                                   if (p / "__init__.py").exists())
+    known = modules()
+    rank = {f: k for k, f in enumerate(order)}
+
+    def folder(module: str) -> str | None:
+        parts = module.split(".")
+        return parts[1] if len(parts) > 2 or (len(parts) == 2 and parts[1] in rank) \
+            else None
+
+    below = sorted(f"{name} imports {other}" for name, path in known.items()
+                   for other in imports(name, path, known)
+                   if folder(name) and folder(other) and folder(name) != folder(other)
+                   and rank[folder(other)] > rank[folder(name)])
+    assert not below

@@ -1,14 +1,26 @@
 """The kinds of board a profile's ``[[board]]`` may name (``kind``), one folder each:
 ``rig`` (our firmware and the original), ``maestro`` (Pololu Maestro), ``pca9685`` (a
-PCA9685 on an I2C bus), ``mrlcomm`` (MyRobotLab's firmware). ``controller`` gives a
+PCA9685 on an I2C bus), ``mrlcomm`` (MyRobotLab's firmware). A kind's folder holds all
+of it: what its ``[[board]]`` says in a profile (``table.py``: ``TABLES`` here), how a
+plan becomes its commands, what it answers, its virtual twin. ``controller`` gives a
 board's ``Controller`` (``base.py``), which is all the rest of the package knows of a
-kind; ``pulses.py`` is the one mapping from a value to a pulse width every kind keeps."""
+kind; ``pulses.py`` is the one mapping from a value to a pulse width every kind keeps;
+``arduino.py`` the Arduinos ours and MrlComm run on."""
 
 from __future__ import annotations
 
-from ..profiles.data import Board, Profile
-from ..profiles.kinds import KINDS
+from ..hardware import Board, Profile
 from .base import Controller
+from .maestro.table import TABLE as MAESTRO
+from .mrlcomm.table import TABLE as MRLCOMM
+from .pca9685.table import TABLE as PCA9685
+from .rig.table import TABLE as RIG
+from .table import KindTable
+
+#: every kind, by its name: a new kind is its folder and its line here
+TABLES: dict[str, KindTable] = {t.kind: t for t in (RIG, MAESTRO, PCA9685, MRLCOMM)}
+KINDS = tuple(TABLES)
+DEFAULT_KIND = RIG.kind  #: a board that names no kind runs our firmware (or the original)
 
 
 def _kinds() -> dict[str, type[Controller]]:
@@ -21,7 +33,7 @@ def _kinds() -> dict[str, type[Controller]]:
                                 MrlCommController)}
 
 
-__all__ = ["KINDS", "Controller", "controller", "fault"]
+__all__ = ["DEFAULT_KIND", "KINDS", "TABLES", "Controller", "KindTable", "controller", "fault"]
 
 
 def controller(profile: Profile, board: Board) -> Controller:

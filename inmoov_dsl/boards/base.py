@@ -17,7 +17,7 @@ from typing import Any, ClassVar, Protocol
 
 import numpy as np
 
-from ..profiles.data import Board, Profile, Servo
+from ..hardware import Board, Profile, Servo
 from ..protocol import byte_time
 from .pulses import Widths, widths
 

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 from ..boards import controller
 from ..errors import Diagnostic, GestError
-from ..profiles.data import Glove
+from ..hardware import Glove
 from ..profiles.profile import load_profile
 from ..wire.sim import VirtualBoard
 from .common import EXIT_OK, add_version, number, parse_args, report, run

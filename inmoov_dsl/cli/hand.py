@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from .. import clock
 from ..boards import controller
 from ..errors import Diagnostic, GestError
-from ..profiles.data import Profile
+from ..hardware import Profile
 from ..wire.link import close, connect, parse_ports
 from ..wire.player import BoardTrouble, Link, ask_dump, cancel_all, relax_all, wait_ready
 from . import typeahead

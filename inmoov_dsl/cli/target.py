@@ -11,10 +11,10 @@ from ..compiling.compiler import pick_gesture
 from ..compiling.playable import check_profile
 from ..compiling.robot import profile_for
 from ..errors import Diagnostic, GestError
+from ..hardware import Profile
 from ..language.library import find_gesture, library_dirs
 from ..language.load import load
 from ..language.program import Program
-from ..profiles.data import Profile
 from ..profiles.profile import load_profile
 from .common import report
 

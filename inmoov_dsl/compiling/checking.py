@@ -8,8 +8,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..errors import Diagnostic, Errors
+from ..hardware import Profile
 from ..language.program import Program
-from ..profiles.data import Profile
 from .compiled import Compiled
 from .compiler import compile_program
 from .plan import Plan

@@ -8,10 +8,10 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from ..errors import Diagnostic, GestError, did_you_mean
+from ..hardware import Profile
 from ..language import snippet
 from ..language.load import load
 from ..language.program import Program
-from ..profiles.data import Profile
 from .actions import Action
 from .compiled import Compiled, Cue, StepSummary
 from .encode import encode

@@ -20,7 +20,7 @@ from collections.abc import Callable, Sequence
 
 from ruckig import Trajectory
 
-from ..profiles.data import Profile
+from ..hardware import Profile
 from .actions import Action
 from .tracks import MotionState
 

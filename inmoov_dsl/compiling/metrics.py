@@ -25,7 +25,7 @@ from .. import protocol
 from ..boards import Controller, controller
 from ..boards.rig.encode import frame_ends, round_values
 from ..decode import BOARD, Pair, Reader
-from ..profiles.data import Board, Profile
+from ..hardware import Board, Profile
 from .compiled import Compiled, Stream
 from .plan import Plan
 

@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..profiles.data import Servo
+from ..hardware import Servo
 
 SCALES = (1.0, 0.8, 0.65, 0.5, 0.4, 0.3)  #: of the opening, tried in turn
 FAITHFUL = 0.9  #: the correlation a run's track must reach with its target

@@ -8,9 +8,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from ..errors import Diagnostic, GestError, did_you_mean
+from ..hardware import Profile
 from ..language import syntax as ast
 from ..language.program import Program
-from ..profiles.data import Profile
 
 ANYTHING = "servo, group, pose or gesture"  #: what an unknown name could have been
 

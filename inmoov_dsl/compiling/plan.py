@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from ruckig import InputParameter, Result, Ruckig, Synchronization, Trajectory
 
 from ..errors import Diagnostic, GestError, Pos, SourceMap
-from ..profiles.data import Profile
+from ..hardware import Profile
 from . import flow, speech
 from .actions import Action
 from .speech import Speech

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from ..boards import controller
 from ..errors import Diagnostic, GestError, Pos
-from ..profiles.data import Board, Profile
+from ..hardware import Board, Profile
 from ..protocol import SERVO_FRAME
 from .compiled import Compiled
 from .metrics import values_sent

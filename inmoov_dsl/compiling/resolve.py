@@ -11,9 +11,9 @@ import contextlib
 from collections.abc import Sequence
 
 from ..errors import Errors
+from ..hardware import Profile
 from ..language import syntax as ast
 from ..language.program import Program
-from ..profiles.data import Profile
 from . import robot, saying, sides
 from .actions import Action, Frame
 from .names import ANYTHING, Gesture, call_chain

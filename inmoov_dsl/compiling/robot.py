@@ -14,9 +14,9 @@ from __future__ import annotations
 import os
 
 from ..errors import GestError, Pos
+from ..hardware import Profile
 from ..language import syntax as ast
 from ..language.program import Program
-from ..profiles.data import Profile
 from ..profiles.profile import load_profile
 
 DEFAULT = "rhand"  #: the profile of a program that names no robot

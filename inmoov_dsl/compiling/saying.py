@@ -4,9 +4,9 @@ program hears, and what the mouth follows; every problem an error at the step.""
 from __future__ import annotations
 
 from ..errors import GestError
+from ..hardware import Profile
 from ..language import syntax as ast
 from ..language.program import Program
-from ..profiles.data import Profile
 from ..voice.wav import SoundError
 from .mouth import NEEDS_SCIPY, solvable
 from .speech import Speech, heard

@@ -10,7 +10,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import replace
 from typing import NoReturn
 
-from ..profiles.data import Profile
+from ..hardware import Profile
 from .actions import Action
 
 

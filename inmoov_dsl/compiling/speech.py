@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from ruckig import InputParameter, Ruckig, Trajectory
 
-from ..profiles.data import Profile, Servo, Voice
+from ..hardware import Profile, Servo, Voice
 from ..voice.wav import Sound
 from .mouth import fit, runs
 from .tracks import Track, TrackBuilder

@@ -8,9 +8,9 @@ from collections.abc import Sequence
 from typing import NoReturn
 
 from ..errors import Errors, GestError, Pos
+from ..hardware import Profile
 from ..language import syntax as ast
 from ..language.program import Program
-from ..profiles.data import Profile
 from ..profiles.profile import profiles_with
 from .names import ANYTHING, Entity, Gesture, Group, NameTable, Pose, Servo
 from .speech import Speech

@@ -15,10 +15,10 @@ from ..compiling.names import NameTable
 from ..compiling.plan import Plan
 from ..compiling.robot import DEFAULT, profile_for
 from ..errors import Diagnostic, GestError
+from ..hardware import Profile
 from ..language.library import library_dirs
 from ..language.load import load
 from ..language.program import Program
-from ..profiles.data import Profile
 from ..profiles.profile import profiles_with
 from .memo import Memo
 

@@ -13,9 +13,9 @@ from dataclasses import dataclass
 from ..compiling.checking import Checked, check_gesture, checkable
 from ..compiling.plan import Plan
 from ..errors import Diagnostic, Pos
+from ..hardware import Profile
 from ..language.incremental import BlockParser, copied, defines, spans
 from ..language.program import Program
-from ..profiles.data import Profile
 from .text import WORD, code
 
 Key = tuple  #: what a gesture's check depends on

@@ -11,10 +11,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from .. import protocol
+from ..boards import arduino
 from ..compiling.compiled import Compiled
 from ..errors import Diagnostic, GestError
-from ..profiles import kinds
-from ..profiles.data import Board, Profile
+from ..hardware import Board, Profile
 from ..wire.stored import (
     DEFAULT_IDLE_AFTER,
     FRAME_US,
@@ -77,7 +77,7 @@ def check_pins(buttons: Sequence[tuple[int, str]], profile: Profile, board: Boar
     LED's or an analog-only one, and not two buttons'; an error names a pin as
     ``written`` says the user wrote it."""
     servos = {profile.servos[profile.index(n)].pin: n for n in board.servos}
-    _, _, count, analog = kinds.arduino_of(board)
+    _, _, count, analog = arduino.of(board.options)
     nano = analog == 14  # a pin of an Uno is one of a Nano's
     seen: set[int] = set()
     names = dict(written)
@@ -169,7 +169,7 @@ MEGA_ROOM = 65_536 - 512
 
 def room(board: Board) -> tuple[int, str]:
     """The flash ``board`` has for stored gestures, and what leaves it so."""
-    if kinds.mcu(board.options) == "atmega2560":
+    if arduino.mcu(board.options) == "atmega2560":
         return MEGA_ROOM, "the first 64 KB of a Mega's flash (what PROGMEM reaches) leave"
     return FLASH_MAX - FIRMWARE_FLASH, (f"beside the firmware's {FIRMWARE_FLASH:,}, an "
                                         f"old-bootloader Nano's {FLASH_MAX:,} leave")
@@ -206,7 +206,7 @@ def stored_header(flash: StoredSet, profile: Profile, board: Board) -> str:
         starts = [("power-up", flash.boot == k), (f"idle {flash.idle_after} s",
                                                    flash.idle == k)]
         why = [w for w, yes in starts if yes]
-        why += [f"button {pin_name(p, kinds.arduino_of(board)[3])}" for p, n in flash.buttons
+        why += [f"button {pin_name(p, arduino.of(board.options)[3])}" for p, n in flash.buttons
                 if n == k]
         rows.append(f"//   {k:>3}  {g.name:<16} {g.frames * FRAME:7.2f} s  "
                     f"{len(g.data):>6,} bytes  {', '.join(why)}".rstrip())

@@ -21,9 +21,9 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..boards import arduino
 from ..errors import Diagnostic, GestError, did_you_mean
-from ..profiles import kinds
-from ..profiles.data import Profile
+from ..hardware import Profile
 from ..profiles.profile import builtin_profiles, load_profile
 from ..resources import data_dir
 from ..wire.ports import not_found, permission_denied
@@ -61,7 +61,7 @@ def loader(profile: Profile, ident: int, old_bootloader: bool = False) -> Loader
     """The bootloader of the board (or glove: an Uno-class board) ``ident`` of
     ``profile``; ``old_bootloader``: an old Nano's, refused for a Mega."""
     board = next((b for b in profile.boards if b.id == ident), None)
-    if board is None or kinds.mcu(board.options) == "atmega328p":
+    if board is None or arduino.mcu(board.options) == "atmega328p":
         return OLD_NANO if old_bootloader else OPTIBOOT
     if old_bootloader:
         raise GestError(Diagnostic("error", f"--old-bootloader is an old Nano's, and board "

@@ -21,7 +21,7 @@ import tomlkit
 import tomlkit.exceptions
 
 from ..errors import Diagnostic, GestError
-from ..profiles.data import Servo
+from ..hardware import Servo
 from ..profiles.keys import KeyIndex
 from ..protocol import clamp
 from . import keymap

@@ -20,10 +20,10 @@ from typing import Any, Literal
 from .. import clock
 from ..compiling.actions import Action, Steps
 from ..errors import Diagnostic, GestError, SourceMap
+from ..hardware import Profile
 from ..language.library import library_dirs, library_files, scan
 from ..language.load import load
 from ..language.program import Program
-from ..profiles.data import Profile
 from ..wire.player import POLL, Link, drain
 from .orders import Control, Order, Rejoin, Request, Tracker
 from .outbox import Outbox

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 
 from ..boards import controller
 from ..compiling.compiled import Stream
-from ..profiles.data import Profile
+from ..hardware import Profile
 from ..protocol import PAIR_BYTES
 from ..wire.pace import LIVE_HORIZON, pacer
 from ..wire.player import SPIN, Link

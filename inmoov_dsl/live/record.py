@@ -24,8 +24,8 @@ import numpy as np
 from ..boards.rig.encode import round_values
 from ..compiling.actions import Action
 from ..compiling.plan import Planner
+from ..hardware import Profile
 from ..language.fmt import format_source
-from ..profiles.data import Profile
 from ..protocol import SERVO_FRAME
 
 DEFAULT_TOLERANCE = 3.0  #: command degrees

@@ -23,10 +23,10 @@ from ..compiling.encode import encode
 from ..compiling.plan import MotionState, Plan, Planner
 from ..compiling.resolve import Resolver
 from ..errors import Diagnostic, GestError, Pos, SourceMap
+from ..hardware import Profile
 from ..language import snippet
 from ..language.program import Program
 from ..language.syntax import GestureDef
-from ..profiles.data import Profile
 
 LINE = "<repl>"  #: the file name diagnostics give for lines typed at a terminal
 STDIN = "<stdin>"  #: and for lines read from a pipe or a file

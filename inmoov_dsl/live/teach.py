@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from ..profiles.data import Profile
+from ..hardware import Profile
 from ..protocol import clamp
 from . import keymap
 from .record import Keyframe, to_gest

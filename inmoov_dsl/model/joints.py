@@ -15,7 +15,7 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from ..profiles.data import Profile, Servo
+from ..hardware import Profile, Servo
 from ..protocol import MAX_VALUE
 
 

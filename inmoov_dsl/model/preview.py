@@ -20,7 +20,7 @@ from ..compiling.compiled import Compiled
 from ..compiling.metrics import held_at, sent_values
 from ..compiling.plan import Plan
 from ..errors import Diagnostic, GestError
-from ..profiles.data import Profile
+from ..hardware import Profile
 from ..protocol import MAX_VALUE, SERVO_FRAME
 
 if TYPE_CHECKING:  # Pillow is optional: imported when a picture is drawn

@@ -14,7 +14,7 @@ import xml.etree.ElementTree as ET
 from collections.abc import Iterable
 
 from ..errors import Diagnostic, GestError, did_you_mean
-from ..profiles.data import Profile, Servo
+from ..hardware import Profile, Servo
 from . import joints
 from . import urdf_parts as parts
 from .urdf_parts import Part

@@ -17,7 +17,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from ..errors import Diagnostic, GestError
-from ..profiles.data import Board, Profile
+from ..hardware import Board, Profile
 from . import joints
 
 INSTALL = "pip install 'inmoov-dsl[web]'"

@@ -17,9 +17,9 @@ from pathlib import Path
 from typing import Any
 
 from ..errors import Diagnostic, GestError, Pos, decode_utf8, did_you_mean
+from ..hardware import Board, Glove, Profile, Sensor, Servo
 from ..resources import profiles_dir, read_regular
 from . import kinds, tables, voicetable
-from .data import Board, Glove, Profile, Sensor, Servo
 from .fields import LIMITS, NAME_RE, cut
 from .keys import Report
 
@@ -167,7 +167,7 @@ def _build(data: dict[str, Any], report: Report, file: str) -> Profile:
                 servos.append(servo)
                 ids[servo.id] = servo_name
                 joints[servo.joint] = servo_name
-    kinds.check_channels(report, boards, servos)
+    kinds.check_places(report, boards, servos)
     names = tuple(s.name for s in servos)
     groups = tables.groups(report, data.get("groups", {}), names)
     sides = tables.sides(report, data["sides"], names) if "sides" in data else {}

@@ -13,11 +13,12 @@ from dataclasses import dataclass
 from typing import Any
 
 from .. import protocol
+from ..boards import DEFAULT_KIND, TABLES
 from ..errors import did_you_mean
+from ..hardware import Board, Glove, Sensor, Servo
 from ..language.syntax import KEYWORDS
 from . import fields as check
 from . import kinds
-from .data import Board, Glove, Sensor, Servo
 from .fields import NAME_RE, Check, Problem, T, cut, is_whole, shown
 from .keys import Key, Report
 
@@ -107,8 +108,9 @@ def board(report: Report, k: int, data: Any, taken: Collection[int],
     if bid in taken:
         report.error((*at, "id"), f"board {bid} is declared twice")
     fields = Fields(report, at, data, f"board {bid}")
-    what = fields.get("kind", kinds.kind, "rig", fallback="rig")
-    speed = fields.get("baud", check.baud, kinds.DEFAULT_BAUD[what])
+    what = fields.get("kind", kinds.kind, DEFAULT_KIND, fallback="")  # "": that error alone
+    table = TABLES.get(what)
+    speed = fields.get("baud", check.baud, table.baud if table else protocol.DEFAULT_BAUD)
     servo_names = fields.get("servos", check.names, [])
     mine: dict[str, int] = {}
     for i, name in enumerate(servo_names):
@@ -122,7 +124,7 @@ def board(report: Report, k: int, data: Any, taken: Collection[int],
         mine[name] = bid
     label = fields.get("name", check.text, f"board {bid}")
     return Board(bid, label, speed, tuple(mine), report.where((*at, "id")), what,
-                 kinds.options(fields, what))
+                 kinds.options(fields, table) if table else ())
 
 
 def servo(report: Report, name: str, data: Any, board_id: int, ids: Mapping[int, str]

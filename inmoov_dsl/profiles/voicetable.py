@@ -10,8 +10,8 @@ from typing import Any
 
 from .. import protocol
 from ..errors import did_you_mean
+from ..hardware import Servo, Voice
 from . import fields as check
-from .data import Servo, Voice
 from .keys import Report
 
 VOICE_NAME = re.compile(r"[A-Za-z0-9_+-]{1,40}\Z")  #: an espeak-ng voice: en, en-us, de...

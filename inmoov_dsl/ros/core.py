@@ -30,11 +30,11 @@ from ..cli import hand
 from ..cli.common import EXIT_OK, add_blind, add_lib, add_ports, add_version, number
 from ..decode import RECORDER, Pair, Reader
 from ..errors import Diagnostic, GestError
+from ..hardware import Profile
 from ..language.library import library_dirs
 from ..live.drive import Drive, Next, Note, library_program
 from ..live.outbox import Mirror
 from ..model.joints import names, positions
-from ..profiles.data import Profile
 from ..profiles.profile import load_profile
 from ..wire.link import open_listener
 from . import trajectory

@@ -19,8 +19,8 @@ from typing import NoReturn
 
 from ..compiling.actions import Action, Steps
 from ..errors import Diagnostic, GestError, did_you_mean
+from ..hardware import Profile
 from ..model import joints
-from ..profiles.data import Profile
 
 #: one point of a trajectory: the joints' positions (radians, in the order of the
 #: names), and its time from the start (s)

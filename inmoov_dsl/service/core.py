@@ -15,10 +15,10 @@ from typing import Any
 
 from ..compiling.actions import Action, Steps
 from ..errors import Diagnostic, GestError, Pos, did_you_mean
+from ..hardware import Profile
 from ..language.program import Program
 from ..live.orders import Order
 from ..live.session import line_steps
-from ..profiles.data import Profile
 from ..profiles.tables import SIDES
 
 MAX_BODY = 64 * 1024  #: bytes of a request's body; a larger one is refused

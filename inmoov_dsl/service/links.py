@@ -12,8 +12,8 @@ import serial
 
 from ..boards import controller
 from ..errors import GestError
+from ..hardware import Profile
 from ..live.orders import Rejoin
-from ..profiles.data import Profile
 from ..wire.link import open_board
 from ..wire.pace import discard_output
 from ..wire.player import Link, ask_dump, wait_ready

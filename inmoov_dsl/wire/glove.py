@@ -19,7 +19,7 @@ import numpy as np
 
 from ..compiling.plan import Plan
 from ..decode import GLOVE, Reader
-from ..profiles.data import Glove, Profile
+from ..hardware import Glove, Profile
 from ..protocol import MAX_VALUE, Signal, clamp, frame
 
 

@@ -19,7 +19,7 @@ import serial
 
 from ..boards import controller
 from ..errors import Diagnostic, GestError
-from ..profiles.data import Board, Glove, Profile
+from ..hardware import Board, Glove, Profile
 from .player import Link
 from .ports import open_port
 from .urlhandler import protocol_sim

@@ -13,8 +13,6 @@ from ..frames import per_frame
 from . import commands as c
 from .device import MaestroCore
 
-DEFAULT_BAUD = 115_200  #: the pace its commands are timed at (the Command Port is USB)
-
 
 class _Positions:
     """The answers to Get Position, one channel after another."""

@@ -27,7 +27,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from ...decode import BOARD, Pair, Reader
-from ...profiles.data import Board, Profile
+from ...hardware import Board, Profile
 from ...protocol import MAX_VALUE, PLAY, Signal, reply
 from ..base import Write
 from ..pulses import angle, pulse_us

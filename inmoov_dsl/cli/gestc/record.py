@@ -19,8 +19,8 @@ from ..common import EXIT_OK, gesture_name, number, warn
 
 if TYPE_CHECKING:
     from ...decode import StreamReader
+    from ...hardware import Glove, Profile
     from ...live.record import Fit
-    from ...profiles.data import Glove, Profile
     from ...wire.link import Listener
 
 PROG = "gestc record"

@@ -7,15 +7,15 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ...boards import arduino
 from ...compiling.compiler import compile_program, pick_gesture
 from ...errors import Diagnostic, GestError
 from ...firmware.store import Request, parse_pin, room, stored_gesture
 from ...firmware.store import stored_set as make_set
+from ...hardware import Board, Profile
 from ...language.library import find_gesture, library_dirs, scan_library
 from ...language.load import load
 from ...language.program import Program
-from ...profiles import kinds
-from ...profiles.data import Board, Profile
 from ...wire.stored import DEFAULT_IDLE_AFTER, StoredSet
 from ..common import number, report
 
@@ -58,7 +58,7 @@ def request(args: argparse.Namespace, board: Board) -> Request:
         if not sep or not gesture.strip():
             raise GestError(Diagnostic("error", f"--button {spec}: expected PIN=GESTURE",
                                        hint="--button D8=wave"))
-        buttons.append((parse_pin(pin, kinds.arduino_of(board)[3]), gesture.strip()))
+        buttons.append((parse_pin(pin, arduino.of(board.options)[3]), gesture.strip()))
         written.append((buttons[-1][0], pin.strip()))
     return Request(names, args.on_boot, args.idle, args.idle_after, tuple(buttons),
                    tuple(written))

@@ -10,8 +10,8 @@ from ...compiling.compiled import Compiled
 from ...compiling.compiler import compile_program
 from ...compiling.plan import Plan
 from ...errors import Diagnostic, GestError
+from ...hardware import Profile
 from ...language.program import Program
-from ...profiles.data import Profile
 from ..common import add_lib, report
 from ..target import Target, load_target
 from . import PROG  # noqa: F401 (the commands take it from here)

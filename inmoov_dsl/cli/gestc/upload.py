@@ -11,7 +11,7 @@ from pathlib import Path
 
 from ...errors import Diagnostic, GestError
 from ...firmware.upload import Loader
-from ...profiles.data import Profile
+from ...hardware import Profile
 from ...profiles.profile import load_profile
 from ..common import EXIT_OK, report
 from .firmware import BAUDS

@@ -11,8 +11,8 @@ from pathlib import Path
 from ...boards import Controller, controller
 from ...boards.rig.core import BoardServo
 from ...errors import Diagnostic, GestError, did_you_mean
+from ...hardware import Board, Profile, Servo
 from ...live.calibrate import HELP, Ends, edit_profile, found
-from ...profiles.data import Board, Profile, Servo
 from ...profiles.profile import find_profile, load_profile, parse_profile
 from ...protocol import CANCEL_PENDING, MAX_VALUE
 from ...resources import profiles_dir

@@ -6,7 +6,7 @@ import argparse
 
 from ...boards import controller
 from ...errors import Diagnostic, GestError
-from ...profiles.data import Board, Profile
+from ...hardware import Board, Profile
 from ...profiles.profile import load_profile
 from ...wire.link import every_board, named_boards, open_board, parse_ports
 from ...wire.player import ask_dump, wait_ready

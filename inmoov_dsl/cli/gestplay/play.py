@@ -15,8 +15,8 @@ from ...compiling.compiled import Compiled, to_timed
 from ...compiling.compiler import compile_program
 from ...compiling.resolve import resolver
 from ...errors import Diagnostic, GestError, counted
+from ...hardware import Profile
 from ...model.posebars import bar_lines
-from ...profiles.data import Profile
 from ...profiles.profile import profile_arg
 from ...profiles.tables import SIDES
 from ...wire.player import play

@@ -19,10 +19,10 @@ from pathlib import Path
 from typing import Any, Literal
 
 from ... import clock
+from ...hardware import Profile
 from ...language.library import library_dirs
 from ...live.drive import Drive, Note, library_program
 from ...live.session import LINE, STDIN
-from ...profiles.data import Profile
 from ...profiles.profile import load_profile
 from ...wire.player import Link
 from .. import hand

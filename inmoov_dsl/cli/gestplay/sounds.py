@@ -10,7 +10,7 @@ from dataclasses import replace
 
 from ...compiling.compiled import Compiled
 from ...errors import Diagnostic, GestError
-from ...profiles.data import Profile
+from ...hardware import Profile
 from ...voice.hearing import hear_again
 from ...voice.wav import SoundError
 from ..common import warn

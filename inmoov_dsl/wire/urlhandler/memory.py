@@ -15,7 +15,7 @@ import os
 from pathlib import Path
 
 from ...boards.rig.core import BoardCore
-from ...profiles.data import Profile
+from ...hardware import Profile
 from ...profiles.profile import builtin_profiles, find_profile
 from ...protocol import MAX_VALUE
 from ...resources import private_file, private_state_dir

@@ -36,7 +36,7 @@ from ... import clock
 from ...boards import controller
 from ...boards.rig.core import BoardCore
 from ...errors import Diagnostic, GestError, did_you_mean
-from ...profiles.data import Profile
+from ...hardware import Profile
 from ...profiles.profile import builtin_profiles, find_profile, load_profile
 from ..dtr import DtrLine
 from ..sim import VirtualBoard

@@ -1,12 +1,13 @@
-"""What a profile is made of once read: frozen dataclasses. ``profile`` reads a TOML
-file into them; the rest of the package imports them from here."""
+"""What a robot is made of, as its profile says once read: frozen dataclasses.
+``profiles`` reads a TOML file into them; the rest of the package, the kinds of board
+among it, imports them from here."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 from functools import cached_property
 
-from ..errors import Pos
+from .errors import Pos
 
 
 @dataclass(frozen=True)
@@ -43,7 +44,7 @@ class Board:
     pos: Pos | None = field(default=None, compare=False)  #: its ``id`` in the profile
     kind: str = "rig"  #: what drives its servos: ``rig``, ``maestro``, ``pca9685``, ``mrlcomm``
     #: what its kind needs to know of it (a Maestro's model and device number, a
-    #: PCA9685's address, oscillator and bus speed), as ``profiles.kinds`` reads them
+    #: PCA9685's address, oscillator and bus speed), as its kind's table declares them
     options: tuple[tuple[str, int], ...] = ()
 
     def option(self, key: str, default: int) -> int:

@@ -1,0 +1,53 @@
+"""The Arduinos a board of ours (``rig``) or MyRobotLab's (``mrlcomm``) runs on: their
+MCUs and pins, read once here for the profile's checks, the firmware and the sketches."""
+
+from __future__ import annotations
+
+from .table import Choice, Options, Place, PlaceRule
+
+#: (name, its MCU, its digital pins, its first analog pin, A0)
+ARDUINOS = (("uno", "atmega328p", 20, 14), ("nano", "atmega328p", 20, 14),
+            ("mega", "atmega2560", 70, 54))
+NAMES = tuple(a[0] for a in ARDUINOS)
+
+
+def key(default: str) -> Choice:
+    """The ``arduino`` key of a board's table, ``default`` when it names none."""
+    return Choice("arduino", NAMES, default)
+
+
+def of(options: Options) -> tuple[str, str, int, int]:
+    """The Arduino a board's options name (an Uno when they name none): (name, MCU,
+    digital pins, A0's pin)."""
+    return ARDUINOS[dict(options).get("arduino", 0)]
+
+
+def mcu(options: Options) -> str:
+    """The microcontroller of an Arduino board."""
+    return of(options)[1]
+
+
+def most_servos(options: Options) -> int:
+    """The servos our firmware pulses on that Arduino (its timers: 12 on an Uno, 32 on a
+    Mega; firmware/libraries/InmoovDsl/src/servo_pulses.h)."""
+    return 32 if mcu(options) == "atmega2560" else 12
+
+
+def pins(required: bool) -> PlaceRule:
+    """The place rule of an Arduino's servos: a pin from 2 (0 and 1 are its serial port)
+    to its last; ``required``: a servo must give one (MrlComm needs it at once; our
+    firmware's sketch asks for it when it is built)."""
+    def place(board: int, options: Options, pin: int | None) -> Place | None:
+        """What is wrong with a servo on ``pin``, or None."""
+        name, _, count, _ = of(options)
+        if pin is None:
+            return Place(f" of board {board}: give the servo's Arduino pin as 'pin'") \
+                if required else None
+        if 2 <= pin < count:
+            return None
+        where = ("pins 0 and 1 are the board's serial port" if pin in (0, 1)
+                 else f"an Arduino {name.capitalize()} has pins 2..{count - 1}")
+        mega = mcu(options) != "atmega2560" and 1 < pin < ARDUINOS[-1][2]
+        return Place(f" of board {board}: pin {pin} cannot drive a servo: {where}",
+                     'on a Mega? say arduino = "mega" in its [[board]]' if mega else None)
+    return place
