@@ -14,8 +14,9 @@ def readme_commands():
 
 def test_readme_opens_with_the_two_commands():
     main_job, tests = readme_commands()
-    assert main_job == "python -m pip install . && gestplay peace --port sim://"
-    assert tests == "python -m pip install -e '.[test]' && python -m pytest"
+    venv = "python3 -m venv .venv && . .venv/bin/activate && "  # no pip into Debian's own
+    assert main_job == venv + "python -m pip install . && gestplay peace --port sim://"
+    assert tests == venv + "python -m pip install -e '.[test]' && python -m pytest"
 
 
 def test_ci_runs_the_readme_test_command():
