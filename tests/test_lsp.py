@@ -7,6 +7,7 @@ answer is awaited with a time limit (``soon``): a broken request fails, never ha
 import asyncio
 import functools
 import sys
+from pathlib import Path
 
 import pytest
 import pytest_lsp
@@ -101,13 +102,20 @@ async def test_hover_and_completion_know_the_robot(client, tmp_path):
     assert (await hover_at(1, 10)).startswith("**servo wrist** (profile rhand): board 181 "
                                              "(right hand), pin 2; values 0..180, rest 0")
     assert await hover_at(0, 12) == "**group fingers**: thumb, index, middle, ring, pinky"
+    for robot, place in (("rhand-maestro", "channel 0"), ("rhand-pca9685", "channel 0"),
+                         ("rhand-mrlcomm", "pin 7")):  # a controller's servo: a channel
+        other = (tmp_path / f"{robot}.gest").as_uri()
+        await opened(client, other, f"robot {robot}\ng: wrist 30 over 1s\n")
+        said = await hovered(client, other, 1, 4)
+        assert f"), {place}; values" in said, said
     assert (await hover_at(1, 4)).startswith("**pose half**: fingers 90\n\n**step of g**")
     assert await hover_at(1, 0) == "**gesture g**: 1 step, 1.00 s as planned"
     listed = await soon(client.text_document_completion_async(lsp.CompletionParams(
         lsp.TextDocumentIdentifier(uri=uri), lsp.Position(1, 3))))
     items = {i.label: i.detail for i in listed.items}
-    assert {"wrist": "servo", "fingers": "group", "half": "pose", "g": "gesture",
-            "over": "keyword", "ms": "unit"}.items() <= items.items()
+    assert {"wrist": "servo", "fingers": "group", "half": "pose",
+            "wait": "keyword"}.items() <= items.items()
+    assert not {"g", "over", "ms", "pose"} & items.keys()  # g is the gesture defined
     peace = next(i for i in listed.items if i.label == "peace")  # not in scope yet
     assert peace.detail.startswith("library gesture, in peace.gest: ")
     assert apply(text, peace.additional_text_edits) == 'use "peace.gest"\n' + text
@@ -293,3 +301,115 @@ async def test_hover_on_a_use_path_and_a_say(client, tmp_path):
 
     assert await hover_at(1, 8) == f"**use**: {tmp_path / 'moves.gest'}"
     assert (await hover_at(2, 11)).startswith("**say**: 0.75 s of sound (")
+
+
+HAND = ["all", "fingers", "hand", "index", "middle", "pinky", "ring", "thumb", "wrist"]
+MINE = 'pose half: fingers 90\nw: index 90\n'  #: a pose and a gesture of the file's own
+
+
+async def offered(client: LanguageClient, uri: str, marked: str) -> list[lsp.CompletionItem]:
+    """The completion items at the ``|`` of ``marked``, opened as ``uri``."""
+    text = marked.replace("|", "")
+    before = marked[:marked.index("|")].split("\n")
+    await opened(client, uri, text)
+    got = await soon(client.text_document_completion_async(lsp.CompletionParams(
+        lsp.TextDocumentIdentifier(uri=uri), lsp.Position(len(before) - 1, len(before[-1])))))
+    return got.items
+
+
+def own(items: list[lsp.CompletionItem]) -> list[str]:
+    """The labels but the library's gestures not in scope (which the library decides)."""
+    return [i.label for i in items if not (i.detail or "").startswith("library gesture")]
+
+
+STEP = sorted([*HAND, "half", "w"]) + ["hold", "repeat", "wait"]  #: rhand: no left, say
+TIMING = ["over", "stagger", "through"]
+
+
+@pytest.mark.asyncio
+@pytest.mark.parametrize("cases", [
+    pytest.param([(MINE + "g: |", STEP, True),  # the gesture defined left out
+                  (MINE + "g:\n    index 90\n    |", STEP, True),
+                  (MINE + "g:\n    repeat 2: mi|", STEP, True),
+                  (MINE + "g: index 90, |", sorted([*HAND, "half"]), False),  # no call
+                  (MINE + "pose p: fingers 0, |", sorted([*HAND, "half"]), False),
+                  ("group two: index, |", HAND[3:], False)], id="where a target starts"),
+    pytest.param([("g: index 90 |", TIMING, False),
+                  (MINE + "g: half st|", TIMING, False),  # a pose takes no value
+                  ("g: index 90 over 2s |", ["stagger", "through"], False),
+                  ("g: index 90 through |", ["over"], False),
+                  ("g: index |", [], False)], id="after a target"),  # a servo: a value
+    pytest.param([("g: index 90 over 2|", ["s", "ms"], False),
+                  ("g: index 90 stagger 2 |", ["s", "ms"], False),
+                  ("g:\n    hold 0.5|", ["s", "ms"], False)], id="after a duration"),
+    pytest.param([("|\ng: index 90\n", ["group", "pose", "robot", "use"], False),
+                  ("# a comment\n\n|", ["group", "pose", "robot", "use"], False),
+                  ("g: index 90\n|", ["group", "pose", "use"], False),
+                  ("g: index 90\npo|", ["group", "pose", "use"], False)],
+                 id="a top-level line"),
+    pytest.param([("g: index 90  # in|", [], False), ('robot "my|', [], False),
+                  ("pose |", [], False), ("g: wait 1s |", [], False)], id="nothing"),
+])
+async def test_completion_offers_what_the_grammar_allows_there(client, tmp_path, cases):
+    for k, (marked, labels, library) in enumerate(cases):
+        items = await offered(client, (tmp_path / f"c{k}.gest").as_uri(), marked)
+        assert own(items) == labels, marked
+        assert ("peace" in [i.label for i in items]) == library, marked
+        assert "&" not in [i.label for i in items]
+
+
+@pytest.mark.asyncio
+async def test_completion_on_the_whole_robot(client, tmp_path):
+    uri = (tmp_path / "r.gest").as_uri()
+    profiles = own(await offered(client, uri, "robot |"))
+    assert {"inmoov", "rhand", "rhand-maestro"} <= set(profiles) and "index" not in profiles
+    part = own(await offered(client, uri, 'robot inmoov\ng: jaw 40 & |'))
+    assert {"neck", "r_index", "fingers", "left", "right", "say"} <= set(part)
+    assert not {"wait", "hold", "repeat", "over", "use", "g"} & set(part)
+    step = own(await offered(client, uri, 'robot inmoov\nuse "peace.gest"\ng: |'))
+    assert {"left", "right", "say", "wait", "peace", "neck"} <= set(step)
+    called = own(await offered(client, uri, 'robot inmoov\nuse "peace.gest"\ng: left |'))
+    assert "peace" in called and not {"neck", "r_index", "fingers", "g"} & set(called)
+    assert not {"left", "right", "say"} & set(own(await offered(client, uri, "g: |")))
+
+
+@pytest.mark.asyncio
+async def test_a_completion_replaces_the_word_typed(client, tmp_path):
+    uri = (tmp_path / "w.gest").as_uri()
+    text = "g: index 90 over 2"
+    unit = next(i for i in await offered(client, uri, text + "|") if i.label == "ms")
+    assert apply(text, [unit.text_edit]) == "g: index 90 over 2ms"  # right after the 2
+    text = "g: ind"
+    index = next(i for i in await offered(client, uri, text + "|") if i.label == "index")
+    assert apply(text, [index.text_edit]) == "g: index"
+
+
+@pytest.mark.asyncio
+async def test_a_call_is_timed_as_the_steps_it_plays(client, tmp_path):
+    uri = (tmp_path / "calls.gest").as_uri()
+    text = ("a:\n    index 90 over 1s\n    index 0 over 0.5s\nb: a\n"
+            "c:\n    wait 1s\n    repeat 2: a\n    a & wrist 90 over 1s\n")
+    assert not await opened(client, uri, text)
+
+    async def hints(uri, lines):
+        got = await soon(client.text_document_inlay_hint_async(lsp.InlayHintParams(
+            text_document=lsp.TextDocumentIdentifier(uri=uri),
+            range=lsp.Range(lsp.Position(0, 0), lsp.Position(lines, 0)))))
+        return {h.position.line: (h.position.character, h.label) for h in got}
+
+    said = await hints(uri, 8)
+    assert said[3] == (4, "# at 0.00 s, 1.50 s")  # b: a
+    assert said[6] == (15, "# at 1.00 s, 1.50 s, 2 times")  # repeat 2: a
+    assert said[7] == (24, "# at 4.00 s, 1.50 s")  # a & wrist 90 over 1s, as before
+    assert (await hovered(client, uri, 3, 3)).endswith("**step of b**: at 0.00 s, 1.50 s")
+    # the library's demo: each call of another file's gesture, one after the other
+    demo = (tmp_path / "demo.gest").as_uri()
+    lines = (Path(__file__).parent.parent / "gestures" / "demo.gest").read_text().split("\n")
+    assert not await opened(client, demo, "\n".join(lines))
+    said = await hints(demo, len(lines))
+    calls = [k for k, row in enumerate(lines) if row.strip() in ("peace", "ok", "rockon")]
+    assert len(calls) == 3 and all(said[k][0] == len(lines[k]) for k in calls)
+    times = [tuple(float(x.split()[-2]) for x in said[k][1].split(", ")) for k in sorted(said)]
+    assert times[0][0] == 0.0 and len(times) == 11  # every step of demo, calls too
+    for (start, length), (after, _) in zip(times[:-1], times[1:], strict=True):
+        assert after == pytest.approx(start + length, abs=0.011)

@@ -7,18 +7,19 @@ from __future__ import annotations
 import os
 import re
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
+from ..boards import TABLES
 from ..compiling.compiler import compile_program
 from ..compiling.names import Gesture, Group, Pose, Servo
 from ..errors import GestError, Pos
 from ..language.library import Entry, library_dirs, library_files, scan
 from ..language.load import GEST_SUFFIX
-from ..language.syntax import KEYWORDS
+from ..profiles.profile import builtin_profiles
 from ..voice.hearing import WAV_SUFFIX
 from .analysis import Analysis
-from .text import code, string_at, word_at
+from .text import TIMING, Place, code, place, string_at, word_at
 from .timing import label, step_times
 
 UNITS = ("s", "ms")
@@ -50,8 +51,10 @@ def _entity(found: Analysis, word: str) -> str | None:
     if isinstance(entity, Servo):
         s = profile.servos[entity.index]
         board = next(b for b in profile.boards if b.id == s.board)
+        noun = TABLES[board.kind].noun  # a Maestro's or a PCA9685's: a channel
+        place = f"{noun} {s.pin}" if s.pin is not None else f"no {noun} given"
         return (f"**servo {s.name}** (profile {profile.name}): board {board.id} "
-                f"({board.name}), pin {s.pin}; values {s.lo}..{s.hi}, rest {s.rest}; at "
+                f"({board.name}), {place}; values {s.lo}..{s.hi}, rest {s.rest}; at "
                 f"most {s.max_velocity:,.0f} deg/s, {s.max_acceleration:,.0f} deg/s², "
                 f"{s.max_jerk:,.0f} deg/s³")
     if isinstance(entity, Group):
@@ -95,20 +98,34 @@ def _string(found: Analysis, line: str, column: int) -> str | None:
 @dataclass(frozen=True)
 class Completion:
     """A word that may be typed: what it is, in a word (``servo``, ``gesture``...), a
-    longer ``detail``, and the library file a ``use`` line must bring in for it."""
+    longer ``detail``, the library file a ``use`` line must bring in for it, and the
+    column where the word it replaces starts (None: a file's name, in its string)."""
 
     word: str
     what: str
     detail: str
     use: str | None = None
+    start: int | None = None
+
+
+#: what each place offers (``text.Place``): the kinds of names, and the keywords
+NAMES = {"member": ("servo",), "pose": ("servo", "group", "pose"),
+         "target": ("servo", "group", "pose"), "step": ("servo", "group", "pose", "gesture"),
+         "part": ("servo", "group", "pose", "gesture"), "side": ("gesture",)}
+WORDS = {"step": ("hold", "left", "repeat", "right", "say", "wait"),
+         "part": ("left", "right", "say")}
 
 
 def completions(found: Analysis, line: int, column: int,
                 lib: Sequence[str] = ()) -> list[Completion]:
-    """What may be typed at ``line``, ``column``: in a ``use`` string the gesture files
-    beside the file and in the library, in a ``say`` string the sounds (.wav) there;
-    elsewhere every name in scope (servos, groups, poses, gestures), the library's
-    gestures not yet in scope (each with its ``use`` line), the keywords and the units."""
+    """What may be typed at ``line``, ``column``, as the grammar allows there
+    (``text.place``): in a ``use`` string the gesture files beside the file and in the
+    library, in a ``say`` string the sounds (.wav) there; where a step starts the names
+    in scope (servos, groups, poses, gestures but the one being defined), the library's
+    gestures not yet in scope (each with its ``use`` line) and the step keywords (``say``
+    on a robot with a voice, ``left`` and ``right`` on one with two sides); after
+    a value the timing keywords, after a duration's number the units; at the start of a
+    top-level line its keywords; after ``robot`` the profiles."""
     lines = found.text.split("\n")
     row = lines[line] if 0 <= line < len(lines) else ""
     inside = string_at(row, column)
@@ -121,19 +138,67 @@ def completions(found: Analysis, line: int, column: int,
             return [Completion(f, "sound", "sound file") for f in
                     _files(found.path, WAV_SUFFIX, lib)]
         return []
-    out: list[Completion] = []
-    if found.names is not None:
-        for name, entity in sorted(found.names.entries().items()):
-            what = type(entity).__name__.lower()
-            out.append(Completion(name, what, what))
-        known = found.names.entries()
+    at = place(found.text, line, column)
+    return [replace(c, start=at.start) for c in _offered(found, at, lib)]
+
+
+def _offered(found: Analysis, at: Place, lib: Sequence[str]) -> list[Completion]:
+    """What ``at`` offers (see ``completions``)."""
+    if at.kind in NAMES:
+        robot = found.profile
+        unable = set() if robot is None else {
+            *(() if robot.sides else ("left", "right")), *(() if robot.voice else ("say",))}
+        return _names(found, NAMES[at.kind], at.name, lib) + [
+            Completion(k, "keyword", "keyword") for k in WORDS.get(at.kind, ())
+            if k not in unable]
+    if at.kind == "top":
+        return [Completion(k, "keyword", "keyword") for k in ("group", "pose", "robot", "use")
+                if k != "robot" or at.first]
+    if at.kind == "profile":
+        return [Completion(p, "profile", "robot profile") for p in builtin_profiles()]
+    if at.kind == "unit":
+        return [Completion(u, "unit", "unit") for u in UNITS]
+    if at.kind == "named" and (
+            isinstance(_scope(found).get(at.name), Servo | Group | Gesture)
+            or at.name in dict(_library(tuple(map(str, library_dirs(list(lib))))))):
+        return []  # a value follows a servo or a group; a call takes no timing
+    if at.kind in ("named", "timing"):
+        return [Completion(k, "keyword", "keyword") for k in TIMING if k not in at.written
+                and not {k, *at.written} >= {"stagger", "through"}]
+    return []
+
+
+def _names(found: Analysis, kinds: Sequence[str], defining: str, lib: Sequence[str]
+           ) -> list[Completion]:
+    """The names in scope of ``kinds`` (but ``defining``), sorted; with gestures, the
+    library's not yet in scope."""
+    known = _scope(found)
+    out = [Completion(name, what, what) for name, entity in sorted(known.items())
+           if (what := type(entity).__name__.lower()) in kinds and name != defining]
+    if "gesture" in kinds and found.program is not None:
         for name, entry in sorted(_library(tuple(map(str, library_dirs(list(lib)))))):
-            if name not in known:
+            if name not in known and name != defining:
                 out.append(Completion(name, "gesture", f"library gesture, in "
                                       f"{entry.path.name}: {entry.description}".rstrip(": "),
                                       entry.path.name))
-    out += [Completion(k, "keyword", "keyword") for k in sorted(KEYWORDS)]
-    out += [Completion(u, "unit", "unit") for u in UNITS]
+    return out
+
+
+def _scope(found: Analysis) -> dict[str, Servo | Group | Pose | Gesture]:
+    """Every name in scope -> what it is: the analysis's names, or, when they do not
+    resolve (two things of one name), the robot's and the program's as they are."""
+    if found.names is not None:
+        return found.names.entries()
+    out: dict[str, Servo | Group | Pose | Gesture] = {}
+    if found.profile is not None:
+        out.update((n, Servo(n, i)) for i, n in enumerate(found.profile.names))
+        out.update((n, Group(n, tuple(m))) for n, m in found.profile.groups.items())
+    if found.program is not None:
+        program = found.program
+        out.update((n, Group(n, tuple(m.text for m in g.members)))
+                   for n, g in program.groups.items())
+        out.update((n, Pose(node)) for n, node in program.poses.items())
+        out.update((n, Gesture(node)) for n, node in program.gestures.items())
     return out
 
 

@@ -116,22 +116,29 @@ def on_hover(ls: GestServer, params: lsp.HoverParams) -> lsp.Hover | None:
 KINDS = {"servo": lsp.CompletionItemKind.Variable, "group": lsp.CompletionItemKind.Enum,
          "pose": lsp.CompletionItemKind.Constant, "gesture": lsp.CompletionItemKind.Function,
          "keyword": lsp.CompletionItemKind.Keyword, "unit": lsp.CompletionItemKind.Unit,
-         "file": lsp.CompletionItemKind.File, "sound": lsp.CompletionItemKind.File}
+         "file": lsp.CompletionItemKind.File, "sound": lsp.CompletionItemKind.File,
+         "profile": lsp.CompletionItemKind.Module}
 
 
 @server.feature(lsp.TEXT_DOCUMENT_COMPLETION,
                 lsp.CompletionOptions(trigger_characters=['"']))
 def on_completion(ls: GestServer, params: lsp.CompletionParams) -> lsp.CompletionList:
-    """The names in scope, the library's gestures (a ``use`` line added with one), the
-    keywords, the units; the files in a ``use`` or ``say``."""
+    """What the grammar lets be typed at the cursor: the names in scope and the library's
+    gestures (a ``use`` line added with one) where a step starts, the keywords and the
+    units where they go, the profiles after ``robot``, the files in a ``use`` or ``say``.
+    Each replaces the word being typed (a unit right after its number too)."""
     found = ls.analysis(params.text_document.uri)
     at = lsp.Position(after_header(found.text), 0)
+    cursor = params.position
     return lsp.CompletionList(False, [
-        lsp.CompletionItem(c.word, kind=KINDS[c.what], detail=c.detail,
-                           additional_text_edits=None if c.use is None else [
-                               lsp.TextEdit(lsp.Range(at, at), f'use "{c.use}"\n')])
-        for c in completions(found, params.position.line, params.position.character,
-                             ls.library)])
+        lsp.CompletionItem(
+            c.word, kind=KINDS[c.what], detail=c.detail,
+            text_edit=None if c.start is None else lsp.TextEdit(
+                lsp.Range(lsp.Position(cursor.line, min(c.start, cursor.character)), cursor),
+                c.word),
+            additional_text_edits=None if c.use is None else [
+                lsp.TextEdit(lsp.Range(at, at), f'use "{c.use}"\n')])
+        for c in completions(found, cursor.line, cursor.character, ls.library)])
 
 
 def _location(pos_file: str, found: Analysis, uri: str, line: int, column: int,

@@ -1,12 +1,15 @@
 """When each step of a file plays (pure, over an Analysis): the planned start and
-length of every step of the file's own gestures, for inlay hints and hover."""
+length of every step of the file's own gestures, a call of another gesture too (from
+its first step's start to its last step's end), for inlay hints and hover."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..compiling.plan import PlannedStep
+from ..compiling.plan import Plan, PlannedStep
+from ..language import syntax as ast
 from ..language.parse import blocks
+from ..language.program import Program
 from .analysis import Analysis
 from .text import code
 
@@ -30,7 +33,7 @@ class StepTime:
 
 def step_times(found: Analysis) -> dict[int, StepTime]:
     """0-based line -> the step that starts on it, for each step of the file's gestures
-    (each gesture's own steps, as its own plan times them)."""
+    (each gesture's own steps and calls, as its own plan times them)."""
     lines = found.text.split("\n")
     ends = {first: end for first, end in blocks(lines)}
     out: dict[int, StepTime] = {}
@@ -49,6 +52,12 @@ def step_times(found: Analysis) -> dict[int, StepTime]:
             out[line] = StepTime(gesture, line, step.pos.column - 1, end, step.start,
                                  step.end - step.start, step.asked, step.stretched, 1,
                                  step.end - step.start)
+        for call in _calls(found.program, node.steps, plan, gesture):
+            end = len(code(lines[call.line]).rstrip()) if call.line < len(lines) else 0
+            seen = out.get(call.line)
+            out[call.line] = _again(seen, call) if seen and seen.gesture == gesture else \
+                StepTime(gesture, call.line, call.column, end, call.start, call.length,
+                         None, False, 1, call.length)
     return out
 
 
@@ -57,10 +66,78 @@ def _inside(step: PlannedStep, path: str, first: int, end: int | None) -> bool:
             and first <= step.pos.line - 1 < end)
 
 
-def _again(seen: StepTime, step: PlannedStep) -> StepTime:
+def _again(seen: StepTime, step: PlannedStep | StepTime) -> StepTime:
+    length = step.end - step.start if isinstance(step, PlannedStep) else step.length
     return StepTime(seen.gesture, seen.line, seen.column, seen.end_column, seen.start,
                     seen.length, seen.asked, seen.stretched or step.stretched,
-                    seen.times + 1, max(seen.longest, step.end - step.start))
+                    seen.times + 1, max(seen.longest, length))
+
+
+def _calls(program: Program, steps: tuple[ast.Step, ...], plan: Plan, gesture: str
+           ) -> list[StepTime]:
+    """Each time a step of ``steps`` (a gesture's, in order) calls another gesture: from
+    its first planned step's start to its last's end (``line`` and ``column`` where the
+    call is written). The plan has one step per step of the expansion, a call's as many
+    as its gesture expands to; none when the count does not come out (not a plan of
+    these steps)."""
+    found: list[StepTime] = []
+    sizes: dict[str, int] = {}
+
+    def walk(steps: tuple[ast.Step, ...], k: int) -> int:
+        for step in steps:
+            if isinstance(step, ast.Repeat):
+                for _ in range(step.count):
+                    k = walk(step.body, k)
+                continue
+            callee = _callee(program, step)
+            n = 1 if callee is None else _size(program, callee, sizes)
+            if callee is not None and n and k + n <= len(plan.steps):
+                first, last = plan.steps[k], plan.steps[k + n - 1]
+                found.append(StepTime(gesture, step.pos.line - 1, step.pos.column - 1, 0,
+                                      first.start, last.end - first.start, None, False, 1,
+                                      last.end - first.start))
+            k += n
+        return k
+
+    if not any(_callee(program, s) for s in _flat(steps)):
+        return []
+    return found if walk(steps, 0) == len(plan.steps) else []
+
+
+def _flat(steps: tuple[ast.Step, ...]) -> list[ast.Step]:
+    """``steps`` and the steps of their repeats, each once."""
+    return [inner for s in steps for inner in
+            (_flat(s.body) if isinstance(s, ast.Repeat) else [s])]
+
+
+def _callee(program: Program, step: ast.Step) -> str | None:
+    """The gesture ``step`` calls, if it is a call: a gesture's name alone."""
+    if not isinstance(step, ast.Move) or len(step.targets) != 1:
+        return None
+    target = step.targets[0]
+    name = target.name.text
+    return name if not target.valued and name in program.gestures else None
+
+
+def _size(program: Program, gesture: str, sizes: dict[str, int]) -> int:
+    """How many steps ``gesture`` expands to (its calls and repeats), each gesture
+    counted once (``sizes``); 0 in a cycle (which does not plan)."""
+    if gesture not in sizes:
+        sizes[gesture] = 0
+        sizes[gesture] = _count(program, program.gestures[gesture].steps, sizes)
+    return sizes[gesture]
+
+
+def _count(program: Program, steps: tuple[ast.Step, ...], sizes: dict[str, int]) -> int:
+    total = 0
+    for step in steps:
+        if isinstance(step, ast.Repeat):
+            total += step.count * _count(program, step.body, sizes)
+        elif (callee := _callee(program, step)) is not None:
+            total += _size(program, callee, sizes)
+        else:
+            total += 1
+    return total
 
 
 def label(step: StepTime) -> str:
