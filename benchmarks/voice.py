@@ -1,14 +1,17 @@
 """The mouth moving with the voice (``say``, docs/speaking.md), measured as a viewer sees
 it: ten sentences spoken by espeak-ng in two voices at two speeds, and Debian's recorded
-human speech (alsa-utils) in several WAV formats (sox), each said while the head looks
-around (``say "said.wav" & look_around`` on the inmoov profile).
+human speech (alsa-utils) in several WAV formats (sox), one also 20 dB quieter, each
+said while the head looks around (``say "said.wav" & look_around`` on the inmoov
+profile).
 
 Nothing of the planner measures it (tests/jawmeasure.py): the loudness is the RMS of
-each 20 ms frame of the WAV file, averaged over 100 ms; the jaw is the values its board
-receives, read from the compiled stream's bytes. For each sound: the correlation at the
-best shift and that shift (positive: the jaw ahead), the time from the last sound to
-the jaw closed, whether it stays still in every silence longer than 250 ms, the servo
-frames that needed a jaw value and got one, and how wide the jaw opens.
+each 20 ms frame of the WAV file, averaged over 100 ms; speech is a frame well above the
+recording's hiss; the jaw is the values its board receives, read from the compiled
+stream's bytes. For each sound: the correlation at the best shift and that shift
+(positive: the jaw ahead), the time from the last speech to the jaw closed, whether it
+stays still in every silence longer than 250 ms and in the hiss before and after the
+speech, the servo frames that needed a jaw value and got one, and how wide the jaw
+opens.
 
     python benchmarks/voice.py      (espeak-ng, alsa-utils and sox; a few seconds)
 """
@@ -38,13 +41,8 @@ SENTENCES = [
 ]
 VOICES = ("en", "en-us+f3")  #: espeak-ng's default voice, and a woman's American voice
 SPEEDS = (150, 200)  #: words per minute: the profile's, and quick
-UNSIGNED, SIGNED = ("-e", "unsigned-integer"), ("-e", "signed-integer")
-#: sox's options for each format: bits, encoding, channels, rate
-FORMATS = {"16-bit mono 48 kHz": ("-b", "16", *SIGNED, "-c", "1", "-r", "48000"),
-           "8-bit mono 8 kHz": ("-b", "8", *UNSIGNED, "-c", "1", "-r", "8000"),
-           "16-bit stereo 16 kHz": ("-b", "16", *SIGNED, "-c", "2", "-r", "16000"),
-           "8-bit stereo 22.05 kHz": ("-b", "8", *UNSIGNED, "-c", "2", "-r", "22050"),
-           "16-bit mono 44.1 kHz": ("-b", "16", *SIGNED, "-c", "1", "-r", "44100")}
+FORMATS = jawmeasure.FORMATS  #: sox's options for each format: bits, encoding, channels, rate
+QUIETER = ("16-bit mono 48 kHz", "8-bit mono 8 kHz")  #: "Front Left" 20 dB quieter in these
 
 
 def cases(folder: Path):
@@ -62,12 +60,17 @@ def cases(folder: Path):
         for name in formats:
             yield (f'"{shown}" (recorded, {name})',
                    jawmeasure.converted(path, folder / "converted.wav", *FORMATS[name]))
+    for name in QUIETER:  # a quiet voice: clean in 16 bits, in loud hiss in 8
+        yield (f'"Front Left" (recorded, {name}, 20 dB quieter)',
+               jawmeasure.converted(jawmeasure.RECORDINGS / "Front_Left.wav",
+                                    folder / "converted.wav", *FORMATS[name],
+                                    effects=("vol", "0.1")))
 
 
 def main() -> None:
     folder = Path(tempfile.mkdtemp())
-    print("| sound | s | r (best shift) | best shift | last sound to closed | still in "
-          "silences | jaw values in their frame | widest opening |")
+    print("| sound | s | r (best shift) | best shift | last speech to closed | "
+          "still in silences | jaw values in their frame | widest opening |")
     print("|---|---:|---:|---:|---:|---|---:|---:|")
     worst, shifts, late, ok = 1.0, set(), 0.0, True
     for what, wav in cases(folder):
@@ -81,7 +84,7 @@ def main() -> None:
               f"{f.reached}/{f.needed} | {100 * widest:.0f}% |")
     print(f"\nLowest r: {worst:.3f}; best shifts: "
           f"{', '.join(f'{s:+d}' for s in sorted(shifts))} ms; closed at most "
-          f"{late * 1000:.0f} ms after the last sound; still in every long silence and "
+          f"{late * 1000:.0f} ms after the last speech; still in every long silence and "
           f"every jaw value in its frame: {'yes' if ok else 'NO'}")
 
 

@@ -12,7 +12,9 @@ both voices and speeds, the recordings).
   byte-time after its first byte is sent.
 - The best shift: the jaw's track against the loudness, shifted by whole frames; a
   positive shift is the jaw ahead of the sound.
-- Silence: a frame whose RMS is under SILENT of the loudest frame's.
+- Speech: a frame louder than SILENT of the loudest frame's and than HISS times the
+  sound's hiss (the median RMS of its quietest tenth of frames: the noise a recording
+  holds where nobody speaks; none in a synthetic voice). Any other frame is silence.
 - Frames: the plan needs a new jaw value in a 20 ms servo frame when, at no moment of
   the frame, its whole-degree value is the one the board holds at the frame's start (at
   a turn, the plan may come back to the value held); the value reaches the board in its
@@ -32,14 +34,23 @@ import numpy as np
 RECORDINGS = Path("/usr/share/sounds/alsa")  #: Debian's recorded speech (alsa-utils)
 FRAME = 0.020  #: s
 SMOOTH = 5  #: frames: 100 ms
-SILENT = 0.03  #: of the loudest frame's RMS (-30 dB)
+SILENT = 0.03  #: of the loudest frame's RMS (-30 dB)...
+HISS = 4.0  #: ...and this many times the sound's hiss (+12 dB): quieter is no speech
 #: s: the jaw stays still in a silence longer than this, but for the closing after the
 #: sound before it and the opening ahead of the sound after it (together this long: a
 #: longer silence has a time the jaw has nothing to do)
 LONG_SILENCE = 0.250
-CLOSING = 0.150  #: s: closed within this of the last sound (the issue's bound)...
+CLOSING = 0.150  #: s: closed within this of the last speech (the issue's bound)...
 OPENING = 0.100  #: ...and the rest for the opening: a jaw needs it to open ahead
 SHIFTS = range(-10, 11)  #: frames tried: +-200 ms
+UNSIGNED, SIGNED = ("-e", "unsigned-integer"), ("-e", "signed-integer")
+#: the WAV formats recordings are converted to (``converted``): sox's options for each
+#: (bits, encoding, channels, rate)
+FORMATS = {"16-bit mono 48 kHz": ("-b", "16", *SIGNED, "-c", "1", "-r", "48000"),
+           "8-bit mono 8 kHz": ("-b", "8", *UNSIGNED, "-c", "1", "-r", "8000"),
+           "16-bit stereo 16 kHz": ("-b", "16", *SIGNED, "-c", "2", "-r", "16000"),
+           "8-bit stereo 22.05 kHz": ("-b", "8", *UNSIGNED, "-c", "2", "-r", "22050"),
+           "16-bit mono 44.1 kHz": ("-b", "16", *SIGNED, "-c", "1", "-r", "44100")}
 CANCEL, LAST_SIGNAL, MAX_VALUE = 255, 249, 180
 
 
@@ -49,10 +60,12 @@ def spoken(text: str, voice: str, speed: int) -> bytes:
                           capture_output=True, check=True, timeout=60).stdout
 
 
-def converted(path: Path, out: Path, *options: str) -> bytes:
+def converted(path: Path, out: Path, *options: str, effects: tuple[str, ...] = ()) -> bytes:
     """The WAV at ``path`` in another format (sox ``options``; repeatable: no random
-    dither), written to ``out``."""
-    subprocess.run(["sox", "-R", str(path), *options, str(out)], check=True, timeout=60)
+    dither), through sox ``effects`` (``("vol", "0.1")``: 20 dB quieter), written to
+    ``out``."""
+    subprocess.run(["sox", "-R", str(path), *options, str(out), *effects], check=True,
+                   timeout=60)
     return out.read_bytes()
 
 
@@ -79,6 +92,13 @@ def frame_rms(wav: bytes) -> np.ndarray:
     n = int(round(FRAME * rate))
     count = len(x) // n
     return np.sqrt((x[:count * n].reshape(count, n) ** 2).mean(axis=1))
+
+
+def speaking(rms: np.ndarray) -> np.ndarray:
+    """Each frame: is it speech (louder than SILENT of the loudest, and than HISS times
+    the median of the quietest tenth of the frames)?"""
+    quietest = np.sort(rms)[:max(1, len(rms) // 10)]
+    return rms >= max(SILENT * float(rms.max()), HISS * float(np.median(quietest)))
 
 
 def loudness(rms: np.ndarray) -> np.ndarray:
@@ -121,9 +141,12 @@ class Figures:
     seconds: float
     r: float  #: correlation at the best shift
     shift: float  #: s; the best shift, positive: the jaw ahead of the sound
-    closed_after: float  #: s from the last sound to the jaw holding its closed value
-    still_in_silence: bool  #: no jaw value changed inside a long silence
-    silences: int  #: silences longer than LONG_SILENCE inside the sound
+    closed_after: float  #: s from the last speech to the jaw holding its closed value
+    #: no jaw value changed inside a long silence, nor before the first speech (but
+    #: for the opening ahead of it) or after the last (but for the closing)
+    still_in_silence: bool
+    silences: int  #: silences longer than LONG_SILENCE between two speech frames
+    tail: float  #: s of the sound after its last speech (its hiss, or silence)
     widest: int  #: the widest opening received
     needed: int  #: servo frames in which the plan needs a new jaw value
     reached: int  #: of those, the frames a value reached the board in
@@ -168,25 +191,30 @@ def measure(wav: bytes, start: float, values: list[tuple[float, int]], closed: i
     mids = start + (np.arange(len(rms)) + 0.5) * FRAME
     jaw = held(values, closed, mids)
     best = max(SHIFTS, key=lambda s: correlation(jaw, loud, s))
-    sounding = np.flatnonzero(rms >= SILENT * rms.max())
+    sounding = np.flatnonzero(speaking(rms))
     last_sound = start + (sounding[-1] + 1) * FRAME
     last_change = max((t for t, _ in values), default=start)
     final = values[-1][1] if values else closed
     closed_after = last_change - last_sound if final == closed else float("inf")
-    still, silences = True, 0
+    # before the first speech (but for the opening ahead of it), after the last (but
+    # for the closing), and in each long silence between two speech frames
+    quiet = [(start, start + sounding[0] * FRAME - OPENING), (last_sound + CLOSING, np.inf)]
+    silences = 0
     for a, b in zip(sounding[:-1], sounding[1:], strict=True):
-        if (b - a - 1) * FRAME <= LONG_SILENCE:
-            continue
-        silences += 1
-        quiet_from = start + (a + 1) * FRAME + CLOSING
-        quiet_to = start + b * FRAME - OPENING
-        inside = [v for t, v in values if quiet_from < t < quiet_to]
-        before = held(values, closed, np.array([quiet_from]))[0]
-        still = still and all(v == before for v in inside)
+        if (b - a - 1) * FRAME > LONG_SILENCE:
+            silences += 1
+            quiet.append((start + (a + 1) * FRAME + CLOSING, start + b * FRAME - OPENING))
+    still = all(_still(values, closed, a, b) for a, b in quiet)
     return Figures(len(rms) * FRAME, correlation(jaw, loud, best), best * FRAME,
-                   closed_after, still, silences,
+                   closed_after, still, silences, float(len(rms) - 1 - sounding[-1]) * FRAME,
                    max((v for _, v in values), default=closed),
                    *frames_reached(values, planned, closed))
+
+
+def _still(values: list[tuple[float, int]], closed: int, a: float, b: float) -> bool:
+    """Does no value the board receives between ``a`` and ``b`` change the jaw?"""
+    before = held(values, closed, np.array([a]))[0]
+    return all(v == before for t, v in values if a < t < b)
 
 
 def said(wav: bytes, folder, with_head: bool = True) -> tuple[Figures, float]:

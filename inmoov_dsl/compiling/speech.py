@@ -3,14 +3,20 @@ opening it asks of the mouth, and the mouth's track, planned for the whole sound
 under its servo's limits (``mouth.fit``), LEAD ahead of the sound.
 
 The loudness is the RMS of each HOP of sound, averaged over SMOOTH (a syllable's
-swell), from 0 (silence: under GATE of the loudest) to 1 (the loudest). The track aims
-at the opening the loudness asks LEAD later. A silence (hops whose own RMS is under GATE
-of the loudest hop's) of QUIET or more closes the mouth and holds it still, from CLOSING
-after it begins to OPENING before the next sound.
+swell), from 0 (silence) to 1 (the loudest). Silence is judged against the sound's own
+noise floor, its hiss (``quiet``: the RMS its quietest hops reach; about none in a
+synthetic voice, a recording's noise in a recording): a loudness under GATE of the
+loudest or under HISS times the hiss is 0. The track aims at the opening the loudness
+asks LEAD later. A silence (hops whose own RMS is under GATE of the loudest hop's and
+under STILL times the hiss) of QUIET or more closes the mouth and holds it still, from
+CLOSING after it begins to OPENING before the next sound. STILL is lower than HISS: a
+consonant a little above the hiss ends a silence, so the mouth is free in time to open
+for the vowel after it, while it opens nothing itself.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -23,7 +29,10 @@ from .tracks import Track, TrackBuilder
 
 HOP = 0.010  #: s between loudness values, and between the track's knots
 SMOOTH = 0.100  #: s of sound each loudness value averages
-GATE = 0.03  #: of the loudest: quieter is silence
+GATE = 0.03  #: of the loudest: quieter is silence; so is what is near the sound's hiss:
+HISS = 5.0  #: a loudness under this many times the hiss opens nothing (+14 dB)...
+STILL = 2.5  #: ...a HOP under this many times it may hold the mouth still (+8 dB)...
+FLOOR = 5  #: ...the hiss: the RMS the quietest hops reach (this percentile of them)
 LEAD = 0.040  #: s; the mouth's opening leads the sound by this (two servo frames)
 QUIET = 0.250  #: s of silence that holds the mouth closed and still...
 CLOSING = 0.080  #: ...from this long after the silence begins (the mouth closing)...
@@ -56,18 +65,31 @@ def heard(sound: Sound, servo: int, voice: Voice) -> Speech:
     """The Speech of ``sound`` said by ``voice`` through servo ``servo`` (an index)."""
     rms = _rms(sound.samples, sound.rate)
     loudest = float(rms.max()) if len(rms) else 0.0
-    return Speech(sound, servo, voice, loudness(rms), rms <= GATE * loudest)
+    return Speech(sound, servo, voice, loudness(rms), rms <= quiet(rms, STILL) * loudest)
+
+
+def quiet(rms: np.ndarray, above: float = HISS) -> float:
+    """The share of the loudest HOP's RMS (``_rms``) under which a sound is silent:
+    GATE, or ``above`` times the sound's hiss (the FLOOR percentile of its hops' RMS) if
+    that is more, but at most halfway, in decibels, from the hiss to the loudest (so
+    that a voice in loud hiss still opens the mouth). A clean sound's hiss is about 0."""
+    loudest = float(rms.max()) if len(rms) else 0.0
+    if loudest <= 0:
+        return GATE
+    hiss = float(np.percentile(rms, FLOOR)) / loudest
+    return max(GATE, min(above * hiss, math.sqrt(hiss)))
 
 
 def loudness(rms: np.ndarray) -> np.ndarray:
-    """0 (silence) .. 1 (the loudest) every HOP s, from each HOP's RMS (``_rms``)."""
+    """0 (silence: under ``quiet`` of the loudest) .. 1 (the loudest) every HOP s, from
+    each HOP's RMS (``_rms``)."""
     width = max(1, round(SMOOTH / HOP))
     swell = np.convolve(rms, np.ones(width) / width, mode="same")
     loudest = float(swell.max()) if len(swell) else 0.0
     if loudest <= 0:
         return np.zeros(len(swell))
     levels = swell / loudest
-    levels[levels < GATE] = 0.0
+    levels[levels < quiet(rms)] = 0.0
     return levels
 
 
