@@ -9,6 +9,9 @@ import sys
 from pathlib import Path
 
 import pytest
+import pytest_lsp
+from lsprotocol import types as lsp
+from pytest_lsp import ClientServerConfig, LanguageClient, client_capabilities
 
 from inmoov_dsl import compile_file, from_json, to_json
 from inmoov_dsl.cli import gestc
@@ -450,3 +453,118 @@ def test_check_tells_syntax_and_name_errors_together(tmp_path, capsys):
     assert gestc.main(["check", str(mine)]) == 1
     err = capsys.readouterr().err
     assert err.count("error:") == 1 and ":1:" in err  # not 'nek' for the wrong robot
+
+
+def test_a_play_tells_its_result_on_stdout_and_the_rest_on_stderr():
+    """``gestplay peace --port sim:// > log.txt`` keeps what was played and the pose the
+    hand ends in; where to watch it move is advice, on stderr."""
+    done = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "peace",
+                           "--port", "sim://"], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    out = done.stdout.splitlines()
+    assert out[0].startswith("played peace: 0.70 s, 201 bytes, worst lateness ")
+    assert out[1:] == ["sim://rhand?board=181 now holds (board 181, right hand):",
+                       "  wrist        0", f"  thumb      180  {'#' * 30}", "  index        0",
+                       "  middle       0", f"  ring       180  {'#' * 30}",
+                       f"  pinky      180  {'#' * 30}"]
+    assert "played" not in done.stderr and "now holds" not in done.stderr
+    assert done.stderr.startswith("to watch it move: run 'gestsim --view'")
+
+
+@pytest.mark.parametrize(("argv", "said"), [
+    (["relax", "--port", "sim://"], "board 181 on sim://rhand?board=181: relaxed, its "
+                                    "servos are limp until the next command\n"),
+    (["dump", "--port", "sim://"], "board 181 (right hand): 6 servos\n"),
+])
+def test_the_bench_tools_tell_their_result_on_stdout(argv, said, capsys):
+    from inmoov_dsl.cli import gestplay
+
+    assert gestplay.main(argv) == 0
+    out, err = capsys.readouterr()
+    assert out.startswith(said) and err == ""
+
+
+def helped(capsys, main, *argv) -> str:
+    """What ``main([*argv, "--help"])`` prints (it exits 0), its lines joined and its
+    spaces single (argparse wraps it to the terminal's width)."""
+    with pytest.raises(SystemExit) as exit_:
+        main([*argv, "--help"])
+    assert exit_.value.code == 0
+    return capsys.readouterr().out
+
+
+def flat(text: str) -> str:
+    """``text`` on one line, one space between its words."""
+    return " ".join(text.split())
+
+
+def described(text: str) -> str:
+    """The description a --help gives: the paragraph after the usage (empty if none)."""
+    after = text.split("\n\n")[1]
+    return "" if after.startswith(("positional arguments:", "options:")) else flat(after)
+
+
+def test_gestplay_help_lists_every_tool_and_each_usage_names_its_tool(capsys):
+    from inmoov_dsl.cli import gestplay
+
+    listed = helped(capsys, gestplay.main)
+    assert all(f"    {name} " in listed for name in gestplay.TOOLS)
+    assert all(name in described(helped(capsys, gestplay.main, "play"))
+               for name in gestplay.TOOLS)  # the bench tools, serve and stored too
+    for name in gestplay.TOOLS:
+        assert helped(capsys, gestplay.main, name).startswith(f"usage: gestplay {name} ")
+    assert helped(capsys, gestplay.main, "peace").startswith("usage: gestplay play ")
+
+
+def test_every_command_says_what_it_does_in_its_help(capsys):
+    from inmoov_dsl.cli import gestplay
+
+    for main, names in ((gestc.main, gestc.COMMANDS), (gestplay.main, gestplay.TOOLS)):
+        for name in names:
+            text = helped(capsys, main, name)
+            assert text.startswith(f"usage: {main.__module__.rpartition('.')[2]} {name} ")
+            assert described(text), f"{name} --help has no description"
+    assert described(helped(capsys, gestc.main, "check")).startswith(
+        "Check .gest files as gestc compile would, writing nothing: every error and "
+        "warning of each file")
+    assert described(helped(capsys, gestc.main, "lsp")).startswith(
+        "The language server of .gest files, for editors")
+    assert described(helped(capsys, gestplay.main, "ports")) == \
+        "The serial ports on this machine, and who answers."
+
+
+@pytest.mark.parametrize("argv", [["gestplay", "play"], ["gestplay", "dump"],
+                                  ["gestplay", "relax"], ["gestplay", "repl"],
+                                  ["gestplay", "teach"], ["gestplay", "serve"],
+                                  ["gestplay", "stored"], ["gestc", "upload"]])
+def test_the_port_help_shows_a_port_per_board(argv, capsys):
+    import importlib
+
+    main = importlib.import_module(f"inmoov_dsl.cli.{argv[0]}").main
+    text = flat(helped(capsys, main, argv[1]))
+    port = text[text.index("--port PORT ", text.index("options:")):]
+    assert "right=COM3,left=COM4" in port.split(" -p PROFILE")[0]
+
+
+def test_gestc_lsp_takes_stdio_as_editors_pass_it(capsys):
+    assert "--stdio " in helped(capsys, gestc.main, "lsp")
+    for argv in (["lsp"], ["lsp", "--stdio"]):
+        args = gestc.parser("lsp").parse_args(argv)
+        assert args.command == "lsp" and args.func.__module__ == "inmoov_dsl.cli.gestc.lsp"
+
+
+@pytest_lsp.fixture(config=ClientServerConfig(server_command=[
+    sys.executable, "-m", "inmoov_dsl.cli.gestc", "lsp", "--stdio"]))
+async def stdio_client(lsp_client: LanguageClient):
+    yield
+
+
+@pytest.mark.asyncio
+async def test_the_language_server_starts_with_stdio(stdio_client: LanguageClient):
+    """Started as a generic LSP client starts it (``gestc lsp --stdio``), it answers."""
+    import asyncio
+
+    result = await asyncio.wait_for(stdio_client.initialize_session(
+        lsp.InitializeParams(capabilities=client_capabilities("neovim"))), 60)
+    assert result.capabilities.document_formatting_provider
+    await asyncio.wait_for(stdio_client.shutdown_session(), 60)

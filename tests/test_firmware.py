@@ -667,7 +667,7 @@ def test_gestplay_plays_to_the_firmware_image_on_a_pty(firmware_pty):
                            "--port", firmware_pty], capture_output=True, text=True,
                           timeout=60)
     assert done.returncode == 0, done.stderr
-    assert done.stderr.startswith("played peace: 0.70 s, ")
+    assert done.stdout.startswith("played peace: 0.70 s, ")
     assert "warning" not in done.stderr  # it booted, sent WAIT and answered DUMP
 
 

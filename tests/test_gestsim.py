@@ -67,3 +67,28 @@ def test_a_glove_that_is_not_there_is_named():
     assert (done.returncode, done.stdout) == (1, "")
     assert done.stderr == ("gestsim: error: profile 'rhand' has no glove 181\n"
                            "  hint: its gloves: 182\n")
+
+
+@POSIX
+def test_the_page_port_is_spelled_as_gestplay_serve_spells_it(monkeypatch, capsys):
+    """``--http PORT`` (gestplay serve's option, a bare PORT on 127.0.0.1); the old
+    ``--http-port N`` still works, hidden from --help, after a one-line notice."""
+    from inmoov_dsl.cli import gestsim as tool
+
+    monkeypatch.setitem(sys.modules, "viser", None)  # the page stops there: no pty
+    viser = ("gestsim: error: gestsim --web needs viser and yourdfpy (viser is not "
+             "installed)\n  hint: pip install 'inmoov-dsl[web]'\n")
+    assert tool.main(["--web", "--http", "0", "--quiet"]) == 1
+    assert capsys.readouterr() == ("", viser)
+    assert tool.main(["--web", "--http-port", "0", "--quiet"]) == 1
+    assert capsys.readouterr() == ("", "gestsim: warning: --http-port is deprecated: use "
+                                   "--http 0\n" + viser)
+    assert tool.main(["--web", "--http", "0.0.0.0:8080", "--quiet"]) == 1
+    assert capsys.readouterr() == ("", (
+        "gestsim: error: --http 0.0.0.0:8080: gestsim's page is for this computer only "
+        "(127.0.0.1)\n  hint: --http 8080; gestplay serve serves the hand to other "
+        "computers (docs/service.md)\n"))
+    with pytest.raises(SystemExit):
+        tool.main(["--help"])
+    helped = capsys.readouterr().out
+    assert "--http PORT" in helped and "--http-port" not in helped

@@ -42,11 +42,11 @@ def test_bad_options_are_one_clear_message(main, argv, message, capsys, tmp_path
     (gestplay.main, ["send", "--port", "sim://", "--listen", "-1", "cancel"],
      "gestplay send: error: argument --listen: '-1' is not a number from 0 to 60"),
     (gestplay.main, ["peace", "--speed", "2"],
-     "gestplay: error: argument --speed: '2' is not a number from 0.01 to 1"),
+     "gestplay play: error: argument --speed: '2' is not a number from 0.01 to 1"),
     (gestplay.main, ["peace", "--speed", "1e-300"],
-     "gestplay: error: argument --speed: '1e-300' is not a number from 0.01 to 1"),
+     "gestplay play: error: argument --speed: '1e-300' is not a number from 0.01 to 1"),
     (gestplay.main, ["peace", "--loop", "0"],
-     "gestplay: error: argument --loop: '0' is not a whole number from 1 to 1,000,000"),
+     "gestplay play: error: argument --loop: '0' is not a whole number from 1 to 1,000,000"),
     (gestc.main, ["fmt", "a\x00.gest"], "gestc: error: an argument contains a NUL character"),
 ])
 def test_values_out_of_range_are_usage_errors(main, argv, message, capsys):

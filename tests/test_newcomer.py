@@ -23,7 +23,7 @@ def test_a_name_is_its_file_here_before_the_library(tmp_path, monkeypatch, capsy
     assert capsys.readouterr().out.startswith("mine: 0.")
     assert gestplay.main(["mine", "--dry-run"]) == 0
     assert gestplay.main(["peace", "--port", "sim://"]) == 0
-    assert "index       45" in capsys.readouterr().err  # this folder's peace.gest
+    assert "index       45" in capsys.readouterr().out  # this folder's peace.gest
 
 
 def stored(tmp_path, *options):
@@ -100,7 +100,7 @@ def test_counts_are_said_in_words(capsys, tmp_path):
     still = tmp_path / "still.gest"
     still.write_text("still: wait 0.1s\n")
     assert gestplay.main([str(still), "--port", "sim://"]) == 0
-    assert "played still: 0.10 s, 1 byte, " in capsys.readouterr().err
+    assert "played still: 0.10 s, 1 byte, " in capsys.readouterr().out
 
 
 def test_the_service_leaves_out_a_hint_it_does_not_have():

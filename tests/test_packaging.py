@@ -77,10 +77,10 @@ def test_the_readme_first_line_plays_from_the_root_and_from_elsewhere(wheel, tmp
                           capture_output=True, text=True, timeout=120,
                           env={**os.environ, "PYTHONPATH": str(site)})
     assert done.returncode == 0, done.stderr
-    assert done.stderr.startswith("played peace: 0.70 s, ")
+    assert done.stdout.startswith("played peace: 0.70 s, ")
     # what the virtual hand now holds, drawn as gestsim draws it, and where to watch it
     bar = "#" * 30
-    assert done.stderr.splitlines()[1:8] == [
+    assert done.stdout.splitlines()[1:8] == [
         "sim://rhand?board=181 now holds (board 181, right hand):",
         "  wrist        0", f"  thumb      180  {bar}", "  index        0",
         "  middle       0", f"  ring       180  {bar}", f"  pinky      180  {bar}"]

@@ -254,18 +254,18 @@ def run(capsys, *argv):
 
 
 def test_the_cli_plays_to_sim(capsys):
-    code, _, err = run(capsys, "peace", "--port", "sim://")
+    code, out, _ = run(capsys, "peace", "--port", "sim://")
     assert code == 0
-    assert err.startswith("played peace: 0.70 s, 201 bytes, worst lateness ")
+    assert out.startswith("played peace: 0.70 s, 201 bytes, worst lateness ")
 
 
 def test_a_loop_reports_the_whole_run(capsys):
     one = compile_file(load_library()["wiggle"])
     again = compile_file(load_library()["wiggle"], start=dict(zip(one.servos, one.final,
                                                                         strict=True)))
-    code, _, err = run(capsys, "wiggle", "--port", "sim://", "--loop", "2")
+    code, out, _ = run(capsys, "wiggle", "--port", "sim://", "--loop", "2")
     assert code == 0
-    assert err.startswith(f"played wiggle twice: {one.duration + again.duration:.2f} s, "
+    assert out.startswith(f"played wiggle twice: {one.duration + again.duration:.2f} s, "
                           f"{len(one.stream().data) + len(again.stream().data):,} bytes, ")
 
 
@@ -278,9 +278,9 @@ def test_a_gesture_is_expanded_once_for_its_boards_and_every_pass(capsys, monkey
     gesture = Resolver.gesture
     monkeypatch.setattr(Resolver, "gesture",
                         lambda self, *a: expanded.append(a) or gesture(self, *a))
-    code, _, err = run(capsys, "peace", "--port", "sim://?boot=0&fresh", "--loop", "2")
+    code, out, err = run(capsys, "peace", "--port", "sim://?boot=0&fresh", "--loop", "2")
     assert code == 0, err
-    assert err.startswith("played peace twice: ")  # two plans: from rest, from peace
+    assert out.startswith("played peace twice: ")  # two plans: from rest, from peace
     assert expanded == [("peace", None)]
 
 
@@ -296,9 +296,9 @@ def test_a_loop_stopped_in_its_second_pass_was_played_once(capsys, monkeypatch):
         return play(*args, **kwargs)
 
     monkeypatch.setattr(playing, "play", one_pass)
-    code, _, err = run(capsys, "wiggle", "--port", "sim://", "--loop")
+    code, out, _ = run(capsys, "wiggle", "--port", "sim://", "--loop")
     assert code == 130
-    assert err.startswith("played wiggle once, then stopped in pass 2: ")
+    assert out.startswith("played wiggle once, then stopped in pass 2: ")
 
 
 def test_dry_run_prints_the_schedule(capsys):
@@ -345,11 +345,11 @@ def test_one_port_is_enough_for_a_gesture_on_one_board_of_many(capsys, monkeypat
         return SilentPort()
 
     monkeypatch.setattr(wire_link, "open_port", open_port)
-    code, _, err = run(capsys, "peace", "--profile", "inmoov", "--port", "COM7", "--blind")
+    code, out, err = run(capsys, "peace", "--profile", "inmoov", "--port", "COM7", "--blind")
     assert code == 0, err
     assert opened == ["COM7"]  # the right hand's board (181) only, of the robot's six
     assert "board 181 on COM7 did not answer (--blind)" in err
-    assert err.splitlines()[-1].startswith("played peace: 0.70 s")
+    assert out.startswith("played peace: 0.70 s")
 
 
 def test_blind_plays_on_a_link_that_cannot_answer(capsys, monkeypatch, virtual_clock):
@@ -357,11 +357,11 @@ def test_blind_plays_on_a_link_that_cannot_answer(capsys, monkeypatch, virtual_c
     machine (on the real one a stall longer than the horizon leaves filler out)."""
     port = SilentPort()
     monkeypatch.setattr(wire_link, "open_port", lambda name, baud, timeout=0: port)
-    code, _, err = run(capsys, "peace", "--port", "COM7", "--blind")
+    code, out, err = run(capsys, "peace", "--port", "COM7", "--blind")
     assert code == 0
     assert ("gestplay: warning: board 181 on COM7 did not answer (--blind): starting from "
             "the profile's rest pose") in err
-    assert err.splitlines()[-1].startswith("played peace: 0.70 s, 201 bytes")
+    assert out.startswith("played peace: 0.70 s, 201 bytes")
     stream = compile_file(load_library()["peace"]).stream()
     assert port.sent.endswith(padded(stream.times, stream.data, stream.byte_time))
 
@@ -506,9 +506,9 @@ def test_a_loop_without_a_count_plays_until_ctrl_c_and_counts_the_passes(gestsim
     while time.monotonic() < deadline and len(read_stream(*received(log), 9600)) < 2.5 * one:
         time.sleep(0.05)  # two passes sent, the third under way
     player.send_signal(signal.SIGINT)
-    _, err = player.communicate(timeout=10)
+    out, err = player.communicate(timeout=10)
     assert player.returncode == 130
-    said = next(line for line in err.splitlines() if line.startswith("played"))
+    said = next(line for line in out.splitlines() if line.startswith("played"))
     passes = int(said.split("then stopped in pass ")[1].split(":")[0]) - 1
     counted = {1: "once", 2: "twice"}.get(passes, f"{passes} times")
     assert said.startswith(f"played tap {counted}, then stopped in pass {passes + 1}: ")

@@ -72,3 +72,29 @@ def test_without_matplotlib_plot_says_how_to_get_it(monkeypatch, capsys, tmp_pat
     assert capsys.readouterr().err == (
         "gestc: error: gestc plot needs matplotlib, which is not installed\n"
         "  hint: pip install 'inmoov-dsl[plot]'\n")
+
+
+@pytest.mark.parametrize("length", [60, 200])
+def test_a_long_name_leaves_title_and_legend_apart(length, tmp_path):
+    """The title and the legend never cover each other, however long the gesture's name
+    (a long one wraps), and both stay inside the picture."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from inmoov_dsl.model.plot import figure
+
+    name = ("a_gesture_with_a_long_name_" * 8)[:length]
+    gest = tmp_path / "long.gest"
+    gest.write_text(f"{name}:\n    index 180, middle 90 over 1s\n    hold 300ms\n    index 0\n")
+    compiled, plan = compile_program(load(str(gest)), name)
+    fig = figure(plan, compiled)
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    title = fig._suptitle.get_window_extent(renderer)
+    legend = fig.legends[0].get_window_extent(renderer)
+    assert not title.overlaps(legend)
+    whole = fig.bbox
+    for box in (title, legend):
+        assert whole.x0 <= box.x0 and box.x1 <= whole.x1 + 1
+        assert whole.y0 <= box.y0 and box.y1 <= whole.y1 + 1
+    assert name in fig._suptitle.get_text().replace("\n", "")  # all of it, wrapped

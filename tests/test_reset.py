@@ -103,7 +103,7 @@ def test_sim_remembers_its_pose_from_one_program_to_the_next():
         assert kept.stat().st_mode & 0o077 == 0 and kept.parent.stat().st_mode & 0o077 == 0
     # the next program plans from there: nothing left to move
     again = gestplay_cmd("peace", "--port", "sim://")
-    assert again.stderr.startswith("played peace: 0.70 s, ")
+    assert again.stdout.startswith("played peace: 0.70 s, ")
     fresh = dumped(gestplay_cmd("dump", "--port", "sim://?fresh"))
     assert fresh == dict.fromkeys(PEACE, 0)
     assert dumped(gestplay_cmd("dump", "--port", "sim://")) == fresh  # a new board

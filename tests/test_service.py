@@ -612,3 +612,27 @@ def test_a_flood_of_bad_requests_is_ten_lines_a_minute_then_a_count(capsys):
     assert lines[0] == ("gestplay serve: Error handling request from 127.0.0.1: ValueError: "
                         "Bad status line: b'" + "X" * 61)
     assert lines[10] == "gestplay serve: and 15 more requests it could not read in that minute"
+
+
+@pytest.mark.parametrize(("given", "address"), [
+    (None, ("127.0.0.1", 8180)), ("8181", ("127.0.0.1", 8181)), (":0", ("127.0.0.1", 0)),
+    ("0.0.0.0:80", ("0.0.0.0", 80)), ("[::1]:8180", ("::1", 8180))])
+def test_http_is_host_and_port_or_a_bare_port_on_this_computer(given, address):
+    """``--http`` as gestsim takes it too: HOST:PORT, or a bare PORT on 127.0.0.1."""
+    from inmoov_dsl.cli import gestplay
+
+    more = [] if given is None else ["--http", given]
+    args = gestplay.parser("serve").parse_args(["serve", "--port", "sim://", *more])
+    assert args.http == address
+
+
+@pytest.mark.parametrize("given", ["robot.local", "::1", "127.0.0.1:65536", ""])
+def test_an_http_address_that_is_not_one_is_a_usage_error(given, capsys):
+    from inmoov_dsl.cli import gestplay
+
+    with pytest.raises(SystemExit) as exit_:
+        gestplay.main(["serve", "--port", "sim://", "--http", given])
+    assert exit_.value.code == 2
+    assert capsys.readouterr().err.splitlines()[-1] == (
+        f"gestplay serve: error: argument --http: '{given}' is not HOST:PORT or PORT (a "
+        "port is 0 to 65535; an IPv6 host in brackets: [::1]:8180)")

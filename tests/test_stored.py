@@ -238,8 +238,8 @@ def test_gestplay_lists_and_plays_what_a_virtual_board_stores(tmp_path):
     played = subprocess.run([*run, "peace", "--stored", "--port", port],
                             capture_output=True, text=True, timeout=60)
     assert played.returncode == 0, played.stderr
-    assert played.stderr.startswith("played peace (stored gesture 1 of board 181): 0.7")
-    assert "pinky      180" in played.stderr
+    assert played.stdout.startswith("played peace (stored gesture 1 of board 181): 0.7")
+    assert "pinky      180" in played.stdout
     missing = subprocess.run([*run, "wve", "--stored", "--port", port],
                              capture_output=True, text=True, timeout=60)
     assert missing.returncode == 1

@@ -88,7 +88,7 @@ def web_board(port: int = 0):
     address)."""
     need_viser()
     proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim", "--web",
-                             "--http-port", str(port), "--quiet", "--boot", "0.1"],
+                             "--http", str(port), "--quiet", "--boot", "0.1"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     try:
         path = Lines(proc.stdout).until(r"^(/dev/\S+)$", 30)
@@ -102,7 +102,7 @@ def web_board(port: int = 0):
 
 def test_without_viser_gestsim_web_says_how_to_get_it(monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "viser", None)
-    assert gestsim.main(["--web", "--http-port", "0", "--quiet"]) == 1
+    assert gestsim.main(["--web", "--http", "0", "--quiet"]) == 1
     assert capsys.readouterr() == ("", (
         "gestsim: error: gestsim --web needs viser and yourdfpy (viser is not installed)\n"
         "  hint: pip install 'inmoov-dsl[web]'\n"))

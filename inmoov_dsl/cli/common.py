@@ -166,10 +166,12 @@ def parse_args(ap: argparse.ArgumentParser, argv: list[str] | None) -> argparse.
 
 
 def add_ports(p: argparse.ArgumentParser, what: str = "the board's port", more: str = "") -> None:
-    """``--port PORT`` (required; again with BOARD=PORT for each board of a profile with
-    several): ``what`` a port is, ``more`` said after."""
+    """``--port PORT`` (required; for a profile with several boards, a port per board:
+    ``right=COM3,left=COM4``): ``what`` a port is, ``more`` said after."""
+    from .options import PORT_FORMS
+
     p.add_argument("--port", action="append", required=True, metavar="PORT",
-                   help=f"{what}; BOARD=PORT for each board of a profile with several{more}")
+                   help=f"{what}; {PORT_FORMS}{more}")
 
 
 def add_blind(p: argparse.ArgumentParser) -> None:

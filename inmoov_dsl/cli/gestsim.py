@@ -24,6 +24,7 @@ from ..wire.sim import VirtualBoard
 from .common import EXIT_OK, add_version, number, parse_args, report, run
 from .gestsim_pty import Pty
 from .gestsim_views import BarsView, HandView
+from .options import LOCAL, Renamed, http_address, shown_address
 
 PROG = "gestsim"
 
@@ -83,8 +84,8 @@ def _serve(args: argparse.Namespace, profile, board_cfg, glove, views: list, web
             print(f"{PROG}: its fingers perform '{args.glove}' from the moment the port "
                   f"opens", file=sys.stderr, flush=True)
         if web is not None:
-            busy = (f" (port {args.http_port} is busy)"
-                    if args.http_port not in (0, web.port) else "")
+            asked = args.http[1]
+            busy = f" (port {asked} is busy)" if asked not in (0, web.port) else ""
             print(f"{PROG}: the hand in 3-D at {web.url}{busy}", file=sys.stderr, flush=True)
         kind = None if glove else controller(profile, board_cfg)  # (a glove: no board)
         Pty(master, args.boot, glove and glove.stream, views, log,
@@ -107,9 +108,15 @@ def _web(args: argparse.Namespace, profile, board_cfg):
     if args.glove:
         raise GestError(Diagnostic("error", "--web shows a board's pose; with --glove "
                                    "gestsim is a glove", hint="leave out --web or --glove"))
+    host, port = args.http
+    if host not in (LOCAL, "localhost"):
+        raise GestError(Diagnostic(
+            "error", f"--http {shown_address(host, port)}: gestsim's page is for this "
+            f"computer only ({LOCAL})", hint=f"--http {port}; gestplay serve serves the "
+            "hand to other computers (docs/service.md)"))
     from ..model.webview import WebView
 
-    return WebView(profile, board_cfg, args.http_port)
+    return WebView(profile, board_cfg, port)
 
 
 def _board(profile, board_id: int | None):
@@ -164,8 +171,8 @@ def _glove(args: argparse.Namespace, profile) -> _Glove:
         args.noise, args.drop, tuple(gaps), seed=args.seed)))
 
 
-def main(argv: list[str] | None = None) -> int:
-    """The console script."""
+def parser() -> argparse.ArgumentParser:
+    """gestsim's arguments."""
     ap = argparse.ArgumentParser(prog=PROG, description=__doc__.splitlines()[0])
     add_version(ap)
     ap.add_argument("-p", "--profile", default="rhand", help="robot profile (default rhand)")
@@ -192,15 +199,22 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--web", action="store_true",
                     help="also serve a page on 127.0.0.1 where the hand moves in 3-D, live "
                     "(needs: pip install 'inmoov-dsl[web]')")
-    ap.add_argument("--http-port", type=number(0, 65535, whole=True), default=8080,
-                    metavar="N", help="with --web: the page's port (default 8080; 0: any "
+    ap.add_argument("--http", type=http_address, default=f"{LOCAL}:8080", metavar="PORT",
+                    help="with --web: the page's port on 127.0.0.1 (default 8080; 0: any "
                     "free one; a busy one: the next free)")
+    ap.add_argument("--http-port", action=Renamed, new="--http {1}", dest="http",
+                    type=http_address)  # the old spelling (gestplay serve's is --http)
     ap.add_argument("--flash", metavar="DIR", help="the board stores the gestures of the "
                     "sketch in DIR, built with gestc firmware --store (or its stored.h)")
     from .gestc.storing import add_store_options
 
     add_store_options(ap, "the virtual board")
-    args = parse_args(ap, argv)
+    return ap
+
+
+def main(argv: list[str] | None = None) -> int:
+    """The console script."""
+    args = parse_args(parser(), argv)
     return run(PROG, lambda: serve(args))
 
 

@@ -11,6 +11,7 @@ where they part.
 from __future__ import annotations
 
 import os
+import textwrap
 
 import numpy as np
 
@@ -24,6 +25,7 @@ SENT_COLOUR = "#d62728"
 LIMIT_COLOUR = "#7f7f7f"
 HOLD_COLOUR = "#eeeeee"
 SOUND_COLOUR = "#2ca02c"
+TITLE_WIDTH = 110  #: characters of the title's line at most (13 pt across 12 inches)
 
 
 def _matplotlib():
@@ -60,8 +62,10 @@ def figure(plan: Plan, compiled: Compiled):
     fig = Figure(figsize=(12, 1.2 + 1.7 * len(rows)), layout="constrained")
     grid = fig.add_gridspec(len(rows), 2, width_ratios=(3, 1.3))
     total = sum(len(s.data) for s in compiled.streams)
-    fig.suptitle(f"{compiled.gesture} on {plan.profile.name}: {compiled.duration:.2f} s, "
-                 f"{total:,} bytes", fontsize=13, x=0.01, ha="left")
+    title = (f"{compiled.gesture} on {plan.profile.name}: {compiled.duration:.2f} s, "
+             f"{total:,} bytes")  # a long name wraps, within the figure's width
+    fig.suptitle(textwrap.fill(title, TITLE_WIDTH, break_on_hyphens=False), fontsize=13,
+                 x=0.01, ha="left")
     first_pos = first_vel = None
     for k, (start, speech) in enumerate(plan.sounds):
         ax = fig.add_subplot(grid[k, 0], sharex=first_pos)
@@ -168,7 +172,8 @@ def _sounds(ax, plan: Plan, servo: int) -> None:
 
 
 def _legend(fig, pos, vel, plan: Plan, Patch) -> None:  # noqa: N803 (a class)
-    """One legend for the figure: the lines of the first row, keyframes, holds."""
+    """One legend for the figure, below the rows (the title has the top to itself, however
+    long the gesture's name): the lines of the first row, keyframes, holds."""
     handles, labels = (pos.get_legend_handles_labels()[k] + vel.get_legend_handles_labels()[k]
                        for k in (0, 1))
     if plan.sounds and "the sound's loudness, as an opening" not in labels:
@@ -179,7 +184,7 @@ def _legend(fig, pos, vel, plan: Plan, Patch) -> None:  # noqa: N803 (a class)
     if any(step.kind == "hold" for step in plan.steps):
         handles.append(Patch(color=HOLD_COLOUR))
         labels.append("hold")
-    fig.legend(handles, labels, loc="outside upper right", ncols=3, fontsize=9,
+    fig.legend(handles, labels, loc="outside lower center", ncols=3, fontsize=9,
                frameon=False)
 
 

@@ -2,7 +2,8 @@
 
 Every command that talks to a board or a glove opens it here. ``board_ports`` is the one
 reading of ``--port`` (``PORT`` when one board is needed, ``BOARD=PORT`` for each of
-several); ``open_board`` opens one board's port at its baud, ``connect`` a link to each
+several, or a list of them: ``right=COM3,left=COM4``; each item checked, each board
+given once); ``open_board`` opens one board's port at its baud, ``connect`` a link to each
 board, and ``open_listener`` the port a glove (or a board mirroring it) sends the
 protocol stream on. A ``sim://`` that names no profile is completed here with the
 profile and board the port is for (the virtual board of what is being played), as
@@ -12,14 +13,16 @@ pyserial's URL handlers intend: callers pass a port spec and a profile, never th
 
 from __future__ import annotations
 
+import urllib.parse
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 
 import serial
 
 from ..boards import controller
-from ..errors import Diagnostic, GestError
+from ..errors import Diagnostic, GestError, did_you_mean
 from ..hardware import Board, Glove, Profile
+from ..profiles.profile import load_profile
 from .player import Link
 from .ports import open_port
 from .urlhandler import protocol_sim
@@ -33,10 +36,12 @@ def every_board(spec: str) -> bool:
     return protocol_sim.bare(spec)
 
 
-def named_boards(specs: Sequence[str]) -> set[int]:
-    """The board IDs ``--port ID=PORT`` arguments name (known to the profile or not)."""
-    keys = (spec.partition("=") for spec in specs)
-    return {int(key) for key, sep, _ in keys if sep and key.isdigit()}
+def named_boards(specs: Sequence[str], profile: Profile) -> set[int]:
+    """The board IDs ``--port BOARD=PORT`` arguments name (``board_ports``'s reading:
+    a name or ID the profile does not have is an error)."""
+    keys = _keys(profile, {b.id: str(b.id) for b in profile.boards})
+    return {_board(item, key, keys, profile, None) for spec in specs
+            for item in _items(spec, keys) if (key := _key(item)) is not None}
 
 
 def board_ports(specs: Sequence[str], profile: Profile, needed: Collection[int] | None = None,
@@ -44,27 +49,25 @@ def board_ports(specs: Sequence[str], profile: Profile, needed: Collection[int] 
     """Board ID -> its port, as ``--port`` says: ``--port COM3`` when one board is
     needed, ``--port BOARD=PORT`` for each of several (BOARD: its ID or its name, or its
     name in ``names``), or several in one: ``left=COM3,right=COM4``; a bare ``sim://``
-    alone is the virtual board of every needed board.
+    alone is the virtual board of every needed board. Each board is given once, and an
+    item that names no board of the profile, gives no port, or is empty is an error.
     ``names``: what may take a port, by ID (default: the profile's boards, named by
     their IDs); ``needed``: those that must have one (default all); one given a port
     without being needed has it too. The ports as given (``parse_ports`` completes
     ``sim://``)."""
     label = dict(names) if names else {b.id: str(b.id) for b in profile.boards}
-    keys = {**{str(i): i for i in label}, **{n: i for i, n in label.items()}}
-    keys.update({b.name: b.id for b in profile.boards if b.name not in keys and b.id in label})
-    specs = [part for spec in specs for part in _split(spec, keys)]
+    keys = _keys(profile, label)
+    items = [item for spec in specs for item in _items(spec, keys)]
     needed = [i for i in label if needed is None or i in needed] or list(label)
     ports: dict[int, str] = {}
-    for spec in specs:
-        key, sep, port = spec.partition("=")
-        if sep and key in keys:
-            ports[keys[key]] = port
-        elif sep and key.isdigit():
-            raise GestError(Diagnostic("error", f"--port {spec}: profile '{profile.name}' "
-                                       f"has no board {key} (boards: "
-                                       f"{', '.join(label.values())})"))
-        elif len(needed) == 1 or (len(specs) == 1 and every_board(spec)):
-            ports.update(dict.fromkeys(needed, spec))
+    given: dict[int, str] = {}  # each board's item, for the one that gives it again
+    for item in items:
+        key = _key(item)
+        if key is not None:
+            board = _board(item, key, keys, profile, names)
+            _give(ports, given, [board], item, _port(item, key), key)
+        elif len(needed) == 1 or (len(items) == 1 and every_board(item)):
+            _give(ports, given, needed, item, item, label[needed[0]])
         else:
             what = f"profile '{profile.name}' has" if len(needed) == len(label) else \
                 "this needs"
@@ -79,11 +82,86 @@ def board_ports(specs: Sequence[str], profile: Profile, needed: Collection[int] 
     return ports
 
 
-def _split(spec: str, keys: Collection[str]) -> list[str]:
-    """``left=COM3,right=COM4`` as two ports, when each part names a board."""
-    parts = spec.split(",")
-    named = len(parts) > 1 and all(p.partition("=")[0] in keys for p in parts)
-    return parts if named else [spec]
+#: what a port may hold before an '=' (a URL's or a path's characters) and a board's
+#: name does not: ``sim://?boot=0`` is a port, ``left=COM4`` a board's
+NOT_A_NAME = frozenset(":/\\?&#%")
+
+
+def _key(item: str) -> str | None:
+    """The board ``item`` names when it is ``BOARD=PORT`` (None: it is a port)."""
+    key, sep, _ = item.partition("=")
+    return key.strip() if sep and not NOT_A_NAME & set(key) else None
+
+
+def _port(item: str, key: str) -> str:
+    """The port of ``BOARD=PORT``; none given is an error naming the board."""
+    port = item.partition("=")[2].strip()
+    if not port:
+        raise GestError(Diagnostic("error", f"--port {item}: no port for board {_said(key)}",
+                                   hint=f"give one after the '=': {key}=PORT, a device "
+                                   "('gestplay ports' lists them), a pyserial URL or sim://"))
+    return port
+
+
+def _said(key: str) -> str:
+    """A board as the user named it: an ID as it is, a name quoted."""
+    return key if key.isdigit() else f"'{key}'"
+
+
+def _keys(profile: Profile, label: Mapping[int, str]) -> dict[str, int]:
+    """What names each board of ``label`` in ``--port``: its ID, its label, its name."""
+    keys = {**{str(i): i for i in label}, **{n: i for i, n in label.items()}}
+    keys.update({b.name: b.id for b in profile.boards if b.name not in keys and b.id in label})
+    return keys
+
+
+def _board(item: str, key: str, keys: Mapping[str, int], profile: Profile,
+           names: Mapping[int, str] | None) -> int:
+    """The board ``key`` names; one the profile does not have is an error that lists
+    its boards (and the closest name)."""
+    if key in keys:
+        return keys[key]
+    if names:
+        boards = ", ".join(names.values())
+    else:
+        boards = ", ".join(str(b.id) if b.name == f"board {b.id}" else
+                           f"{b.id} or '{b.name}'" for b in profile.boards)
+    if not key:
+        raise GestError(Diagnostic("error", f"--port {item}: no board before the '='",
+                                   hint=f"BOARD=PORT, BOARD one of: {boards}"))
+    raise GestError(Diagnostic("error", f"--port {item}: profile '{profile.name}' has no "
+                               f"board {_said(key)} (boards: {boards})",
+                               hint=None if key.isdigit() else did_you_mean(key, keys)))
+
+
+def _give(ports: dict[int, str], given: dict[int, str], boards: Sequence[int], item: str,
+          port: str, said: str) -> None:
+    """Give ``boards`` the ``port`` of ``item``; a board given a port twice is an error."""
+    again = next((b for b in boards if b in given), None)
+    if again is not None:
+        raise GestError(Diagnostic("error", f"--port {item}: board {_said(said)} is given "
+                                   "twice", hint=f"first as {given[again]}; give each "
+                                   "board one port"))
+    for board in boards:
+        ports[board], given[board] = port, item
+
+
+def _items(spec: str, keys: Collection[str]) -> list[str]:
+    """The items of one ``--port``: ``left=COM3,right=COM4`` is a list (its first item
+    names a board, or one of them names a board of the profile, or one is empty); a port
+    with a comma in it (``sim://a,b``) is one item. An empty item is an error."""
+    parts = [part.strip() for part in spec.split(",")]
+    listed = len(parts) > 1 and ("" in parts or _key(parts[0]) is not None
+                                 or any(_key(p) in keys for p in parts))
+    if not listed:
+        return [spec.strip()]
+    if "" in parts:
+        at = parts.index("")
+        where = "before the first comma" if at == 0 else "after the last comma" \
+            if at == len(parts) - 1 else "between two commas"
+        raise GestError(Diagnostic("error", f"--port {spec}: an empty item {where}",
+                                   hint=f"--port {','.join(p for p in parts if p)}"))
+    return parts
 
 
 def parse_ports(specs: Sequence[str], profile: Profile,
@@ -96,12 +174,44 @@ def parse_ports(specs: Sequence[str], profile: Profile,
 
 def open_board(spec: str, profile: Profile, board: Board | None = None,
                timeout: float = 0) -> serial.SerialBase:
-    """The port ``spec`` of ``board`` (default the profile's first), open at its baud;
-    ``timeout``: as ``ports.open_port``."""
+    """The port of ``board`` (default the profile's first) that ``spec`` gives, as
+    ``--port`` gives it (``board_ports``: ``COM3``, ``left=COM3``, a list), open at its
+    baud; ``timeout``: as ``ports.open_port``."""
     board = board or profile.boards[0]
+    return _open(board_ports([spec], profile, [board.id])[board.id], profile, board, timeout)
+
+
+def _open(spec: str, profile: Profile, board: Board, timeout: float = 0) -> serial.SerialBase:
+    """The port ``spec`` of ``board``, open at its baud, as its kind opens it."""
+    _virtual_twin(spec, profile, board)
     spec = protocol_sim.complete(spec, profile, board.id)
     port = controller(profile, board).open(spec)  # a bus, which its kind opens
     return port if port is not None else open_port(spec, board.baud, timeout)
+
+
+def _virtual_twin(spec: str, profile: Profile, board: Board) -> None:
+    """A ``sim://`` that names a profile is that profile's board, of its kind: one of
+    another kind than ``board`` (``sim://rhand`` for a Maestro) could never answer,
+    which is said at once rather than after waiting for it."""
+    parts = urllib.parse.urlsplit(spec)
+    if parts.scheme != "sim" or protocol_sim.bare(spec):
+        return
+    try:
+        other = load_profile(parts.netloc + parts.path)
+    except GestError:
+        return  # opening it says what is wrong
+    said = urllib.parse.parse_qs(parts.query).get("board", [str(other.boards[0].id)])[0]
+    twin = next((b for b in other.boards if str(b.id) == said), None)
+    if twin is None or twin.kind == board.kind:
+        return
+    own = protocol_sim.complete("sim://", profile, board.id)
+    own = own.partition("?")[0] if board.id == profile.boards[0].id else own
+    raise GestError(Diagnostic(
+        "error", f"port {spec} is the virtual board of profile '{other.name}' (board "
+        f"{twin.id}, kind {twin.kind}): it cannot answer as board {board.id} of profile "
+        f"'{profile.name}' (kind {board.kind})",
+        hint=f"a virtual board is of its own profile's kind: for profile '{profile.name}' "
+        f"give --port sim:// (the virtual board of what is played) or {own}"))
 
 
 def connect(ports: Mapping[int, str], profile: Profile) -> list[Link]:
@@ -111,7 +221,7 @@ def connect(ports: Mapping[int, str], profile: Profile) -> list[Link]:
     links: list[Link] = []
     try:
         for board in (b for b in profile.boards if b.id in ports):
-            links.append(Link(board.id, open_board(ports[board.id], profile, board),
+            links.append(Link(board.id, _open(ports[board.id], profile, board),
                               ports[board.id], controller(profile, board)))
     except GestError:
         close(links)

@@ -10,6 +10,8 @@ is: ``wire/urlhandler/protocol_sim.py``.)
 
 from __future__ import annotations
 
+import glob
+import os
 import re
 from collections.abc import Callable
 
@@ -17,7 +19,11 @@ from ...errors import Diagnostic, GestError
 from . import transactions as tx
 
 ADDRESS = 0x40  #: a PCA9685's address with no jumper closed
-SPEC = re.compile(r"i2c:(\d+)(?:@(0x[0-9a-fA-F]{1,2}|\d{1,3}))?")
+SPEC = re.compile(r"i2c:(\d+)(?:@(0x[0-9a-fA-F]+|\d+))?")
+#: the addresses a PCA9685 may be given: its six address pins give 0x40..0x7F, of which
+#: the I2C bus reserves 0x78..0x7F and 0x70 is the All Call address every PCA9685
+#: answers from power-up (a write there moves each chip on the bus)
+ADDRESSES = "0x40..0x77, not 0x70"
 
 
 class I2CPort:
@@ -79,10 +85,16 @@ def open_bus(spec: str) -> I2CPort:
                                    "I2C bus", hint="--port i2c:1 (/dev/i2c-1, address "
                                    "0x40) or i2c:1@0x41"))
     number, address = int(found[1]), int(found[2] or str(ADDRESS), 0)
-    if not 0x03 <= address <= 0x77:
-        raise GestError(Diagnostic("error", f"cannot open port {spec}: I2C addresses are "
-                                   "0x03..0x77", hint="a PCA9685 is at 0x40..0x7F less "
-                                   "the reserved ones; the default 0x40"))
+    if not 0x40 <= address <= 0x77 or address == 0x70:
+        raise GestError(Diagnostic("error", f"cannot open port {spec}: a PCA9685's address "
+                                   f"is {ADDRESSES}", hint="its six address pins give "
+                                   "0x40..0x7F; the I2C bus reserves 0x78..0x7F, and 0x70 "
+                                   "is the All Call address every PCA9685 answers; with no "
+                                   "pin bridged: 0x40"))
+    if not os.path.exists(f"/dev/i2c-{number}"):
+        raise GestError(Diagnostic("error", f"cannot open port {spec}: there is no I2C bus "
+                                   f"{number} (/dev/i2c-{number}); buses on this machine: "
+                                   f"{', '.join(buses()) or 'none'}", hint=ENABLE))
     try:
         from smbus2 import SMBus
     except ImportError:
@@ -93,6 +105,16 @@ def open_bus(spec: str) -> I2CPort:
         return I2CPort(SMBus(number), address, spec)
     except OSError as exc:
         raise GestError(Diagnostic("error", f"cannot open port {spec}: /dev/i2c-{number}: "
-                                   f"{exc.strerror or exc}",
-                                   hint="enable I2C (sudo raspi-config, Interface "
-                                   "Options) and add yourself to the i2c group")) from None
+                                   f"{exc.strerror or exc}", hint=GROUP if isinstance(
+                                       exc, PermissionError) else ENABLE)) from None
+
+
+ENABLE = "on a Raspberry Pi, enable I2C (sudo raspi-config, Interface Options): its bus is " \
+    "then /dev/i2c-1, --port i2c:1"
+GROUP = "add yourself to the i2c group: sudo usermod -a -G i2c $USER, then log out and in again"
+
+
+def buses() -> list[str]:
+    """This machine's I2C buses (``/dev/i2c-N``), by number."""
+    found = glob.glob("/dev/i2c-*")
+    return sorted((b for b in found if b[9:].isdigit()), key=lambda b: int(b[9:]))

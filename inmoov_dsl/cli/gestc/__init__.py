@@ -13,6 +13,7 @@ import importlib
 import sys
 
 from ..common import add_version, parse_args, run
+from ..options import Commands
 
 PROG = "gestc"  #: (the commands' modules, imported when named, are the heavy part)
 
@@ -29,7 +30,7 @@ def parser(command: str | None = None) -> argparse.ArgumentParser:
         prog=PROG, description="Compile .gest gestures into timed byte streams for the "
         "InMoov servo boards.")
     add_version(ap)
-    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND", action=Commands)
     for name in [command] if command in COMMANDS else COMMANDS:
         importlib.import_module(f".{COMMANDS[name]}", __name__).add_parser(sub)
     return ap

@@ -47,7 +47,12 @@ def run(args: argparse.Namespace) -> int:
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestc check FILE...``."""
-    p = sub.add_parser("check", help="report errors and warnings only")
+    p = sub.add_parser("check", help="report errors and warnings only",
+                       description="Check .gest files as gestc compile would, writing "
+                       "nothing: every error and warning of each file, at its place "
+                       "(FILE:LINE:COLUMN), in one pass; 'FILE: ok (N gestures)' on "
+                       "standard output for a file without errors. Exit status 1 if any "
+                       "file has an error.")
     p.add_argument("files", nargs="+", metavar="FILE", help="a .gest file, or - for stdin")
     add_arguments(p, target=False)
     p.set_defaults(func=run)

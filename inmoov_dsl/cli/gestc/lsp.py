@@ -1,4 +1,5 @@
-"""gestc lsp: the language server, on standard input and output (an editor starts it)."""
+"""gestc lsp: the language server, on standard input and output (an editor starts it,
+with ``--stdio`` or without)."""
 
 from __future__ import annotations
 
@@ -23,5 +24,12 @@ def run(args: argparse.Namespace) -> int:
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestc lsp``."""
-    p = sub.add_parser("lsp", help="the language server for editors (stdin and stdout)")
+    p = sub.add_parser("lsp", help="the language server for editors (stdin and stdout)",
+                       description="The language server of .gest files, for editors: "
+                       "errors as you type, hover, completion, formatting (docs/editors.md). "
+                       "An editor starts it and talks to it on standard input and output; "
+                       "it needs pygls (pip install 'inmoov-dsl[lsp]').")
+    p.add_argument("--stdio", action="store_true",
+                   help="talk on standard input and output (what it does anyway: the flag "
+                   "most editors' LSP settings pass)")
     p.set_defaults(func=run)

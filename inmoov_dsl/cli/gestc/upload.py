@@ -149,8 +149,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="a sketch name: servo_rhand, glove_rhand, servo_inmoov_left... "
                    "(default with --profile: every board of the profile)")
     p.add_argument("--port", action="append", required=True, metavar="PORT",
-                   help="the board's port; with several boards BOARD=PORT each (the "
-                   "sketch name or the board's ID)")
+                   help="the board's port; with several boards, one per board, by its "
+                   "sketch name, its name or its ID: right=COM3,left=COM4 (or --port "
+                   "servo_inmoov_right=COM3 --port servo_inmoov_left=COM4)")
     p.add_argument("-p", "--profile", help="the profile the boards are built from (a "
                    "built-in name or a .toml path; default: the one with BOARD)")
     p.add_argument("--old-bootloader", action="store_true",

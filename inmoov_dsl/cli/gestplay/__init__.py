@@ -13,6 +13,7 @@ import importlib
 import sys
 
 from ..common import add_version, parse_args, run
+from ..options import Commands
 
 PROG = "gestplay"
 #: each tool (``play`` for a gesture) -> its module, in the order ``--help`` lists them
@@ -30,7 +31,8 @@ def parser(tool: str | None = None) -> argparse.ArgumentParser:
         "(gestplay play --help for the options; gestplay play NAME plays a gesture "
         "whatever its name). The bench tools: gestplay TOOL --help.")
     add_version(ap)
-    sub = ap.add_subparsers(dest="command", required=True, metavar="GESTURE|TOOL", prog=PROG)
+    sub = ap.add_subparsers(dest="command", required=True, metavar="GESTURE|TOOL", prog=PROG,
+                         action=Commands)
     for name in [tool] if tool in TOOLS else TOOLS:
         importlib.import_module(f".{TOOLS[name]}", __name__).add_parser(sub)
     return ap

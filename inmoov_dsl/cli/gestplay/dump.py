@@ -15,9 +15,10 @@ from ..common import EXIT_OK, add_ports
 
 def run(args: argparse.Namespace) -> int:
     """One port: print the first of the profile's boards that answers DUMP on it. A
-    port per board (``BOARD=PORT``, or a bare ``sim://`` for every board): each board's."""
+    port per board (``BOARD=PORT``, ``left=COM3,right=COM4``, or a bare ``sim://`` for
+    every board): each board's."""
     profile = load_profile(args.profile or "rhand")
-    named = named_boards(args.port)
+    named = named_boards(args.port, profile)  # read as play reads them (wire/link.py)
     if len(args.port) == 1 and not named and not every_board(args.port[0]):
         _dump(args.port[0], open_board(args.port[0], profile), profile, profile.boards)
         return EXIT_OK
@@ -48,6 +49,6 @@ def _dump(name: str, port, profile: Profile, boards: tuple[Board, ...]) -> None:
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestplay dump --port PORT``."""
     p = sub.add_parser("dump", help="the boards' IDs and every servo's value")
-    add_ports(p, more=" (a bare sim:// is every board)")
+    add_ports(p, more="; a bare sim:// is every board")
     p.add_argument("-p", "--profile", help="to name the servos (default rhand)")
     p.set_defaults(func=run)

@@ -22,6 +22,7 @@ from ...profiles.tables import SIDES
 from ...wire.player import play
 from .. import hand
 from ..common import EXIT_OK, add_blind, add_lib, number, report, warn
+from ..options import PORT_FORMS
 from ..target import Target, load_target
 from . import sounds
 
@@ -93,14 +94,14 @@ def run(args: argparse.Namespace) -> int:
 
 def show_virtual(on: hand.Hand, boards: set[int], pose: dict[str, int]) -> None:
     """What the virtual hand holds now (a board's bars, as gestsim draws them), for
-    each board the gesture drove."""
+    each board the gesture drove, on standard output (a result, as 'played' is)."""
     for board in on.profile.boards:
         link = next((k for k in on.links if k.board == board.id), None)
         if board.id not in boards or link is None:
             continue
         held = [(n, pose.get(n, on.pose.get(n, 0))) for n in board.servos]
-        print(f"{link.name} now holds (board {board.id}, {board.name}):", file=sys.stderr)
-        print("\n".join(bar_lines(held)), file=sys.stderr)
+        print(f"{link.name} now holds (board {board.id}, {board.name}):")
+        print("\n".join(bar_lines(held)), flush=True)
 
 
 def watch(args: argparse.Namespace, profile: Profile, boards: set[int],
@@ -195,10 +196,11 @@ class _Run:
         self.sent += sum(len(s.data) for s in compiled.streams)
 
     def say(self, gesture: str, times: str) -> None:
-        """The summary line: ``played GESTURE[ times]: seconds, bytes, lateness``."""
+        """The summary line, on standard output (the result, which ``> log.txt``
+        keeps): ``played GESTURE[ times]: seconds, bytes, lateness``."""
         times = f" {times}" if times else ""
         print(f"played {gesture}{times}: {self.seconds:.2f} s, {counted(self.sent, 'byte')}, worst "
-              f"lateness {self.worst * 1000:.2f} ms", file=sys.stderr)
+              f"lateness {self.worst * 1000:.2f} ms", flush=True)
 
 
 def _progress(compiled: Compiled, speed: float) -> Callable[[float], None]:
@@ -215,16 +217,18 @@ def _progress(compiled: Compiled, speed: float) -> Callable[[float], None]:
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestplay play GESTURE``, which ``gestplay GESTURE`` is short for."""
-    ap = sub.add_parser("play", prog=PROG, help="play a gesture (gestplay GESTURE is short for "
+    ap = sub.add_parser("play", help="play a gesture (gestplay GESTURE is short for "
                         "gestplay play GESTURE)", description="Play a gesture on the "
-                        "InMoov hand. Bench tools: gestplay "
-                        "dump|ports|send|relax|calibrate|repl|teach --help.")
+                        "InMoov hand (gestplay GESTURE is short for gestplay play GESTURE). "
+                        "What was played and the pose the hand ends in go to standard "
+                        "output; warnings and progress to standard error. Bench tools: "
+                        "gestplay ports|dump|send|relax|calibrate|repl|teach|serve|stored "
+                        "--help.")
     ap.add_argument("target", metavar="GESTURE",
                     help="a library gesture, a .gest file or a compiled .gestc file")
     ap.add_argument("--port", action="append", default=[], metavar="PORT",
                     help="COM3, /dev/ttyUSB0, a pyserial URL (loop://, socket://...) or "
-                    "sim:// (the virtual board); BOARD=PORT for each board of a profile "
-                    "with several")
+                    f"sim:// (the virtual board); {PORT_FORMS}")
     ap.add_argument("-g", "--gesture", help="the gesture to play from a .gest file")
     ap.add_argument("-p", "--profile", help="robot profile (default rhand, or the "
                     "compiled file's)")

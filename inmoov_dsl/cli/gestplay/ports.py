@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ...protocol import DEFAULT_BAUD
 from ...wire.identify import answer
 from ...wire.ports import available
 from ..common import EXIT_OK
@@ -34,6 +35,6 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--no-ask", dest="ask", action="store_false",
                    help="only list them (asking opens each likely board's port: an Uno "
                    "resets, and keeps its pose)")
-    p.add_argument("--baud", type=int, default=9600,
-                   help="the baud a board of ours is asked at (default 9600)")
+    p.add_argument("--baud", type=int, default=DEFAULT_BAUD,
+                   help=f"the baud a board of ours is asked at (default {DEFAULT_BAUD})")
     p.set_defaults(func=run)

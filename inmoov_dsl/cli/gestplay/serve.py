@@ -17,6 +17,7 @@ from ...profiles.profile import load_profile
 from ...wire.player import Link
 from .. import hand
 from ..common import EXIT_OK, add_blind, add_lib, add_ports
+from ..options import http_address, shown_address
 from . import sounds
 
 PROG = "gestplay serve"
@@ -32,7 +33,7 @@ def run(args: argparse.Namespace) -> int:
         raise GestError(Diagnostic("error", "the service needs aiohttp, which is not "
                                    "installed", hint="pip install 'inmoov-dsl[serve]'")
                         ) from None
-    host, port = _address(args.http)
+    host, port = args.http
     token = _token(args, host, guard)
     profile = load_profile(args.profile or "rhand")
     dirs = library_dirs(args.lib)
@@ -54,9 +55,9 @@ def run(args: argparse.Namespace) -> int:
             port = server.start()
         except OSError as exc:
             raise GestError(Diagnostic("error", f"cannot listen on {host}:{port}: "
-                                       f"{exc.strerror or exc}", hint=f"--http {host}:"
-                                       f"{port + 1 if port else 8181}, or stop what listens "
-                                       "there")) from None
+                                       f"{exc.strerror or exc}", hint="--http "
+                                       f"{shown_address(host, port + 1 if port else 8181)}, "
+                                       "or stop what listens there")) from None
         shown = f"[{host}]" if ":" in host else host
         print(f"{PROG}: http://{shown}:{port}/ drives {profile.name} on "
               f"{', '.join(link.name for link in on.links)}; Ctrl-C stops",
@@ -89,16 +90,6 @@ def _view(profile, pose: list[int]):
         return None
     view.pose(pose)
     return view
-
-
-def _address(text: str) -> tuple[str, int]:
-    """``HOST:PORT`` (``[::1]:8180`` for IPv6)."""
-    host, sep, port = text.rpartition(":")
-    host = host.strip("[]")
-    if not sep or not host or not port.isdigit() or not 0 <= int(port) <= 65535:
-        raise GestError(Diagnostic("error", f"--http {text}: give HOST:PORT",
-                                   hint=f"--http {DEFAULT_HTTP}"))
-    return host, int(port)
 
 
 def _token(args: argparse.Namespace, host: str, guard) -> str | None:
@@ -146,9 +137,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                        "WebSocket and a page on 127.0.0.1 (docs/service.md).")
     add_ports(p, "as for playing")
     p.add_argument("-p", "--profile", help="robot profile (default rhand)")
-    p.add_argument("--http", default=DEFAULT_HTTP, metavar="HOST:PORT",
-                   help=f"where to listen (default {DEFAULT_HTTP}: this computer only; "
-                   "another address needs a token)")
+    p.add_argument("--http", type=http_address, default=DEFAULT_HTTP, metavar="HOST:PORT",
+                   help=f"where to listen (default {DEFAULT_HTTP}: this computer only; a "
+                   "bare PORT is on 127.0.0.1 too, 0 any free one; another address needs a "
+                   "token)")
     p.add_argument("--token", help="a secret every request must show (Authorization: "
                    "Bearer TOKEN); prefer --token-file, which other users cannot see")
     p.add_argument("--token-file", metavar="FILE", help="read the token from FILE")

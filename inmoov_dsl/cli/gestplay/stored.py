@@ -5,7 +5,6 @@ it."""
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 from ... import clock
@@ -97,14 +96,14 @@ def play_stored(args: argparse.Namespace) -> int:
         values = ask_dump(link.port, link.board)
         times = f" {passes} times" if passes > 1 else ""
         print(f"played {name}{times} (stored gesture {number} of board {link.board}): "
-              f"{took:.2f} s, the approach to its start included", file=sys.stderr)
+              f"{took:.2f} s, the approach to its start included", flush=True)
         if values is not None and link.name.startswith("sim://"):
             from ...model.posebars import bar_lines
 
             names = {s.id: s.name for s in profile.servos}
-            print(f"{link.name} now holds (board {link.board}):", file=sys.stderr)
+            print(f"{link.name} now holds (board {link.board}):")
             print("\n".join(bar_lines([(names[i], v) for i, v in values.items()])),
-                  file=sys.stderr)
+                  flush=True)
     return EXIT_OK
 
 
