@@ -130,6 +130,10 @@ def attempt(text: str, file: str, lines: list[str]) -> ast.Module | GestError:
 
 
 MAX_SKIPPED = 100  #: lines of one block left out so that those after them are read
+#: lines read again, in all, to go on past the lines left out of one block: a long block
+#: is read again fewer times (each time to its next error), so that it costs what a few
+#: reads of the file do, never hundreds
+MAX_REREAD = 5000
 
 
 def attempt_block(lines: list[str], start: int, end: int, file: str
@@ -138,13 +142,14 @@ def attempt_block(lines: list[str], start: int, end: int, file: str
     of its steps that does not parse is told and left out, so that the lines after it
     are read too: the block then parses with that error among its flaws."""
     own, told, skipped = lines[start:end], [], set()
+    most = min(MAX_SKIPPED, MAX_REREAD // max(1, end - start))
     while True:
         parsed = attempt("\n" * start + "\n".join(own) + "\n", file, lines)
         if isinstance(parsed, ast.Module):
             return parsed if not told else ast.Module(file, parsed.items,
                                                       tuple(in_order([*told, *parsed.flaws])))
         k = parsed.first.pos.line - 1 - start
-        if not 0 < k < len(own) or k in skipped or len(skipped) >= MAX_SKIPPED or \
+        if not 0 < k < len(own) or k in skipped or len(skipped) >= most or \
                 not _starts(own[0]):
             # the block's name line, a line left out (what is left is not the text's), or
             # lines before the first block
