@@ -13,7 +13,6 @@ pyserial's URL handlers intend: callers pass a port spec and a profile, never th
 
 from __future__ import annotations
 
-import urllib.parse
 from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 
@@ -22,7 +21,6 @@ import serial
 from ..boards import controller
 from ..errors import Diagnostic, GestError, did_you_mean
 from ..hardware import Board, Glove, Profile
-from ..profiles.profile import load_profile
 from .player import Link
 from .ports import open_port
 from .urlhandler import protocol_sim
@@ -193,16 +191,13 @@ def _virtual_twin(spec: str, profile: Profile, board: Board) -> None:
     """A ``sim://`` that names a profile is that profile's board, of its kind: one of
     another kind than ``board`` (``sim://rhand`` for a Maestro) could never answer,
     which is said at once rather than after waiting for it."""
-    parts = urllib.parse.urlsplit(spec)
-    if parts.scheme != "sim" or protocol_sim.bare(spec):
+    if protocol_sim.bare(spec):
         return
     try:
-        other = load_profile(parts.netloc + parts.path)
-    except GestError:
-        return  # opening it says what is wrong
-    said = urllib.parse.parse_qs(parts.query).get("board", [str(other.boards[0].id)])[0]
-    twin = next((b for b in other.boards if str(b.id) == said), None)
-    if twin is None or twin.kind == board.kind:
+        other, twin = protocol_sim.named(spec)
+    except protocol_sim.SimError:
+        return  # not a sim:// URL, or opening it says what is wrong
+    if twin.kind == board.kind:
         return
     own = protocol_sim.complete("sim://", profile, board.id)
     own = own.partition("?")[0] if board.id == profile.boards[0].id else own

@@ -36,7 +36,7 @@ from ... import clock
 from ...boards import controller
 from ...boards.rig.core import BoardCore
 from ...errors import Diagnostic, GestError, did_you_mean
-from ...hardware import Profile
+from ...hardware import Board, Profile
 from ...profiles.profile import builtin_profiles, find_profile, load_profile
 from ..dtr import DtrLine
 from ..sim import VirtualBoard
@@ -82,9 +82,8 @@ def _options(url: str) -> dict[str, list[str]]:
     return urllib.parse.parse_qs(urllib.parse.urlsplit(url).query, keep_blank_values=True)
 
 
-def _board_from_url(url: str) -> tuple[VirtualBoard, Profile]:
-    """The board a sim:// URL names, powered up: in the pose it last stored (``memory``),
-    or at rest when it never did or the URL says ``fresh``."""
+def named(url: str) -> tuple[Profile, Board]:
+    """The profile and the board a sim:// URL names; SimError for one that names none."""
     parts = urllib.parse.urlsplit(url)
     if parts.scheme != "sim":
         raise SimError(url, "expected sim://[PROFILE][?board=ID&boot=S&fresh]")
@@ -106,6 +105,14 @@ def _board_from_url(url: str) -> tuple[VirtualBoard, Profile]:
     if board is None:
         raise SimError(url, f"profile '{profile.name}' has no board {board_id}",
                        f"its boards: {ids}")
+    return profile, board
+
+
+def _board_from_url(url: str) -> tuple[VirtualBoard, Profile]:
+    """The board a sim:// URL names, powered up: in the pose it last stored (``memory``),
+    or at rest when it never did or the URL says ``fresh``."""
+    profile, board = named(url)
+    options = _options(url)
     kind = controller(profile, board)
     core = kind.twin()
     stored = None if "fresh" in options else memory.recall(profile, core)
