@@ -4,7 +4,7 @@ under its servo's limits (``mouth.fit``), LEAD ahead of the sound.
 
 The loudness is the RMS of each HOP of sound, averaged over SMOOTH (a syllable's
 swell), from 0 (silence) to 1 (the loudest). Silence is judged against the sound's own
-noise floor, its hiss (``quiet``: the RMS its quietest hops reach; about none in a
+noise floor, its hiss (``hiss``: the RMS its quietest hops reach; about none in a
 synthetic voice, a recording's noise in a recording): a loudness under GATE of the
 loudest or under HISS times the hiss is 0. The track aims at the opening the loudness
 asks LEAD later. A silence (hops whose own RMS is under GATE of the loudest hop's and
@@ -65,31 +65,36 @@ def heard(sound: Sound, servo: int, voice: Voice) -> Speech:
     """The Speech of ``sound`` said by ``voice`` through servo ``servo`` (an index)."""
     rms = _rms(sound.samples, sound.rate)
     loudest = float(rms.max()) if len(rms) else 0.0
-    return Speech(sound, servo, voice, loudness(rms), rms <= quiet(rms, STILL) * loudest)
+    noise = hiss(rms)
+    return Speech(sound, servo, voice, loudness(rms, quiet(noise)),
+                  rms <= quiet(noise, STILL) * loudest)
 
 
-def quiet(rms: np.ndarray, above: float = HISS) -> float:
-    """The share of the loudest HOP's RMS (``_rms``) under which a sound is silent:
-    GATE, or ``above`` times the sound's hiss (the FLOOR percentile of its hops' RMS) if
-    that is more, but at most halfway, in decibels, from the hiss to the loudest (so
-    that a voice in loud hiss still opens the mouth). A clean sound's hiss is about 0."""
+def hiss(rms: np.ndarray) -> float:
+    """A sound's hiss, as a share of its loudest HOP's RMS (``_rms``): the FLOOR
+    percentile of its hops' RMS. A clean sound's is about 0."""
     loudest = float(rms.max()) if len(rms) else 0.0
-    if loudest <= 0:
-        return GATE
-    hiss = float(np.percentile(rms, FLOOR)) / loudest
-    return max(GATE, min(above * hiss, math.sqrt(hiss)))
+    return float(np.percentile(rms, FLOOR)) / loudest if loudest > 0 else 0.0
 
 
-def loudness(rms: np.ndarray) -> np.ndarray:
-    """0 (silence: under ``quiet`` of the loudest) .. 1 (the loudest) every HOP s, from
-    each HOP's RMS (``_rms``)."""
+def quiet(noise: float, above: float = HISS) -> float:
+    """The share of the loudest under which a sound whose ``hiss`` is ``noise`` is
+    silent: GATE, or ``above`` times the hiss if that is more, but at most halfway, in
+    decibels, from the hiss to the loudest (so that a voice in loud hiss still opens the
+    mouth)."""
+    return max(GATE, min(above * noise, math.sqrt(noise)))
+
+
+def loudness(rms: np.ndarray, gate: float) -> np.ndarray:
+    """0 (silence: under ``gate`` of the loudest, ``quiet`` of the sound's ``hiss``) ..
+    1 (the loudest) every HOP s, from each HOP's RMS (``_rms``)."""
     width = max(1, round(SMOOTH / HOP))
     swell = np.convolve(rms, np.ones(width) / width, mode="same")
     loudest = float(swell.max()) if len(swell) else 0.0
     if loudest <= 0:
         return np.zeros(len(swell))
     levels = swell / loudest
-    levels[levels < quiet(rms)] = 0.0
+    levels[levels < gate] = 0.0
     return levels
 
 
