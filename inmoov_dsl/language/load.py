@@ -10,7 +10,7 @@ import functools
 import os
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
 from ..errors import Diagnostic, GestError, Pos, SourceMap, decode_utf8
 from ..resources import read_regular
@@ -20,12 +20,15 @@ from .library import library_dirs, scan
 from .parse import MAX_SOURCE, parse
 from .program import Program
 
+if TYPE_CHECKING:
+    from .incremental import Partial
+
 GEST_SUFFIX = ".gest"
 
 Reader = Callable[[str], str]  #: path -> its text
 Parser = Callable[[str, str], ast.Module]  #: (text, file) -> its syntax tree
 #: (text, file) -> what of it parses and what does not (``incremental.Partial``)
-Partly = Callable[[str, str], Any]
+Partly = Callable[[str, str], "Partial"]
 
 
 def read_text(path: str) -> str:

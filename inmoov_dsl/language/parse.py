@@ -38,7 +38,7 @@ def parser() -> Lark:
         lexer="contextual",
         postlex=GestIndenter(),
         maybe_placeholders=False,
-        transformer=_TO_AST,
+        transformer=TO_AST,
         cache=_cache_file(text),
     )
 
@@ -53,7 +53,6 @@ def _cache_file(grammar: str) -> str | bool:
     return str(path) if private_file(path) else False
 
 
-_TO_AST = TO_AST
 _LOCK = threading.Lock()  # the parser and its transformer are shared
 
 
@@ -116,9 +115,9 @@ def attempt(text: str, file: str, lines: list[str]) -> ast.Module | GestError:
     or its first syntax problem."""
     try:
         with _LOCK:
-            _TO_AST.file, _TO_AST.depths, _TO_AST.flaws = file, {}, []
+            TO_AST.file, TO_AST.depths, TO_AST.flaws = file, {}, []
             module = parser().parse(text)
-            flaws = _TO_AST.flaws
+            flaws = TO_AST.flaws
     except SyntaxProblem as problem:  # tree-less mode: callbacks' exceptions come as they are
         return problem.error(file, lines)
     except UnexpectedInput as exc:

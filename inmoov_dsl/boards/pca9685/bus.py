@@ -19,6 +19,7 @@ from ...errors import Diagnostic, GestError
 from . import transactions as tx
 
 ADDRESS = 0x40  #: a PCA9685's address with no jumper closed
+DEVICE = "/dev/i2c-"  #: a bus's device, before its number
 SPEC = re.compile(r"i2c:(\d+)(?:@(0x[0-9a-fA-F]+|\d+))?")
 #: the addresses a PCA9685 may be given: its six address pins give 0x40..0x7F, of which
 #: the I2C bus reserves 0x78..0x7F and 0x70 is the All Call address every PCA9685
@@ -91,9 +92,9 @@ def open_bus(spec: str) -> I2CPort:
                                    "0x40..0x7F; the I2C bus reserves 0x78..0x7F, and 0x70 "
                                    "is the All Call address every PCA9685 answers; with no "
                                    "pin bridged: 0x40"))
-    if not os.path.exists(f"/dev/i2c-{number}"):
+    if not os.path.exists(f"{DEVICE}{number}"):
         raise GestError(Diagnostic("error", f"cannot open port {spec}: there is no I2C bus "
-                                   f"{number} (/dev/i2c-{number}); buses on this machine: "
+                                   f"{number} ({DEVICE}{number}); buses on this machine: "
                                    f"{', '.join(buses()) or 'none'}", hint=ENABLE))
     try:
         from smbus2 import SMBus
@@ -104,7 +105,7 @@ def open_bus(spec: str) -> I2CPort:
     try:
         return I2CPort(SMBus(number), address, spec)
     except OSError as exc:
-        raise GestError(Diagnostic("error", f"cannot open port {spec}: /dev/i2c-{number}: "
+        raise GestError(Diagnostic("error", f"cannot open port {spec}: {DEVICE}{number}: "
                                    f"{exc.strerror or exc}", hint=GROUP if isinstance(
                                        exc, PermissionError) else ENABLE)) from None
 
@@ -116,5 +117,5 @@ GROUP = "add yourself to the i2c group: sudo usermod -a -G i2c $USER, then log o
 
 def buses() -> list[str]:
     """This machine's I2C buses (``/dev/i2c-N``), by number."""
-    found = glob.glob("/dev/i2c-*")
-    return sorted((b for b in found if b[9:].isdigit()), key=lambda b: int(b[9:]))
+    numbers = (path.removeprefix(DEVICE) for path in glob.glob(f"{DEVICE}*"))
+    return [f"{DEVICE}{n}" for n in sorted((n for n in numbers if n.isdigit()), key=int)]

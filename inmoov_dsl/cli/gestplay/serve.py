@@ -58,8 +58,7 @@ def run(args: argparse.Namespace) -> int:
                                        f"{exc.strerror or exc}", hint="--http "
                                        f"{shown_address(host, port + 1 if port else 8181)}, "
                                        "or stop what listens there")) from None
-        shown = f"[{host}]" if ":" in host else host
-        print(f"{PROG}: http://{shown}:{port}/ drives {profile.name} on "
+        print(f"{PROG}: http://{shown_address(host, port)}/ drives {profile.name} on "
               f"{', '.join(link.name for link in on.links)}; Ctrl-C stops",
               file=sys.stderr, flush=True)
         gc.freeze()  # what is loaded stays: the collector's pauses do not grow with it
