@@ -47,7 +47,7 @@ def test_a_pickle_planted_where_lark_kept_its_cache_is_not_read(tmp_path):
         "from inmoov_dsl.language import parse\n"
         "parse.Lark(parse.grammar_path().read_text(encoding='utf-8'), parser='lalr', "
         "lexer='contextual', postlex=parse.GestIndenter(), maybe_placeholders=False, "
-        "transformer=parse._TO_AST, cache=True)\n")
+        "transformer=parse.TO_AST, cache=True)\n")
     subprocess.run([sys.executable, "-c", make_old_cache], check=True, timeout=120,
                    env={**os.environ, "TMPDIR": str(shared)})
     (old,) = shared.glob(".lark_cache_*")
