@@ -30,8 +30,9 @@ import numpy as np
 
 from inmoov_dsl import compile_source, load_library
 from inmoov_dsl.protocol import Signal
-from inmoov_dsl.wire.player import Link, play, wait_ready
+from inmoov_dsl.wire.player import Link, play
 from inmoov_dsl.wire.ports import open_port
+from inmoov_dsl.wire.ready import wait_ready
 
 
 def arrivals(log: Path, skip: int, data: bytes, tau: float) -> np.ndarray:

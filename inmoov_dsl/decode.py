@@ -17,7 +17,8 @@ What a byte means where it arrives is the reader's ``Policy``, named after who r
   drops it.
 - ``GLOVE``, a glove listening to the computer: MIN and MAX, nothing else.
 - ``PLAYER``, the computer listening to a board: WAIT, and DUMP replies
-  (``START BOARD_ID N (id value)*N END``) found among other bytes (``parse_dump``).
+  (``START BOARD_ID N (id value)*N END``) found among other bytes (``parse_dump``;
+  ``Replies`` keeps those whose BOARD_ID is a board's, 181 and up).
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Iterator
 from dataclasses import dataclass, field
 
-from .protocol import MAX_VALUE, Signal, reply
+from .protocol import FIRST_BOARD_ID, LAST_BOARD_ID, MAX_VALUE, Signal, reply
 
 
 @dataclass(frozen=True)
@@ -167,9 +168,16 @@ class StreamReader:
                     self.skipped += 1
 
 
+def is_board(board_id: int) -> bool:
+    """Is ``board_id`` a board's ID (FIRST_BOARD_ID..LAST_BOARD_ID)? A reply naming
+    another (180: a servo's ID, a value) is no board's answer."""
+    return FIRST_BOARD_ID <= board_id <= LAST_BOARD_ID
+
+
 class Replies:
     """DUMP replies in a board's bytes as they come (``PLAYER``'s reading), from board
-    ``board_id`` if given: each byte read once, however the bytes are split."""
+    ``board_id`` if given, else from any board ID (``is_board``): each byte read once,
+    however the bytes are split."""
 
     def __init__(self, board_id: int | None = None):
         self.board_id = board_id
@@ -183,7 +191,8 @@ class Replies:
         for byte in data:
             self.count += 1
             for event in self.reader.feed(byte):
-                if isinstance(event, Reply) and self.board_id in (None, event.board):
+                if isinstance(event, Reply) and is_board(event.board) and \
+                        self.board_id in (None, event.board):
                     start = self.count - event.size
                     if found is None or start < found[0]:
                         found = (start, event)
@@ -192,7 +201,8 @@ class Replies:
 
 def parse_dump(data: bytes, board_id: int | None = None
                ) -> tuple[int, dict[int, int]] | None:
-    """Find a DUMP reply in bytes from a board (WAIT bytes and noise around it are
-    skipped), from board ``board_id`` if given: (board ID, servo ID -> value), or None
-    if no complete reply is there. Of two that overlap, the one that starts first."""
+    """Find a DUMP reply in bytes from a board (WAIT bytes, noise and replies naming
+    no board's ID around it are skipped), from board ``board_id`` if given: (board ID,
+    servo ID -> value), or None if no complete reply is there. Of two that overlap,
+    the one that starts first."""
     return Replies(board_id).feed(data)

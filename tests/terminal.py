@@ -46,10 +46,13 @@ class AtTerminal:
 def listen_as_a_plain_program(path: str, hold: float = 0.55) -> tuple[serial.Serial, bytes]:
     """Open ``path`` as a program opens a real serial port (HUPCL set: DTR drops when it
     closes; a pty does not set it by itself) and listen ``hold`` s without a word: a
-    board that reset says WAIT when it has booted, one that did not says nothing."""
+    board that reset says WAIT when it has booted, one that did not says nothing. What
+    came while no program had the port open is dropped, as a serial driver drops it (a
+    pty keeps it: a board simulated on a busy machine answers the last program late)."""
     port = serial.Serial(path, 9600, timeout=0)
     attrs = termios.tcgetattr(port.fileno())
     attrs[2] |= termios.HUPCL
     termios.tcsetattr(port.fileno(), termios.TCSANOW, attrs)
+    port.reset_input_buffer()
     time.sleep(hold)
     return port, port.read(100)

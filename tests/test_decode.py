@@ -145,7 +145,7 @@ def reference_parse_dump(data, board_id=None):
             body = data[start + 3:end]
             pairs = dict(zip(body[0::2], body[1::2], strict=True))
             if all(v <= MAX_VALUE for v in pairs.values()) and len(pairs) == count \
-                    and board_id in (None, board):
+                    and board_id in (None, board) and 181 <= board <= 250:
                 return board, pairs
         start += 1
 

@@ -30,7 +30,8 @@ from inmoov_dsl.firmware.sketches import sketches
 from inmoov_dsl.language.library import scan_library
 from inmoov_dsl.language.load import load
 from inmoov_dsl.protocol import FIRST_BOARD_ID, MAX_SERVO_ID, MAX_VALUE, POSE_SETTLE, Signal
-from inmoov_dsl.wire.player import Link, ask_dump, play, wait_ready
+from inmoov_dsl.wire.player import Link, play
+from inmoov_dsl.wire.ready import ask_dump, wait_ready
 from inmoov_dsl.wire.sim import VirtualBoard
 
 ROOT = Path(__file__).resolve().parent.parent

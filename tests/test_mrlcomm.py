@@ -19,7 +19,8 @@ from inmoov_dsl.errors import GestError
 from inmoov_dsl.language.library import scan_library
 from inmoov_dsl.language.load import load
 from inmoov_dsl.wire.link import connect, parse_ports
-from inmoov_dsl.wire.player import BoardTrouble, ask_dump, play, relax_all
+from inmoov_dsl.wire.player import BoardTrouble, play, relax_all
+from inmoov_dsl.wire.ready import ask_dump
 from inmoov_dsl.wire.urlhandler import protocol_sim
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -24,8 +24,9 @@ from inmoov_dsl.profiles.profile import load_profile
 from inmoov_dsl.protocol import pairs, timed_pairs
 from inmoov_dsl.wire import link as wire_link
 from inmoov_dsl.wire.pace import HORIZON, WAKE, padded
-from inmoov_dsl.wire.player import Link, cancel_all, play, wait_ready
+from inmoov_dsl.wire.player import Link, cancel_all, play
 from inmoov_dsl.wire.ports import open_port
+from inmoov_dsl.wire.ready import wait_ready
 
 ROOT = Path(__file__).resolve().parent.parent
 TWO = ROOT / "tests" / "data" / "two.toml"

@@ -19,8 +19,8 @@ from inmoov_dsl import load_profile
 from inmoov_dsl.boards.rig.core import BoardCore
 from inmoov_dsl.cli import gestplay
 from inmoov_dsl.protocol import POSE_SETTLE
-from inmoov_dsl.wire.player import ask_dump, wait_ready
 from inmoov_dsl.wire.ports import leave_dtr_up, open_port
+from inmoov_dsl.wire.ready import ask_dump, wait_ready
 from inmoov_dsl.wire.sim import VirtualBoard, settled
 
 POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
@@ -184,11 +184,25 @@ def gestplay_run(*argv, timeout=60):
                           capture_output=True, text=True, timeout=timeout)
 
 
+def settle(log: Path, quiet: float = 0.3) -> None:
+    """Wait until the board has logged nothing new for ``quiet`` s."""
+    seen = [-1, time.monotonic()]
+
+    def still() -> bool:
+        size = log.stat().st_size if log.exists() else 0
+        if size != seen[0]:
+            seen[:] = [size, time.monotonic()]
+        return time.monotonic() - seen[1] >= quiet
+
+    wait_for(still, "the board reading what gestplay sent")
+
+
 @POSIX
 def test_gestplay_leaves_the_board_running_and_in_its_pose(gestsim):
-    _, path, _ = gestsim
+    _, path, log = gestsim
     done = gestplay_run("rockon", "--port", path)
     assert done.returncode == 0, done.stderr
+    settle(log)  # the board has read all gestplay sent (a simulated one may lag)
     # the next program finds the board as gestplay left it: no reset, the rockon pose
     port, heard = listen_as_a_plain_program(path)
     assert heard == b""

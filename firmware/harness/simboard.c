@@ -33,7 +33,7 @@
  *                        of the sketch) changes, S seconds after ready
  *       --flash SYMBOL K B   the image's flash byte K after SYMBOL is B (a table of the
  *                        image changed without building it again)
- *   simboard FIRMWARE.elf --pty [--baud B] [--eeprom FILE] [--log LOG]
+ *   simboard FIRMWARE.elf --pty [--baud B] [--eeprom FILE] [--log LOG] [--bootloader HEX]
  *       Serves the board on a pseudo-terminal in real time and prints its path. Like an
  *       Uno or a Nano, the board resets when a program opening the port raises DTR: at
  *       the first open, and at any open after a close that dropped DTR (the closing
@@ -41,6 +41,18 @@
  *       whenever the EEPROM changes. The UART takes bytes from the pty only 5 ms ahead of
  *       the wire (UART_AHEAD); LOG gets "<seconds> <byte>" for each byte when it starts
  *       on the wire (CLOCK_MONOTONIC, the clock of Python's time.monotonic).
+ *   --bootloader HEX  (either way) an Arduino's bootloader, an Intel hex file (Debian's
+ *       arduino-core-avr ships them in hardware/arduino/avr/bootloaders/), in flash beside
+ *       the image: every reset starts there, as the BOOTRST fuse makes a real board start,
+ *       and the bootloader starts the image when it is done (so "ready" counts its time
+ *       from the power-up, and the pins it drives, the LED's, are reported). The reset
+ *       flags in MCUSR are the chip's: PORF at power-up, EXTRF at a DTR reset, WDRF at a
+ *       watchdog reset. With --pty the port is then a real board's too: the pty starts as
+ *       a serial device does (9600 baud, HUPCL set: a program that leaves it set drops DTR
+ *       when it closes); the wire runs at the baud the program that has the port open set
+ *       (--baud is only where it starts), and a byte sent at another baud than the UART's
+ *       arrives as a real UART reads it, either way (a 255 sent at 9600 is a 0 with a
+ *       framing error at 115200; the computer reads a framing error as 0).
  *
  * Bytes the board reads are counted by the sketch (inmoov_rx_count), read from RAM.
  */
@@ -61,8 +73,11 @@
 #include <simavr/avr_extint.h>
 #include <simavr/avr_ioport.h>
 #include <simavr/avr_uart.h>
+#include <simavr/avr_watchdog.h>
 #include <simavr/sim_avr.h>
 #include <simavr/sim_elf.h>
+#include <simavr/sim_hex.h>
+#include <simavr/sim_regbit.h>
 
 #define F_CPU 16000000ULL
 #define UART_AHEAD 0.005 /* s of bytes a UART holds beyond the computer's buffer (pty) */
@@ -81,6 +96,8 @@ static avr_cycle_count_t byte_cycles;  /* one byte on the wire: 10 bits */
 static avr_cycle_count_t wire_free;    /* when the host -> board line is free again */
 static uint32_t rx_addr;               /* RAM address of the bytes-read counter, 0 if absent */
 static int xoff;                       /* simavr's UART cannot take another byte yet */
+static const char *boot_path;          /* --bootloader: its hex file (NULL: none) */
+static int reset_seen;                 /* simavr reset the chip (its watchdog fired) */
 
 /* -- the pins, as a servo sees them ------------------------------------------------ */
 #define PINS 70 /* Arduino pins: 0..19 on an Uno, 0..69 on a Mega */
@@ -234,11 +251,71 @@ static avr_cycle_count_t look_at_eeprom(avr_t *a, avr_cycle_count_t when, void *
   return when + EEPROM_LOOK;
 }
 
+/* -- a wire at another baud than the UART's (with --bootloader) ----------------------- */
+#define UCSR0A 0xC0 /* UART0's registers, at the same addresses on both microcontrollers */
+#define UBRR0L 0xC4
+#define UBRR0H 0xC5
+static long wire_baud; /* the computer's end of the wire: --baud, or what the pty was set to */
+
+/* The baud UART0 runs at, as its registers set it (U2X0 halves the divider). */
+static long uart_baud(void) {
+  unsigned ubrr = (unsigned)(avr->data[UBRR0H] & 0x0F) << 8 | avr->data[UBRR0L];
+  return (long)(F_CPU / ((avr->data[UCSR0A] & 2 ? 8 : 16) * (ubrr + 1)));
+}
+
+/* The line's level `x` bit-times into an 8N1 frame of `byte` (idle before and after). */
+static int level(uint8_t byte, double x) {
+  if (x < 0 || x >= 9) return 1;
+  return x < 1 ? 0 : (byte >> ((int)x - 1)) & 1;
+}
+
+/* What a UART at `to` baud reads of one 8N1 frame of `byte` sent at `from` baud, the line
+ * idle before and after: up to 5 bytes (with UART_INPUT_FE when the stop bit was low),
+ * each with when its start bit came (s into the frame). Within 4% of each other, a UART's
+ * tolerance, the byte is read as sent. Otherwise each falling edge of the line may start
+ * a frame: the receiver samples the middle of each of its bits (a start bit high again
+ * is no start) and, its stop bit sampled, waits for the next falling edge. A 255 sent at
+ * 9600 is one 0 with a framing error at 115200, one 224 at 57600. */
+static int garble(uint8_t byte, long from, long to, uint16_t got[5], double when[5]) {
+  if (labs(to - from) * 25 <= from) {
+    got[0] = byte;
+    when[0] = 0;
+    return 1;
+  }
+  double bit = 1.0 / (double)from, its = 1.0 / (double)to; /* s per bit, sent and read */
+  int n = 0;
+  double edge = 0, after; /* the start bit's falling edge */
+  for (;;) {
+    if (n < 5 && !level(byte, (edge + 0.5 * its) / bit)) { /* a start bit: a frame is read */
+      uint16_t v = 0;
+      for (int k = 0; k < 8; k++)
+        v |= (uint16_t)(level(byte, (edge + (k + 1.5) * its) / bit) << k);
+      if (!level(byte, (edge + 9.5 * its) / bit)) v |= UART_INPUT_FE;
+      got[n] = v;
+      when[n++] = edge;
+      after = edge + 9.5 * its;
+    } else
+      after = edge + 0.5 * its;
+    int k = 1; /* the next falling edge: bit k low after bit k - 1 high */
+    while (k <= 8 && (k * bit <= after || !level(byte, k - 0.5) || level(byte, k + 0.5))) k++;
+    if (k > 8) return n;
+    edge = k * bit;
+  }
+}
+
 static void on_output(struct avr_irq_t *irq, uint32_t value, void *param) {
   (void)irq;
   (void)param;
   if (!ready_at && value == 254) ready_at = avr->cycle;
-  if (pty_fd >= 0) {
+  if (pty_fd >= 0 && boot_path) { /* the computer reads at its own baud; a framing error as 0 */
+    uint16_t got[5];
+    double when[5];
+    int n = garble((uint8_t)value, uart_baud(), wire_baud, got, when);
+    for (int k = 0; k < n; k++) {
+      uint8_t b = got[k] & UART_INPUT_FE ? 0 : (uint8_t)got[k];
+      if (write(pty_fd, &b, 1) < 0 && errno != EIO && errno != EAGAIN) perror("simboard: pty");
+    }
+  } else if (pty_fd >= 0) {
     uint8_t b = (uint8_t)value;
     if (write(pty_fd, &b, 1) < 0 && errno != EIO && errno != EAGAIN) perror("simboard: pty");
   } else if (out_count < MAX_OUT) {
@@ -287,12 +364,15 @@ static void push_buttons(avr_cycle_count_t when) {
   }
 }
 
+static void after_reset(void);
+
 /* Run the board until `cycle`: 0, or CUT when the power failed (--cut), -1 if it crashed. */
 #define CUT 1
 static int run_until(avr_cycle_count_t cycle) {
   while (avr->cycle < cycle) {
     if (cut_at) return CUT;
     int state = avr_run(avr);
+    if (reset_seen) after_reset(); /* the watchdog reset the chip (optiboot leaves so) */
     if (state == cpu_Done || state == cpu_Crashed) {
       fprintf(stderr, "simboard: the board stopped (%s)\n",
               state == cpu_Done ? "done" : "crashed");
@@ -305,13 +385,17 @@ static int run_until(avr_cycle_count_t cycle) {
 /* simavr 1.6 counts 11 bits for an 8N1 byte: its UART would deliver a continuous
  * stream 10% slower than the wire sends it. Once the sketch has set its baud, the
  * UART's byte-time is made the wire's 10 bits, so a stream with no gaps arrives as a
- * real UART receives it (and simavr's input queue never has to hold bytes back). */
+ * real UART receives it (and simavr's input queue never has to hold bytes back). With
+ * --bootloader the wire may run at another baud than the UART: it takes 10 bits of its
+ * own baud. */
 static void exact_uart(void) {
+  avr_cycle_count_t cycles =
+      boot_path ? (avr_cycle_count_t)(10 * F_CPU / uart_baud()) : byte_cycles;
   for (avr_io_t *io = avr->io_port; io; io = io->next) {
     if (io->kind && strcmp(io->kind, "uart") == 0 && ((avr_uart_t *)io)->name == '0') {
       avr_uart_t *uart = (avr_uart_t *)io;
-      if (uart->cycles_per_byte && uart->cycles_per_byte != byte_cycles)
-        uart->cycles_per_byte = byte_cycles;
+      if (uart->cycles_per_byte && uart->cycles_per_byte != cycles)
+        uart->cycles_per_byte = cycles;
     }
   }
 }
@@ -326,6 +410,17 @@ static int send_byte(uint8_t byte, avr_cycle_count_t at) {
   int r = run_until(at);
   while (!r && xoff) r = run_until(avr->cycle + 100);
   if (r) return r;
+  if (boot_path) { /* what the UART reads of it at its own baud */
+    uint16_t got[5];
+    double when[5];
+    int n = garble(byte, wire_baud, uart_baud(), got, when);
+    for (int k = 0; k < n && !r; k++) {
+      if (k) r = run_until(at + (avr_cycle_count_t)(when[k] * F_CPU));
+      if (!r) avr_raise_irq(uart_in, got[k]);
+    }
+    wire_free = at + byte_cycles;
+    return r;
+  }
   avr_raise_irq(uart_in, byte);
   wire_free = at + byte_cycles;
   return 0;
@@ -363,15 +458,126 @@ static const char *mcu_of(const char *path) {
   return n == sizeof head && (head[36] & 0x7F) == 6 ? "atmega2560" : "atmega328p";
 }
 
-/* A reset (power-up, or DTR): the board starts again; RAM and registers do not survive,
- * the EEPROM does. simavr forgets its cycle timers, so the EEPROM watch starts again. */
-static void reset_board(void) {
-  avr_reset(avr);
+/* The watchdog's control register (WDTCSR) of the ATmega328P and the ATmega2560, its
+ * timeout bits (WDP3..0) and its enable bits (WDIE, WDE). */
+#define WDTCSR 0x60
+#define WDT_TIMEOUT 0x27
+#define WDT_ON 0x48
+static uint8_t wdt_timeout; /* the timeout bits last written */
+
+/* simavr 1.6 does not apply a new timeout written while the watchdog runs before the next
+ * WDR (it compares the timeout bits with themselves once written). optiboot shortens the
+ * timeout to 16 ms to leave for the image (after a byte that is none of its commands,
+ * and when an upload ends), right after a WDR: a real chip resets 16 ms later, simavr's
+ * would wait out the whole second before. The watchdog starts its new timeout here. */
+static void on_wdtcsr(struct avr_t *a, avr_io_addr_t addr, uint8_t v, void *param) {
+  (void)addr, (void)v, (void)param;
+  uint8_t timeout = a->data[WDTCSR] & WDT_TIMEOUT;
+  if (timeout != wdt_timeout && (a->data[WDTCSR] & WDT_ON))
+    avr_ioctl(a, AVR_IOCTL_WATCHDOG_RESET, NULL);
+  wdt_timeout = timeout;
+}
+
+/* After any reset: simavr forgot its cycle timers (the EEPROM watch starts again) and set
+ * the level triggers strict again; the buttons' pull-ups are held again. */
+static void after_reset(void) {
+  reset_seen = 0;
+  wdt_timeout = avr->data[WDTCSR] & WDT_TIMEOUT;
   relax_level_triggers();
   release_buttons();
   ready_at = 0;
   for (int pin = 0; pin < PINS; pin++) pins[pin].high = 0;
   avr_cycle_timer_register(avr, EEPROM_LOOK, look_at_eeprom, NULL);
+}
+
+/* simavr resets the chip itself when its watchdog fires (optiboot leaves for the image
+ * that way): every reset goes through the core's reset, where this marks it, so that
+ * run_until sets up again what the harness set up (after_reset). */
+static void (*core_reset)(struct avr_t *);
+static void on_reset(struct avr_t *a) {
+  if (core_reset) core_reset(a);
+  reset_seen = 1;
+}
+
+/* MCUSR, the chip's reset flags: each reset sets the flag of its cause and keeps the flags
+ * the software has not cleared; a power-up clears the others. A bootloader reads them:
+ * optiboot stays only after an external reset (EXTRF), stk500v2 leaves at once after a
+ * watchdog reset (WDRF). simavr 1.6 sets PORF at power-up (avr_init) and WDRF at a
+ * watchdog reset, but clears the register on every reset it is asked for. */
+static uint8_t reset_flags(void) {
+  return avr->reset_flags.extrf.reg ? avr->data[avr->reset_flags.extrf.reg] : 0;
+}
+
+/* A reset by DTR (the board's RESET pin): the board starts again, at the bootloader if it
+ * has one; RAM and registers do not survive, the EEPROM does; EXTRF is added to MCUSR. */
+static void reset_board(void) {
+  uint8_t flags = reset_flags();
+  avr_reset(avr);
+  if (avr->reset_flags.extrf.reg) {
+    avr->data[avr->reset_flags.extrf.reg] = flags;
+    avr_regbit_set(avr, avr->reset_flags.extrf);
+  }
+  after_reset();
+}
+
+/* simavr's reader of a hex file, its complaints kept back: it says "unsupported" of the
+ * start-address record (type 03) that the bootloaders' hexes end with, a record they
+ * need not (the BOOTRST fuse says where a reset starts): that one is dropped. Any
+ * other complaint (a bad checksum: simavr stops reading there) is passed on, and fails. */
+static int read_hex(const char *path, ihex_chunk_p *chunks) {
+  fflush(stderr);
+  FILE *said = tmpfile();
+  int saved = said ? dup(2) : -1;
+  if (saved < 0) return read_ihex_chunks(path, chunks);
+  dup2(fileno(said), 2);
+  int n = read_ihex_chunks(path, chunks);
+  fflush(stderr);
+  dup2(saved, 2);
+  close(saved);
+  rewind(said);
+  char line[512];
+  while (fgets(line, sizeof line, said)) {
+    if (strstr(line, "unsupported check type 03")) continue;
+    fputs(line, stderr);
+    n = -1;
+  }
+  fclose(said);
+  return n;
+}
+
+/* The bootloader (--bootloader) in flash where its hex puts it (an Uno's optiboot at
+ * 0x7E00, the old Nano's ATmegaBOOT at 0x7800, a Mega's stk500v2 at 0x3E000), and every
+ * reset starting at its first byte, as the BOOTRST fuse has a real board start. The
+ * image must end below it, as the bootloader leaves a sketch only the flash below. */
+static int load_bootloader(elf_firmware_t *fw, const char *mcu) {
+  ihex_chunk_p chunks = NULL;
+  int n = read_hex(boot_path, &chunks);
+  if (n <= 0) {
+    fprintf(stderr, "simboard: cannot read the bootloader %s\n", boot_path);
+    return -1;
+  }
+  uint32_t start = avr->flashend + 1;
+  for (int k = 0; k < n; k++) {
+    if (chunks[k].baseaddr + chunks[k].size > avr->flashend + 1) {
+      fprintf(stderr, "simboard: %s does not fit the flash of an %s: it ends at 0x%X, the "
+              "flash at 0x%X\n", boot_path, mcu, chunks[k].baseaddr + chunks[k].size,
+              avr->flashend + 1);
+      free_ihex_chunks(chunks);
+      return -1;
+    }
+    memcpy(avr->flash + chunks[k].baseaddr, chunks[k].data, chunks[k].size);
+    if (chunks[k].baseaddr < start) start = chunks[k].baseaddr;
+  }
+  free_ihex_chunks(chunks);
+  if (fw->flashbase + fw->flashsize > start) {
+    fprintf(stderr, "simboard: the image reaches 0x%X, where the bootloader %s starts\n",
+            fw->flashbase + fw->flashsize, boot_path);
+    return -1;
+  }
+  avr->reset_pc = start;
+  avr->pc = start;                /* the power-up (avr_init's reset) starts there too */
+  avr->codeend = avr->flashend; /* code runs above the image now */
+  return 0;
 }
 
 static int load(const char *path, elf_firmware_t *fw) {
@@ -397,10 +603,19 @@ static int load(const char *path, elf_firmware_t *fw) {
   avr->log = 0;
   avr_load_firmware(avr, fw);
   avr->frequency = F_CPU;
+  core_reset = avr->reset;
+  avr->reset = on_reset;
+  if (avr->reset_flags.porf.reg) avr_regbit_set(avr, avr->reset_flags.porf); /* powered up */
+  if (boot_path && load_bootloader(fw, mcu) < 0) return -1;
+  if (boot_path) avr_register_io_write(avr, WDTCSR, on_wdtcsr, NULL); /* after simavr's */
   relax_level_triggers();
   uint32_t flags = 0;
   avr_ioctl(avr, AVR_IOCTL_UART_GET_FLAGS('0'), &flags);
   flags &= ~AVR_UART_FLAG_STDIO;
+  /* simavr sleeps 1 us (60 us, as the system's timer goes) at every look at an idle UART's
+   * status: a bootloader waiting for a byte looks at it in a loop, and would run at a
+   * sixtieth of its speed, far behind the clock of a port served in real time */
+  if (boot_path) flags &= ~AVR_UART_FLAG_POLL_SLEEP;
   avr_ioctl(avr, AVR_IOCTL_UART_SET_FLAGS('0'), &flags);
   uart_in = avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT);
   avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUTPUT),
@@ -530,10 +745,27 @@ static double wall(void) {
 }
 
 /* Does the program that has the pty open want DTR dropped when it closes (HUPCL)? The
- * pty's settings are the ones the program set on its side. */
+ * pty's settings are the ones the program set on its side; they stay as the last program
+ * left them after it closed the port (avrdude puts back the ones it found as it closes). */
 static int hupcl(int master) {
   struct termios tio;
   return tcgetattr(master, &tio) == 0 ? (tio.c_cflag & HUPCL) != 0 : 1;
+}
+
+/* The baud the program that has the pty open set on it (0: one not in this table). */
+static long port_baud(int master) {
+  static const struct {
+    speed_t speed;
+    long baud;
+  } bauds[] = {{B1200, 1200},     {B2400, 2400},     {B4800, 4800},     {B9600, 9600},
+               {B19200, 19200},   {B38400, 38400},   {B57600, 57600},   {B115200, 115200},
+               {B230400, 230400}, {B460800, 460800}, {B500000, 500000}, {B1000000, 1000000}};
+  struct termios tio;
+  if (tcgetattr(master, &tio) != 0) return 0;
+  speed_t speed = cfgetospeed(&tio);
+  for (size_t k = 0; k < sizeof bauds / sizeof bauds[0]; k++)
+    if (bauds[k].speed == speed) return bauds[k].baud;
+  return 0;
 }
 
 static int serve(void) {
@@ -545,13 +777,18 @@ static int serve(void) {
   struct termios tio;
   tcgetattr(slave, &tio);
   cfmakeraw(&tio);
+  if (boot_path) { /* a real board's port, as a serial driver sets up a device it finds */
+    tio.c_cflag |= HUPCL;
+    cfsetispeed(&tio, B9600);
+    cfsetospeed(&tio, B9600);
+  }
   tcsetattr(slave, TCSANOW, &tio);
   printf("%s\n", ttyname(slave));
   fflush(stdout);
   close(slave);
   fcntl(master, F_SETFL, O_NONBLOCK);
   pty_fd = master;
-  int hung_up = 1, dtr = 0, drop_dtr = 1; /* nothing has the port open; DTR is down */
+  int hung_up = 1, dtr = 0; /* nothing has the port open; DTR is down */
   double start = wall();
   avr_cycle_count_t origin = avr->cycle;
   for (;;) {
@@ -574,7 +811,9 @@ static int serve(void) {
     if (room > (long)sizeof buf) room = sizeof buf;
     ssize_t n = (p.revents & POLLIN) ? read(master, buf, (size_t)room) : 0;
     if (n <= 0 && (p.revents & POLLHUP)) {
-      if (!hung_up) dtr = !drop_dtr; /* the program closed the port */
+      if (!hung_up) dtr = !hupcl(master); /* the program closed the port as it left it */
+      else if (boot_path && dtr && hupcl(master))
+        dtr = 0; /* a program opened and closed it unseen (stty), and left HUPCL set */
       hung_up = 1;
       if (run_until(now) < 0) return 1;
       usleep(10000);
@@ -588,7 +827,10 @@ static int serve(void) {
       }
       dtr = 1;
     }
-    drop_dtr = hupcl(master);
+    if (boot_path) { /* a real board's wire runs at the baud the program set */
+      long baud = port_baud(master);
+      if (baud) byte_cycles = (avr_cycle_count_t)(10 * F_CPU / (wire_baud = baud));
+    }
     for (ssize_t k = 0; k < n; k++) {
       if (byte_log) {
         avr_cycle_count_t at = now < wire_free ? wire_free : now;
@@ -618,6 +860,8 @@ int main(int argc, char **argv) {
       run_on = atof(argv[++i]);
     else if (strcmp(argv[i], "--eeprom") == 0 && more)
       eeprom_path = argv[++i];
+    else if (strcmp(argv[i], "--bootloader") == 0 && more)
+      boot_path = argv[++i];
     else if (strcmp(argv[i], "--log") == 0 && more) {
       if (!(byte_log = fopen(argv[++i], "w"))) {
         perror("simboard: --log");
@@ -653,12 +897,14 @@ int main(int argc, char **argv) {
   if (!path || bad || baud <= 0 || run_on < 0 || wait < 0) {
     fprintf(stderr, "usage: simboard FIRMWARE.elf [--baud B] [--run-on S] [--eeprom FILE] "
                     "[--cut N] [--pulses] [--wait S] [--button PIN [--press PIN S H]...] "
-                    "[--watch SYMBOL] [--flash SYMBOL K B] < timed\n"
-                    "       simboard FIRMWARE.elf --pty [--baud B] [--eeprom FILE] [--log LOG]\n");
+                    "[--watch SYMBOL] [--flash SYMBOL K B] [--bootloader HEX] < timed\n"
+                    "       simboard FIRMWARE.elf --pty [--baud B] [--eeprom FILE] [--log LOG] "
+                    "[--bootloader HEX]\n");
     return 2;
   }
   elf_firmware_t fw;
   if (load(path, &fw) < 0) return 1;
   byte_cycles = (avr_cycle_count_t)(10 * F_CPU / baud);
+  wire_baud = baud;
   return pty ? serve() : script(run_on, wait);
 }

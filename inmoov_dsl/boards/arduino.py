@@ -3,12 +3,44 @@ MCUs and pins, read once here for the profile's checks, the firmware and the ske
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from .table import Choice, Options, Place, PlaceRule
 
 #: (name, its MCU, its digital pins, its first analog pin, A0)
 ARDUINOS = (("uno", "atmega328p", 20, 14), ("nano", "atmega328p", 20, 14),
             ("mega", "atmega2560", 70, 54))
 NAMES = tuple(a[0] for a in ARDUINOS)
+
+
+@dataclass(frozen=True)
+class Bootloader:
+    """What an Arduino's bootloader does on every reset (opening its port resets it),
+    as measured with the hex Debian ships, run in simavr (docs/benchmarks.md)."""
+
+    name: str
+    hex: str  #: its file under the Arduino core's ``bootloaders/``
+    #: s from the reset to the sketch's start when nothing is sent, with a margin
+    window: float
+    #: s of silence it waits for once a byte came in its window (0: a byte that is not
+    #: one of its commands starts the sketch at once)
+    trap: float = 0.0
+
+
+#: each Arduino's bootloader, the sketch's first byte measured after a reset with nothing
+#: sent: the Uno's optiboot 1.40 s, the old Nano's ATmegaBOOT 1.32 s (1.39 s with
+#: Arduino's own hex), the Mega's STK500v2 0.84 s. A byte in that time only hurries the
+#: first two; the Mega's stays in its command loop until it has heard nothing for 5 s
+#: (Debian's build) or 9 s (Arduino's own, what a Mega ships with): a host must not
+#: speak first
+BOOTLOADERS = {
+    "uno": Bootloader("optiboot", "optiboot/optiboot_atmega328.hex", 1.6),
+    "nano": Bootloader("ATmegaBOOT", "atmega/ATmegaBOOT_168_atmega328.hex", 1.5),
+    "mega": Bootloader("STK500v2", "stk500v2/stk500boot_v2_mega2560.hex", 1.5, 9.0),
+}
+#: what a host that does not know which Arduino it opened waits for: the slowest
+ANY = Bootloader("any", "", max(b.window for b in BOOTLOADERS.values()),
+                 max(b.trap for b in BOOTLOADERS.values()))
 
 
 def key(default: str) -> Choice:
@@ -20,6 +52,11 @@ def of(options: Options) -> tuple[str, str, int, int]:
     """The Arduino a board's options name (an Uno when they name none): (name, MCU,
     digital pins, A0's pin)."""
     return ARDUINOS[dict(options).get("arduino", 0)]
+
+
+def bootloader(options: Options) -> Bootloader:
+    """The bootloader of an Arduino board."""
+    return BOOTLOADERS[of(options)[0]]
 
 
 def mcu(options: Options) -> str:

@@ -11,7 +11,7 @@ this interface.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Hashable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, ClassVar, Protocol
 
@@ -19,6 +19,7 @@ import numpy as np
 
 from ..hardware import Board, Profile, Servo
 from ..protocol import byte_time
+from .arduino import Bootloader
 from .pulses import Widths, widths
 
 
@@ -37,6 +38,9 @@ class PlanLike(Protocol):
     tracks: Sequence[Track]
     start: Sequence[float]
     duration: float
+    #: the servos (indices) its steps name, moving or not: each is held at its target
+    #: when the gesture ends (``frames.per_frame``)
+    named: frozenset[int]
 
 
 @dataclass(frozen=True)
@@ -157,6 +161,36 @@ class Controller:
         cannot go on (an MrlComm that started again), or None."""
         return lambda data: None
 
+    #: bytes the board's serial receive buffer holds, for a board whose own loop, not
+    #: the wire, bounds how fast it reads (MrlComm); None: it keeps up with the wire.
+    #: What is written and not yet read (``cost``) is kept within it (``wire.flow``)
+    receive_buffer: ClassVar[int | None] = None
+
+    def cost(self, command: bytes) -> float:
+        """Seconds of the board's own time that reading ``command`` and doing what it
+        says take, by the host's account (0: the wire's time is all it takes)."""
+        return 0.0
+
+    def key(self, command: bytes) -> Hashable | None:
+        """What ``command`` sets, such that a newer command of the same key makes it
+        needless when both wait to be sent (a move: its servo); None: always sent."""
+        return None
+
+    def answer(self, command: bytes) -> Hashable | None:
+        """What the board says once it has read ``command`` (as ``answers`` reads it),
+        or None: nothing that says so."""
+        return None
+
+    def answers(self) -> Callable[[bytes], list[Hashable]]:
+        """A reader of what the board sends: the ``answer`` of each command it has read,
+        in order."""
+        return lambda data: []
+
+    def bootloader(self) -> Bootloader | None:
+        """What runs on the board after a reset, when opening its port resets it (an
+        Arduino's DTR), or None: opening its port does not reset it."""
+        return None
+
     def probe(self) -> bytes:
         """What a board answers once it is ready (rig: CANCEL, answered WAIT)."""
         raise NotImplementedError
@@ -174,6 +208,20 @@ class Controller:
         """Why a board that answered ``answer`` to its ``probe`` cannot be driven (a
         firmware of another version), or None."""
         return None
+
+    def answered_late(self) -> str:
+        """What to say of a board that did not answer ``probe`` in time but answered
+        ``ask_pose`` (after "board N on PORT"), in its kind's words."""
+        return "was not ready in time, but then told its pose"
+
+    def stop_sent(self) -> str:
+        """What a stop (Ctrl-C: ``cancel``) sent it, in words: a kind whose commands go
+        whole needs nothing more."""
+        return "nothing more sent"
+
+    def stop_held(self) -> str:
+        """What its servos do after a stop, in words."""
+        return "each servo holds its last target"
 
     def setup(self, answer: bytes = b"", pose: Mapping[int, int] | None = None) -> bytes:
         """What goes to the board once it is ready (``answer``: what it answered the

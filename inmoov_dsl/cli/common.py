@@ -202,7 +202,7 @@ def send_value(port, servo_id: int, value: int, controller=None) -> None:
     pair; another kind, its ``controller``'s command. What the board sent is read off,
     so a pulled cable raises here."""
     from ..protocol import frame
-    from ..wire.player import drain
+    from ..wire.ready import drain
 
     port.write(controller.set_values({servo_id: value}) if controller else
                frame([(servo_id, value)]))

@@ -29,6 +29,17 @@ from .options import LOCAL, Renamed, http_address, shown_address
 PROG = "gestsim"
 
 
+def _as_a_serial_device(slave: int) -> None:
+    """Give the pty a serial device's default: HUPCL set (the last close drops DTR), so
+    a program that reads it right after opening the port knows the open reset the
+    board, as it knows of a real one (``ports.dtr_rose``)."""
+    import termios
+
+    attrs = termios.tcgetattr(slave)
+    attrs[2] |= termios.HUPCL
+    termios.tcsetattr(slave, termios.TCSANOW, attrs)
+
+
 def serve(args: argparse.Namespace) -> int:
     """Open a pseudo-terminal, print its path, and be the board on it until stopped."""
     if not hasattr(os, "openpty"):
@@ -75,6 +86,7 @@ def _serve(args: argparse.Namespace, profile, board_cfg, glove, views: list, web
     try:
         path = os.ttyname(slave)
         tty.setraw(slave)
+        _as_a_serial_device(slave)
         os.close(slave)
         print(f"{path}", flush=True)
         print(f"{PROG}: {'glove' if glove else 'board'} {board_cfg.id} ({board_cfg.name}) "

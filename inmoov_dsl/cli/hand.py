@@ -4,7 +4,8 @@ always leaves it safe.
 Every gestplay command that moves the hand goes through ``opened``: it opens a link
 per board (``wire.link``, where ``--port`` is read), waits for each board and asks
 its pose, and whatever happens in the body (Ctrl-C, SIGTERM, a pulled cable) no board
-is left with half a command: it sends CANCEL, says so, and leaves with the right exit
+is left with half a command: it sends a rig CANCEL (a kind whose commands go whole
+needs nothing more), says what each board was sent, and leaves with the right exit
 status.
 """
 
@@ -16,11 +17,12 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 
 from .. import clock
-from ..boards import controller
+from ..boards import Controller, controller
 from ..errors import Diagnostic, GestError
 from ..hardware import Profile
 from ..wire.link import close, connect, parse_ports
-from ..wire.player import BoardTrouble, Link, ask_dump, cancel_all, relax_all, wait_ready
+from ..wire.player import BoardTrouble, Link, cancel_all, relax_all
+from ..wire.ready import ask_dump, wait_ready
 from . import typeahead
 from .common import EXIT_INTERRUPTED, Exit, Stopped, status_of, warn, why
 
@@ -56,7 +58,7 @@ def reach(link: Link, profile: Profile, blind: bool, going_on: str) -> dict[int,
     answer); a board that answered only in part is a warning ending in ``going_on``."""
     c = link.controller
     heard = bytearray()
-    ready = wait_ready(link.port, controller=c, heard=heard)
+    ready = wait_ready(link.port, controller=c, heard=heard, patient=not blind)
     if ready and c is not None and (refused := c.refusal(bytes(heard))):
         raise GestError(Diagnostic("error", f"{refused} (on {link.name})",
                                    hint="flash the MrlComm of that release, or ours: "
@@ -74,8 +76,14 @@ def reach(link: Link, profile: Profile, blind: bool, going_on: str) -> dict[int,
     elif values is None:
         warn(f"{where} did not answer DUMP: {going_on}", "gestplay")
     elif not ready:
-        warn(f"{where} sent no WAIT, but answered DUMP", "gestplay")
+        warn(f"{where} {kind_of(link, profile).answered_late()}", "gestplay")
     return values
+
+
+def kind_of(link: Link, profile: Profile) -> Controller:
+    """The board on ``link`` as its kind drives it (a rig's too: its link's is None)."""
+    board = next(b for b in profile.boards if b.id == link.board)
+    return link.controller or controller(profile, board)
 
 
 def no_answer(link: Link, profile: Profile) -> Diagnostic:
@@ -83,7 +91,7 @@ def no_answer(link: Link, profile: Profile) -> Diagnostic:
     from ..firmware.sketches import sketch_names
 
     board = next(b for b in profile.boards if b.id == link.board)
-    kind = link.controller or controller(profile, board)
+    kind = kind_of(link, profile)
     if not kind.ours:
         return Diagnostic(
             "error", f"no board answered on {link.name} (board {link.board}, {board.kind} "
@@ -104,8 +112,9 @@ def opened(prog: str, profile: Profile, ports: list[str], blind: bool = False,
     """The hand, its links open and its pose asked (``board_pose``); closed after.
     ``boards``: those that need a port (default all; ``link.board_ports``).
 
-    Ctrl-C sends CANCEL, so that no half command is pending, and leaves (``Exit``) with
-    status 130 and the hand holding its pose; at a terminal, a second Ctrl-C soon after
+    Ctrl-C sends a rig CANCEL, so that no half command is pending (``cancel_all``),
+    says so in each kind's words (``stopped``) and leaves (``Exit``) with status 130
+    and the hand holding its pose; at a terminal, a second Ctrl-C soon after
     relaxes the hand (its servos go limp), and what is typed meanwhile is left for the
     shell (``typeahead``). SIGTERM and SIGHUP do as Ctrl-C (exit 143, 129). A lost link
     sends CANCEL where it still can and is one line of error."""
@@ -115,7 +124,7 @@ def opened(prog: str, profile: Profile, ports: list[str], blind: bool = False,
         yield Hand(profile, links, board_pose(links, profile, blind, going_on))
     except KeyboardInterrupt as exc:
         cancel_all(links)
-        raise Exit(_interrupted(prog, links, exc, modes)) from None
+        raise Exit(_interrupted(prog, links, exc, modes, stopped(links, profile))) from None
     except BoardTrouble as exc:  # a board that cannot go on said so
         cancel_all(links)
         raise GestError(exc.diagnostic) from None
@@ -127,19 +136,37 @@ def opened(prog: str, profile: Profile, ports: list[str], blind: bool = False,
         close(links)
 
 
+def stopped(links: list[Link], profile: Profile) -> str:
+    """What a stop did, in one clause: what each kind was sent (``stop_sent``; by board
+    when the kinds differ), then what the servos do (``stop_held``)."""
+    kinds = [kind_of(link, profile) for link in links]
+    sent: dict[str, list[int]] = {}
+    for link, kind in zip(links, kinds, strict=True):
+        sent.setdefault(kind.stop_sent(), []).append(link.board)
+    held = {kind.stop_held() for kind in kinds}
+    if len(sent) <= 1:
+        return f"{next(iter(sent), 'nothing sent')}, {held.pop() if held else HELD}"
+    said = ", ".join(f"{words} to board{'s' * (len(ids) > 1)} {', '.join(map(str, ids))}"
+                     for words, ids in sent.items())
+    return f"{said}; {held.pop() if len(held) == 1 else HELD}"
+
+
+HELD = "each servo holds its last position"  #: after a stop, when the kinds say it apart
+
+
 def _interrupted(prog: str, links: list[Link], exc: KeyboardInterrupt,
-                 modes: typeahead.Modes | None) -> int:
-    """Say that the hand holds its pose; at a terminal, relax it on a second Ctrl-C.
-    The terminal goes back to ``modes``, and what is typed from now on to the shell.
-    The exit status."""
+                 modes: typeahead.Modes | None, said: str) -> int:
+    """Say what the stop did (``said``: ``stopped``); at a terminal, relax the hand on
+    a second Ctrl-C. The terminal goes back to ``modes``, and what is typed from now
+    on to the shell. The exit status."""
     at_terminal = sys.stdin.isatty()
     typeahead.release(modes)
     if isinstance(exc, Stopped) or not at_terminal:
-        print(f"\n{prog}: {why(exc)}: CANCEL sent, the hand holds its pose", file=sys.stderr)
+        print(f"\n{prog}: {why(exc)}: {said}", file=sys.stderr)
         return status_of(exc)
     try:  # a second Ctrl-C may come as soon as the first one is answered
-        print(f"\n{prog}: interrupted: CANCEL sent, the hand holds its pose (Ctrl-C "
-              f"again to relax it)", file=sys.stderr, flush=True)
+        print(f"\n{prog}: interrupted: {said} (Ctrl-C again to relax it)", file=sys.stderr,
+              flush=True)
         clock.sleep(RELAX_WINDOW)
     except Stopped as again:
         return status_of(again)

@@ -56,6 +56,9 @@ class Plan:
     duration: float
     warnings: tuple[Diagnostic, ...]
     sounds: tuple[tuple[float, Speech], ...] = ()  #: (start, s) of each ``say``'s sound
+    #: indices of the servos its steps name, moving or not: each is held at its final
+    #: value when the gesture ends, written once if it never moves (``boards/frames.py``)
+    named: frozenset[int] = frozenset()
 
 
 #: what a step tells its gesture besides its report: warnings, and (start, sound) pairs
@@ -110,7 +113,8 @@ class Planner:
         if strict and told:
             raise GestError(told)
         return Plan(self.profile, tuple(b.build() for b in builders), tuple(reports),
-                    tuple(start), tuple(pose), now, () if strict else told, tuple(sounds))
+                    tuple(start), tuple(pose), now, () if strict else told, tuple(sounds),
+                    frozenset().union(*(step.servos() for step in steps)))
 
     def _trajectory(self, servos: list[int], start: MotionState, target: Sequence[float],
                     over: float | None, step: Action | None,
@@ -254,7 +258,8 @@ class Planner:
                              duration, over, stretched, tuple(moving))
         start = tuple(int(math.floor(x + 0.5)) for x in state.position)
         return Plan(self.profile, tuple(b.build() for b in builders), (report,), start,
-                    tuple(int(v) for v in targets), duration, warnings)
+                    tuple(int(v) for v in targets), duration, warnings,
+                    named=frozenset(step.servos()) if step else frozenset())
 
 
 def _calculate(ruckig: Ruckig, inp: InputParameter, traj: Trajectory, step: Action | None,

@@ -24,7 +24,8 @@ from ..hardware import Profile
 from ..language.library import library_dirs, library_files, scan
 from ..language.load import load
 from ..language.program import Program
-from ..wire.player import POLL, Link, drain
+from ..wire.player import POLL, Link
+from ..wire.ready import drain
 from .orders import Control, Order, Rejoin, Request, Tracker
 from .outbox import Outbox
 from .session import LINE, Segment, Session, line_steps

@@ -16,7 +16,8 @@ from ..hardware import Profile
 from ..live.orders import Rejoin
 from ..wire.link import open_board
 from ..wire.pace import discard_output
-from ..wire.player import Link, ask_dump, wait_ready
+from ..wire.player import Link
+from ..wire.ready import ask_dump, wait_ready
 
 RETRY = 0.5  #: s between attempts to open a lost board's port again
 

@@ -23,8 +23,9 @@ so a new request takes over within half a frame, and a stall there costs a late 
 
 Filler never goes inside a command: a pair's value follows its ID at once.
 
-A kind of board with no filler (a Maestro, a PCA9685: ``Controller.fill`` is None)
-gets its commands from a ``Timed`` sender instead: each written, whole, when it is due.
+A kind of board with no filler (a Maestro, a PCA9685, MrlComm: ``Controller.fill`` is
+None) gets its commands from a ``Timed`` sender instead (``flow``): each written, whole,
+when it is due, and no faster than the board reads them.
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ from collections.abc import Sequence
 
 from ..boards.rig import commands
 from ..protocol import Signal
+from .flow import Timed
 
 FILL = Signal.CANCEL  #: what fills the gaps: a board waiting for a servo ID drops it
 HORIZON = 0.015  #: s; how far ahead of the wire a gesture is written (see above)
@@ -151,6 +153,17 @@ class Pacer:
         """Is the wire still sending what was written?"""
         return self._free > now
 
+    def heard(self, data: bytes) -> None:
+        """What the board sent (a run waits for no answer)."""
+
+    def awaiting(self) -> int:
+        """Commands written whose answer is awaited: a run awaits none."""
+        return 0
+
+    def unanswered(self) -> int:
+        """Commands written whose answer has not come: a run awaits none."""
+        return 0
+
     def next_wake(self, now: float) -> float:
         """When ``pump`` is next needed (a clock time; inf: nothing waits)."""
         if self.epoch is None:
@@ -182,59 +195,11 @@ def discard_output(port) -> None:
             reset()
 
 
-class Timed:
-    """The pacer of a link with no filler: each command written whole when it is due
-    (the wire is idle between them), in the order given. A stop drops what is not yet
-    written and nothing the port holds: a command cut short would be a protocol error."""
-
-    def __init__(self, port, tau: float, horizon: float = 0.0):
-        self.port, self.tau, self.horizon = port, tau, horizon
-        self._queue: list[tuple[float, bytes]] = []  # (due, command), in order
-        self._free = -math.inf
-        self.late = 0.0  #: s; the most a command was written after it was due
-
-    def pending(self) -> bool:
-        """Are commands still to be written?"""
-        return bool(self._queue)
-
-    def add(self, t: float, command: bytes) -> None:
-        """``command`` is due at clock time ``t`` (not before the one before it)."""
-        if self._queue and self._queue[-1][0] > t:
-            t = self._queue[-1][0]
-        self._queue.append((t, command))
-
-    def shift(self, dt: float) -> None:
-        """Every command is due ``dt`` s later."""
-        self._queue = [(t + dt, c) for t, c in self._queue]
-
-    def pump(self, now: float) -> None:
-        """Write every command due by ``now``, in one write."""
-        n = 0
-        while n < len(self._queue) and self._queue[n][0] <= now:
-            n += 1
-        if n:
-            self.late = max(self.late, now - self._queue[0][0])
-            data = b"".join(c for _, c in self._queue[:n])
-            del self._queue[:n]
-            self.port.write(data)
-            self._free = max(now, self._free) + len(data) * self.tau
-
-    def busy(self, now: float) -> bool:
-        """Is the wire still sending what was written?"""
-        return self._free > now
-
-    def next_wake(self, now: float) -> float:
-        """When the next command is due (inf: none)."""
-        return self._queue[0][0] if self._queue else math.inf
-
-    def discard(self) -> None:
-        """Nothing more is written."""
-        self._queue.clear()
-
-
-def pacer(port, controller, horizon: float = HORIZON) -> Pacer | Timed:
+def pacer(port, controller, horizon: float = HORIZON, answered: bool = False
+          ) -> Pacer | Timed:
     """The pacer for ``controller``'s board on ``port``: a continuous run with the
-    kind's filler (the rig), else commands written when due."""
+    kind's filler (the rig), else commands written when due, no faster than the board
+    reads them (``flow``; ``answered``: the player passes on what the board sends)."""
     if controller.fill is None:
-        return Timed(port, controller.tau)
+        return Timed(port, controller.tau, controller=controller, answered=answered)
     return Pacer(port, controller.tau, horizon)

@@ -13,36 +13,23 @@ import contextlib
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any, Protocol
+from typing import Any
 
 from .. import clock
 from ..boards.base import Controller
-from ..boards.rig import DumpReader, commands
+from ..boards.rig import commands
 from ..clock import Clock, Sleep
 from ..compiling.compiled import Compiled
 from ..errors import Diagnostic
-from ..protocol import ASK_POSE, CANCEL_PENDING, RELAX_BOARD, Signal
+from ..protocol import CANCEL_PENDING, RELAX_BOARD
+from .flow import awaited
 from .pace import HORIZON, Pacer, Timed, discard_output
 from .pace import pacer as pacer_for
+from .ready import Port, drain
 
-READY_TIMEOUT = 2.0  #: s; the longest we wait for a board to boot (its first WAIT)
-PROBE = 0.1  #: s; while waiting for a board, send it a CANCEL this often
-#: s; the longest we wait for a DUMP reply: a board answers within milliseconds, one in
-#: a simulator on a machine kept busy by other programs took over half a second
-DUMP_TIMEOUT = 1.0
 SPIN = 0.0005  #: s; sleep until this close to a deadline, then spin on the clock
 AUDIO_AHEAD = 0.05  #: s; a gesture with sounds starts this late: its first sound on time
 POLL = 0.2  #: s; in a long pause, look at the links this often (a pulled cable)
-
-
-class Port(Protocol):
-    """What the player needs of a serial port (pyserial's, or a virtual board's)."""
-
-    def write(self, data: bytes) -> int | None:
-        """Send ``data``."""
-
-    def read(self, size: int = 1) -> bytes:
-        """Up to ``size`` bytes that have come (a port that never blocks: maybe none)."""
 
 
 class BoardTrouble(OSError):
@@ -63,11 +50,13 @@ class Link:
     controller: Controller | None = None
     _watch: Callable[[bytes], str | None] | None = field(default=None, repr=False,
                                                           compare=False)
+    hear: Callable[[bytes], None] | None = field(default=None, repr=False, compare=False)
 
     def listen(self) -> bytes:
-        """What the board has sent (``drain``); what its kind reads in it (or in its
-        silence) as a board that cannot go on (an MrlComm that started again, or
-        stopped) raises ``BoardTrouble``."""
+        """What the board has sent (``drain``), passed on to ``hear`` (a sender awaiting
+        its answers: ``flow``); what its kind reads in it (or in its silence) as a board
+        that cannot go on (an MrlComm that restarted, stopped, or lost bytes) raises
+        ``BoardTrouble``."""
         data = drain(self.port)
         if self.controller is not None:
             if self._watch is None:
@@ -76,61 +65,9 @@ class Link:
                 raise BoardTrouble(Diagnostic(
                     "error", f"{trouble} (on {self.name})",
                     hint="play again: it is connected anew, its servos from where they are"))
+        if self.hear is not None:
+            self.hear(data)
         return data
-
-
-def drain(port: Port) -> bytes:
-    """Whatever the board has sent (WAIT bytes, mostly); raises if the link is gone."""
-    return port.read(4096)
-
-
-def wait_ready(port: Port, now: Clock | None = None, sleep: Sleep | None = None,
-               timeout: float = READY_TIMEOUT, controller: Controller | None = None,
-               heard: bytearray | None = None) -> bool:
-    """Wait until the board is ready. A rig (``controller`` None or a rig's): the WAIT
-    it sends when it has booted (opening the port reset it) or the WAIT it answers a
-    CANCEL with (the port kept DTR up, so it did not reset); another kind: its answer
-    to its ``probe``. The probe goes out every PROBE s; a bootloader still running
-    swallows it. False after ``timeout``. ``heard``: gets what the board answered."""
-    now, sleep = now or clock.now, sleep or clock.sleep
-    question = controller.probe() if controller else CANCEL_PENDING
-    answered = controller.ready if controller else (lambda a: Signal.WAIT in a)
-    answer = bytearray()
-    deadline = now() + timeout
-    probe = now()
-    while now() < deadline:
-        if now() >= probe:
-            answer.clear()
-            port.write(question)
-            probe = now() + PROBE
-        answer += drain(port)
-        if answered(bytes(answer)):
-            if heard is not None:
-                heard += answer
-            return True
-        sleep(0.01)
-    return False
-
-
-def ask_dump(port: Port, board: int, now: Clock | None = None, sleep: Sleep | None = None,
-             timeout: float = DUMP_TIMEOUT, controller: Controller | None = None
-             ) -> dict[int, int] | None:
-    """The board's servo values (ID -> value), or None if no reply: a rig's answer to
-    CANCEL DUMP, another kind's to its ``ask_pose``."""
-    now, sleep = now or clock.now, sleep or clock.sleep
-    drain(port)
-    port.write(controller.ask_pose() if controller else ASK_POSE)
-    reader = controller.pose_reader() if controller else DumpReader(board)
-    deadline = now() + timeout
-    while now() < deadline:
-        found = reader.feed(drain(port))
-        if found is not None:
-            return found
-        more = getattr(reader, "ask", None)
-        if more is not None and (question := more()):
-            port.write(question)
-        sleep(0.005)
-    return None
 
 
 def wait_until(deadline: float, links: Sequence[Link], now: Clock, sleep: Sleep,
@@ -155,15 +92,13 @@ def play(compiled: Compiled, links: Sequence[Link], speed: float = 1.0,
          now: Clock | None = None, sleep: Sleep | None = None,
          progress: Callable[[float], None] | None = None, speaker: Any = None,
          horizon: float = HORIZON) -> float:
-    """Send each board's stream as one continuous run (``pace``): every byte at its
-    place on the link's byte grid, CANCEL between commands, written ``horizon`` ahead
-    of the wire, so the UART's clock times the bytes. Returns the worst lateness in
-    seconds (a command that started late because the computer slept past the
-    horizon). With a ``speaker`` (``audio.Speaker``), the gesture's sounds play from
-    the same clock (their cues hold them), the whole gesture a moment later
-    (AUDIO_AHEAD) so that the first sound can be placed on time; an interruption
-    silences them. ``now`` and ``sleep``: the clock (default ``clock.now``, read when
-    called, so a test's virtual clock drives every tool)."""
+    """Send each board's stream, on time: a rig's as one continuous run on the link's
+    byte grid written ``horizon`` ahead (``pace``: the UART's clock times it), another
+    kind's commands when due and no faster than its board reads them, each answer
+    awaited (``flow``). Returns the worst lateness (s). With a ``speaker``, the sounds
+    play from the same clock (their cues hold them), the gesture AUDIO_AHEAD later so
+    that the first is on time; an interruption silences them. ``now``, ``sleep``: the
+    clock (default ``clock.now``, read when called: a test's virtual clock drives all)."""
     now, sleep = now or clock.now, sleep or clock.sleep
     sounds = compiled.sounds if speaker is not None else ()
     pacers = runs(compiled, links, 0.0, speed, horizon)
@@ -191,6 +126,12 @@ def play(compiled: Compiled, links: Sequence[Link], speed: float = 1.0,
             starting = any(p.next_wake(t) == wake and not p.busy(t) for p in pacers)
             if wake < math.inf:  # (inf: the last commands were just written)
                 wait_until(wake, links, now, sleep, SPIN if starting else 0.0)
+        for link, pacer in zip(links, pacers, strict=True):  # it read all, nothing lost
+            if left := awaited(pacer, link.listen, now, sleep):
+                raise BoardTrouble(Diagnostic(
+                    "error", f"board {link.board} did not say it read {left} of the commands "
+                    f"it was sent: they may be lost (on {link.name})",
+                    hint="play again; if it happens again, check the board's cable and power"))
         wait_until(start + compiled.duration / speed, links, now, sleep)
     except BaseException:
         if sounds:
@@ -209,8 +150,9 @@ def runs(compiled: Compiled, links: Sequence[Link], start: float, speed: float =
     for link in links:
         stream = by_board.get(link.board)
         c = link.controller
-        out = pacer_for(link.port, c, horizon) if c else \
+        out = pacer_for(link.port, c, horizon, answered=True) if c else \
             Pacer(link.port, stream.byte_time if stream else 0.0, horizon)
+        link.hear = out.heard  # its board's answers free room for more (``flow``)
         if stream is not None:
             times = stream.times.tolist()
             for first, stop in (c.commands if c else commands)(stream.data):

@@ -138,8 +138,35 @@ def open_port(name: str, baud: int, timeout: float = 0) -> serial.SerialBase:
         raise GestError(_explain(name, exc)) from None
     except (ValueError, OSError) as exc:
         raise GestError(Diagnostic("error", f"cannot open {name}: {exc}")) from None
+    port.reset_on_open = dtr_rose(port)
     leave_dtr_up(port)
     return port
+
+
+def reset_on_open(port) -> bool | None:
+    """Did opening ``port`` (with ``open_port``) reset the board behind it? None: the
+    port has no DTR line (``dtr_rose``), or was not opened by ``open_port``."""
+    return getattr(port, "reset_on_open", None)
+
+
+def dtr_rose(port: serial.SerialBase) -> bool | None:
+    """Did opening ``port`` raise DTR, which resets an Arduino? On POSIX DTR was down
+    if the last program to close the port left HUPCL set (a serial device's default:
+    closing dropped DTR); one that cleared it (``leave_dtr_up``) left DTR up, and the
+    open made no edge. The virtual board (``sim://``) says itself. On Windows every
+    open raises DTR (a close drops it). None: a port that is no terminal
+    (``socket://``, ``loop://``) has no DTR line."""
+    said = getattr(port, "dtr_rose", None)
+    if said is not None:
+        return bool(said)
+    try:
+        import termios
+    except ImportError:  # Windows
+        return True
+    try:
+        return bool(termios.tcgetattr(port.fileno())[2] & termios.HUPCL)
+    except (AttributeError, OSError, ValueError, termios.error, serial.SerialException):
+        return None
 
 
 def leave_dtr_up(port: serial.SerialBase) -> bool:

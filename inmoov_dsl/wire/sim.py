@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 from ..boards.base import Write
 from ..boards.rig.core import BoardCore
 from ..protocol import CATALOG, DEFAULT_BAUD, POSE_SETTLE, Signal, byte_time
+from .line import Beats, HostLine
 from .stored import BOOT_QUIET, DEBOUNCE, StoredSet, catalog_reply
 from .stored_play import Playback
 
@@ -33,31 +34,8 @@ TX_BUFFER = 64  #: bytes the firmware's serial port holds: a catalog cut short s
 UART_AHEAD = 0.005
 
 
-class Beats:
-    """When a core that speaks by itself every ``period`` s (MrlComm: its board info)
-    says it again."""
-
-    def __init__(self, period: float):
-        self.period, self.next = period, math.inf
-
-    def start(self, at: float) -> None:
-        """It booted at ``at`` (inf: it is off)."""
-        self.next = at + self.period
-
-    def until(self, now: float) -> list[float]:
-        """When it spoke up to ``now`` (of a board left alone for long, the last few)."""
-        if not self.next <= now < math.inf:
-            return []
-        times = []
-        self.next = max(self.next, now - 3 * self.period)
-        while self.next <= now:
-            times.append(self.next)
-            self.next += self.period
-        return times
-
-
 @dataclass
-class VirtualBoard:
+class VirtualBoard(HostLine):
     """A board on a simulated link: ``write`` and ``read`` take the time they happen."""
 
     core: BoardCore
@@ -71,6 +49,9 @@ class VirtualBoard:
     flash: StoredSet | None = None  #: the gestures stored in its flash
     chatty: bool = True  #: it sends WAIT when booted and idle (a rig; not a Maestro)
     hello: bytes = b""  #: what one not chatty sends as it boots (MrlComm: its banner)
+    #: s of silence a bootloader waits for once a byte came while it ran (a Mega's
+    #: STK500v2: a byte keeps it in its command loop); 0: it swallows the byte, no more
+    trap: float = 0.0
 
     def __post_init__(self) -> None:
         self.tau = byte_time(self.baud)
@@ -87,33 +68,9 @@ class VirtualBoard:
         self._catalog: list[float] = []  # when each catalog byte is ready (to cut it)
         self._triggers = True  # boot, idle and buttons may start gestures
         self._beats = Beats(getattr(self.core, "BEAT", math.inf))  # MrlComm's board info
+        self._ring = getattr(self.core, "ring", None)  # a receive buffer read in its time
         if self.stored is not None:
             self.core.restore(self.stored)
-
-    def write(self, data: bytes, now: float) -> list[float]:
-        """The host sends ``data`` at ``now``: each byte starts on the wire when the one
-        before has gone, and arrives a byte-time later. Returns when each starts."""
-        self.advance(now)
-        starts = []
-        for b in data:
-            starts.append(max(now, self._wire_free))
-            self._wire_free = starts[-1] + self.tau
-            self._inbox.append((self._wire_free, b))
-        return starts
-
-    def discard(self, now: float) -> int:
-        """The host drops what it has written and the wire has not begun to send by
-        ``now`` (a port's output buffer reset); returns how many bytes."""
-        self.advance(now)
-        kept = deque((t, b) for t, b in self._inbox if t - self.tau <= now)
-        dropped = len(self._inbox) - len(kept)
-        self._inbox = kept
-        self._wire_free = kept[-1][0] if kept else min(self._wire_free, now)
-        return dropped
-
-    def sending_until(self) -> float:
-        """When the last byte written so far has arrived."""
-        return self._wire_free
 
     def read(self, now: float) -> bytes:
         """Everything the board has sent by ``now``."""
@@ -140,6 +97,9 @@ class VirtualBoard:
 
     def advance(self, now: float) -> None:
         """Let the board run until ``now``."""
+        while not self._booted and self._inbox and self._inbox[0][0] <= now and \
+                self._inbox[0][0] < self.ready_at:
+            self._read()  # the bootloader has it (and one that a byte traps stays)
         if not self._booted and now >= self.ready_at:
             self._booted = True
             self._quiet = self.ready_at
@@ -149,10 +109,14 @@ class VirtualBoard:
             self._beats.start(self.ready_at)
         while True:
             arrival = self._inbox[0][0] if self._inbox else math.inf
+            reading = self._ring.next_read() if self._ring is not None else math.inf
             due, start = self._due()
-            if min(arrival, due) > now or min(arrival, due) == math.inf:
+            first = min(arrival, reading, due)
+            if first > now or first == math.inf:
                 break
-            if arrival <= due:
+            if reading == first:
+                self._take(*self._ring.take())
+            elif arrival <= due:
                 self._read()
             elif start is not None:
                 self._play(due, start)
@@ -160,14 +124,27 @@ class VirtualBoard:
                 self._step(due)
         for t in self._beats.until(now):
             self._send(t, self.core.beat())
+            if self._ring is not None:  # it waits its board info out too
+                self._ring.busy(self._out_free)
         self._settle(now)
 
     def _read(self) -> None:
-        """The next byte on the wire reaches the board."""
+        """The next byte on the wire reaches the board (or its receive ring, where it
+        waits for the board's loop to read it)."""
         arrival, byte = self._inbox.popleft()
         if arrival < self.ready_at:
             self.swallowed += 1
+            if self.trap:
+                self.ready_at = arrival + self.trap
             return
+        if self._ring is not None:
+            self._ring.arrive(arrival, byte)
+            return
+        self._take(arrival, byte)
+
+    def _take(self, arrival: float, byte: int) -> None:
+        """The board reads ``byte`` at ``arrival`` (or when its loop takes it from its
+        receive ring)."""
         self._settle(arrival)
         self._quiet = arrival
         self.playing = self._boot_at = None  # any byte stops what the board does itself
@@ -176,6 +153,8 @@ class VirtualBoard:
         for one in write if isinstance(write, tuple) else (write,) if write else ():
             self._wrote(arrival, one)  # a command may set several servos
         self._send(arrival, reply)
+        if self._ring is not None and self.core.pending is None:  # it waits its reply out
+            self._ring.busy(max(arrival, self._out_free) + self._ring.read)
         asked = self.core.asked if self.flash is not None else None
         if asked is not None and asked < len(self.flash.gestures):
             self._play(arrival, asked)

@@ -14,6 +14,11 @@ from . import commands as c
 from .device import MaestroCore
 
 
+def echoes(question: bytes, answer: bytes) -> bool:
+    """Is ``answer`` the start of ``question`` sent back (a port that echoes)?"""
+    return bool(answer) and question.startswith(bytes(answer))
+
+
 class _Positions:
     """The answers to Get Position, one channel after another."""
 
@@ -22,10 +27,13 @@ class _Positions:
 
     def feed(self, data: bytes) -> dict[int, int] | None:
         """The pose once every channel has answered (a channel sending no pulses: the
-        servo's rest, since where it is cannot be known)."""
+        servo's rest, since where it is cannot be known); never from a port that
+        echoes the questions (a loopback: a Maestro's answers are 2 bytes each, and no
+        six of them spell the questions)."""
         self.data += data
         servos = self.controller.servos
-        if len(self.data) < 2 * len(servos):
+        n = 2 * len(servos)
+        if len(self.data) < n or echoes(self.controller.ask_pose(), self.data[:n]):
             return None
         pose = {}
         for j, s in enumerate(servos):
@@ -134,8 +142,14 @@ class MaestroController(Controller):
         return c.command(c.GET_ERRORS, [], self.device)
 
     def ready(self, answer: bytes) -> bool:
-        """Its two bytes came."""
-        return len(answer) >= 2
+        """Its two bytes came, and they are a Maestro's error register (nine bits: a
+        port that echoes the question, ``0xA1`` or ``0xAA`` and a device number, sets
+        others)."""
+        return len(answer) >= 2 and not (answer[0] | answer[1] << 8) & ~c.ERROR_BITS
+
+    def answered_late(self) -> str:
+        """It sends no WAIT: no Get Errors answer, Get Position answered."""
+        return "did not answer Get Errors, but answered Get Position"
 
     def greeting(self, answer: bytes) -> str | None:
         """Its errors, in words, when it reports any."""

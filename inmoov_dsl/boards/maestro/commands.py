@@ -33,6 +33,7 @@ ERRORS = ("serial signal error", "serial overrun error", "serial buffer full",
           "serial CRC error", "serial protocol error", "serial timeout",
           "script stack error", "script call stack error", "script program counter error")
 PROTOCOL_ERROR = 1 << 4
+ERROR_BITS = (1 << len(ERRORS)) - 1  #: the bits Get Errors may answer (0x01FF)
 QUARTERS = 4  #: a target's unit: a quarter of a microsecond
 
 

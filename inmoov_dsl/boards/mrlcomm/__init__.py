@@ -4,11 +4,13 @@ board's own messages (``messages.py``) and its virtual twin (``device.py``)."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 
 import numpy as np
 
 from ... import clock
+from .. import arduino
+from ..arduino import Bootloader
 from ..base import Controller, PlanLike, PoseReader
 from ..frames import per_frame
 from . import messages as m
@@ -19,6 +21,19 @@ from .device import MrlCommCore
 #: at its width, and with 9 with 18 attached; 10 or 11 overflowed its receive buffer
 #: (each move costs it 1.56 ms of events it flushes) and it crashed (docs/controllers.md)
 MOVES_PER_FRAME = 6
+
+#: bytes its receive buffer holds (an AVR's ring of 64 slots, one kept empty): more
+#: written than it has read is lost, and what follows is misread
+RECEIVE_BUFFER = 63
+EVENT = len(m.message(m.SERVO_EVENT, 0, 0, 0, 0))  #: bytes of a servo event
+#: bytes MrlComm publishes for a message it reads beyond its ack, each waited out
+#: (``Serial.flush``), so that its loop, not the wire, bounds how fast it reads: a move,
+#: its started and stopped events (1.56 ms at 115200, as measured in simavr)
+PUBLISHED = {m.SERVO_MOVE_TO_MICROSECONDS: 2 * EVENT, m.SERVO_STOP: EVENT}
+#: s of its loop the host counts on each message beyond what it publishes (MrlComm in
+#: simavr reported 26-105 us a loop): with an ack counted on every message, a move is
+#: 2.1 ms of the board's time by the host's account, 1.6 ms measured
+LOOP = 0.0002
 
 
 class _Stopped:
@@ -65,8 +80,11 @@ SILENT = 2.5
 
 class _Watch:
     """What a board running MrlComm says while it plays: its begin message is a board
-    that started again (its power, its USB), its servos gone with it; nothing at all
-    for SILENT s is a board that has stopped."""
+    that started again (its power, its USB), its servos gone with it; an error is a
+    board that lost or misread what it was sent ("error serial": a byte that starts no
+    message; "device does not exist": a message to a device it does not have, which it
+    then runs on a null pointer); nothing at all for SILENT s is a board that has
+    stopped."""
 
     def __init__(self, board: int):
         self.board, self.reader = board, m.Reader()
@@ -85,9 +103,19 @@ class _Watch:
                 return (f"board {self.board} started again mid-gesture (MrlComm's begin "
                         f"message: its power or its USB reset it); its servos are detached "
                         f"and limp")
-            if method == m.ERROR and args and b"does not exist" in args[0]:
-                return f"board {self.board} has lost its servos (MrlComm: device does not exist)"
+            if method == m.ERROR:
+                return self._error(bytes(args[0]) if args else b"")
         return None
+
+    def _error(self, said: bytes) -> str:
+        text = said.decode("ascii", "replace")
+        if "does not exist" in text:
+            return (f"board {self.board} has lost its servos (MrlComm: device does not "
+                    f"exist): it was reset, or misread what it was sent")
+        if text == "error serial":
+            return (f"board {self.board} lost part of what it was sent (MrlComm: error "
+                    f"serial): its servos may not be where the gesture puts them")
+        return f"board {self.board} misread what it was sent (MrlComm: {text})"
 
 
 class MrlCommController(Controller):
@@ -96,6 +124,7 @@ class MrlCommController(Controller):
     kind = "mrlcomm"
     unit_us = 1.0
     address = "device"
+    receive_buffer = RECEIVE_BUFFER
 
     @property
     def devices(self) -> list[int]:
@@ -120,6 +149,32 @@ class MrlCommController(Controller):
         ids = dict(zip(self.devices, (s.id for s in self.servos), strict=True))
         return [(ids[args[0]], args[1]) for method, args in m.Reader().feed(data)
                 if method == m.SERVO_MOVE_TO_MICROSECONDS and args and args[0] in ids]
+
+    def cost(self, command: bytes) -> float:
+        """What it publishes for ``command`` (an ack counted, as if acks were on), which
+        it waits to see out, and its loop."""
+        method = command[2] if len(command) > 2 else None
+        info = len(m.message(m.BOARD_INFO, 0, 0, 0, 0, 0, bytes(len(self.servos))))
+        published = PUBLISHED.get(method, info if method == m.GET_BOARD_INFO else 0)
+        return (published + len(m.message(m.ACK, 0))) * self.tau + LOOP
+
+    def key(self, command: bytes) -> tuple[int, int] | None:
+        """A move's device: a newer move of it makes an older one needless."""
+        if len(command) > 3 and command[2] == m.SERVO_MOVE_TO_MICROSECONDS:
+            return m.SERVO_MOVE_TO_MICROSECONDS, command[3]
+        return None
+
+    def answer(self, command: bytes) -> tuple[int, int] | None:
+        """A move's started event (MrlComm publishes it as it reads the move)."""
+        if len(command) > 3 and command[2] == m.SERVO_MOVE_TO_MICROSECONDS:
+            return m.STARTED, command[3]
+        return None
+
+    def answers(self) -> Callable[[bytes], list[tuple[int, int]]]:
+        """Its started events, as (``STARTED``, device)."""
+        reader = m.Reader()
+        return lambda data: [(m.STARTED, args[0]) for method, args in reader.feed(data)
+                             if method == m.SERVO_EVENT and args and args[1] == m.STARTED]
 
     def units(self, index: int, values) -> np.ndarray:
         """Whole microseconds (what a move carries)."""
@@ -175,6 +230,10 @@ class MrlCommController(Controller):
     def watch(self) -> _Watch:
         """A reset, or servos gone, while it plays."""
         return _Watch(self.board.id)
+
+    def bootloader(self) -> Bootloader:
+        """Its Arduino's (``arduino`` in its ``[[board]]``)."""
+        return arduino.bootloader(self.board.options)
 
     def probe(self) -> bytes:
         """``getBoardInfo``, as MyRobotLab asks."""

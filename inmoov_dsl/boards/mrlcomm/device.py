@@ -18,14 +18,22 @@ A message to a device that does not exist is an error, and then the real firmwar
 the device's method through a null pointer (in simavr it crashed, docs/controllers.md):
 the twin stops reading and answering until it is reset, so that no tool may do it.
 Checked against MrlComm itself, built for the Mega and run in simavr: the same bytes for
-every message gestplay sends. Not modelled: the 64-byte receive buffer and the loop's
-time, which limit how fast a real board reads (the controller paces its moves for it:
-``MOVES_PER_FRAME``). Its board info, which the real one sends by itself every second,
-is ``beat`` (a virtual board sends it every ``BEAT`` s).
+every message gestplay sends. Its board info, which the real one sends by itself every
+second, is ``beat`` (a virtual board sends it every ``BEAT`` s).
+
+How fast it reads is its ``ring``'s (the virtual board reads through it, ``wire.sim``):
+bytes wait in a receive buffer of 63 (an AVR's ring of 64 slots), and bytes arriving
+while it is full are lost; its loop reads a message once it has done with the one
+before, and each message takes it the time to send what it published for it (it waits
+for each with ``Serial.flush``: a move's two servo events, 1.56 ms at 115200) and
+``READ`` more. A burst of moves overflows it, as it did MrlComm in simavr: what follows
+is misread, each stray byte an "error serial".
 """
 
 from __future__ import annotations
 
+import math
+from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -37,6 +45,45 @@ BOARD_MEGA = 1  #: MrlComm's board type for a Mega 2560
 LOOP_US = 60  #: the time of its loop it reports (MrlComm in simavr: 26..105 us)
 FREE_RAM = 6400  #: the RAM it reports free with no device (in simavr: 6,393) ...
 DEVICE_RAM = 54  #: ... and what each servo takes of it (6,069..6,084 with six)
+RECEIVE_BUFFER = 63  #: bytes its serial receive ring holds (64 slots, one kept empty)
+READ = LOOP_US * 1e-6  #: s its loop takes on a message beyond waiting out what it sent
+
+
+class Ring:
+    """A serial receive buffer in time, as an AVR's ``HardwareSerial`` keeps it: bytes
+    arrive in it (while it is full they are lost), and the sketch reads them in order
+    when its loop comes round to it (``busy``: it is doing something else until then)."""
+
+    def __init__(self, size: int, read: float):
+        self.size, self.read = size, read  #: bytes it holds; s a message takes the loop
+        self.lost = 0  #: bytes that arrived while it was full
+        self._bytes: deque[tuple[float, int]] = deque()  # (arrival, byte), not yet read
+        self._free = -math.inf  # when the loop next reads
+
+    def clear(self) -> None:
+        """A reset: what it held is gone."""
+        self._bytes.clear()
+        self._free = -math.inf
+
+    def arrive(self, at: float, byte: int) -> None:
+        """``byte`` arrives at ``at`` (lost if the ring is full)."""
+        if len(self._bytes) >= self.size:
+            self.lost += 1
+        else:
+            self._bytes.append((at, byte))
+
+    def next_read(self) -> float:
+        """When the loop reads the next byte (inf: none is waiting)."""
+        return max(self._bytes[0][0], self._free) if self._bytes else math.inf
+
+    def take(self) -> tuple[float, int]:
+        """When the loop reads the next byte, and the byte."""
+        at = self.next_read()
+        return at, self._bytes.popleft()[1]
+
+    def busy(self, until: float) -> None:
+        """The loop reads nothing more before ``until``."""
+        self._free = max(self._free, until)
 
 
 @dataclass
@@ -66,6 +113,7 @@ class MrlCommCore:
         self._last = bytes([m.GET_BOARD_INFO])  # the message an empty one runs again
         self.values: list[int] = []
         self.asked = None  #: (a rig's stored gestures: MrlComm has none)
+        self.ring = Ring(RECEIVE_BUFFER, READ)  #: how fast it reads (``wire.sim``)
         self.restore(None)
 
     @property
@@ -85,6 +133,7 @@ class MrlCommCore:
         self.acks = True
         self.crashed = False
         self._buf.clear()
+        self.ring.clear()
 
     def beat(self) -> bytes:
         """The board info it sends by itself (nothing once it has crashed)."""

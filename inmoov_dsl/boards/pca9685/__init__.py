@@ -92,6 +92,14 @@ class PcaCore:
         return tuple(writes)
 
 
+def pulse_ticks(leds: bytes) -> int:
+    """The pulse (ticks) a channel's four LEDn registers ask for (0: none, full off)."""
+    if leds[3] & regs.FULL:
+        return 0
+    on, off = leds[0] | (leds[1] & 0x0F) << 8, leds[2] | (leds[3] & 0x0F) << 8
+    return (off - on) % regs.TICKS
+
+
 class _Leds:
     """The LEDn registers read back as a pose."""
 
@@ -106,12 +114,9 @@ class _Leds:
             return None
         pose = {}
         for j, s in enumerate(servos):
-            r = self.data[4 * j:4 * j + 4]
-            on, off = r[0] | (r[1] & 0x0F) << 8, r[2] | (r[3] & 0x0F) << 8
-            ticks = (off - on) % regs.TICKS
+            ticks = pulse_ticks(self.data[4 * j:4 * j + 4])
             us = ticks * self.controller.tick * 1e6
-            pose[s.id] = s.rest if r[3] & regs.FULL or not ticks else \
-                self.controller.widths[j].value(us)
+            pose[s.id] = self.controller.widths[j].value(us) if ticks else s.rest
         return pose
 
 
@@ -230,12 +235,27 @@ class PcaController(Controller):
         return _Leds(self)
 
     def probe(self) -> bytes:
-        """Read MODE1 and PRE_SCALE."""
-        return tx.read(regs.MODE1, 1) + tx.read(regs.PRESCALE, 1)
+        """Read MODE1 and PRE_SCALE, then its servos' LEDn registers (``ask_pose``): which
+        outputs are off (``greeting``)."""
+        return tx.read(regs.MODE1, 1) + tx.read(regs.PRESCALE, 1) + self.ask_pose()
 
     def ready(self, answer: bytes) -> bool:
-        """Both came."""
-        return len(answer) >= 2
+        """All came."""
+        return len(answer) >= 2 + 4 * len(self.servos)
+
+    def greeting(self, answer: bytes) -> str | None:
+        """The servos whose outputs are off (as the chip powers up, or relaxed): limp,
+        and the rest the plan starts each from (``_Leds``: what the pose reads), or
+        None."""
+        limp = [s for j, s in enumerate(self.servos)
+                if len(answer) >= 6 + 4 * j and not pulse_ticks(answer[2 + 4 * j:6 + 4 * j])]
+        if not limp:
+            return None
+        names = ", ".join(s.name for s in limp)
+        rests = ", ".join(f"{s.name} {s.rest}" for s in limp)
+        return f"the PCA9685 of board {self.board.id} has its outputs off: {names} limp " \
+               f"until a gesture names {'them' if len(limp) > 1 else 'it'}; the plan " \
+               f"takes each to be at its rest ({rests}), where its first move starts"
 
     def setup(self, answer: bytes = b"", pose: Mapping[int, int] | None = None) -> bytes:
         """The prescale for 50 Hz, written while the chip sleeps, and auto-increment,

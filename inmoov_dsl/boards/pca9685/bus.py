@@ -85,13 +85,7 @@ def open_bus(spec: str) -> I2CPort:
         raise GestError(Diagnostic("error", f"cannot open port {spec}: a PCA9685 is on an "
                                    "I2C bus", hint="--port i2c:1 (/dev/i2c-1, address "
                                    "0x40) or i2c:1@0x41"))
-    number, address = int(found[1]), int(found[2] or str(ADDRESS), 0)
-    if not 0x40 <= address <= 0x77 or address == 0x70:
-        raise GestError(Diagnostic("error", f"cannot open port {spec}: a PCA9685's address "
-                                   f"is {ADDRESSES}", hint="its six address pins give "
-                                   "0x40..0x7F; the I2C bus reserves 0x78..0x7F, and 0x70 "
-                                   "is the All Call address every PCA9685 answers; with no "
-                                   "pin bridged: 0x40"))
+    number, address = int(found[1]), bus_address(spec, found[2])
     if not os.path.exists(f"{DEVICE}{number}"):
         raise GestError(Diagnostic("error", f"cannot open port {spec}: there is no I2C bus "
                                    f"{number} ({DEVICE}{number}); buses on this machine: "
@@ -108,6 +102,44 @@ def open_bus(spec: str) -> I2CPort:
         raise GestError(Diagnostic("error", f"cannot open port {spec}: {DEVICE}{number}: "
                                    f"{exc.strerror or exc}", hint=GROUP if isinstance(
                                        exc, PermissionError) else ENABLE)) from None
+
+
+def bus_address(spec: str, text: str | None) -> int:
+    """The address ``text`` of port ``spec`` writes (None: ADDRESS): hex after ``0x``,
+    else decimal, in ADDRESSES. A leading zero is refused rather than guessed at:
+    i2c-tools (C's strtol) read ``010`` as octal 8, Python refuses it, a person may
+    mean decimal 10, or hex 0x10 as i2cdetect shows addresses; a wrong guess drives
+    another chip, so the error names the readings a PCA9685 may have instead."""
+    if text is None:
+        return ADDRESS
+    if len(text) > 1 and text[0] == "0" and not text.startswith("0x"):
+        raise GestError(Diagnostic(
+            "error", f"cannot open port {spec}: the address {text} has a leading zero, "
+            "which some tools read as octal, others as decimal",
+            hint=_readings(spec.partition("@")[0], text.lstrip("0") or "0")))
+    address = int(text, 16) if text.startswith("0x") else int(text)
+    if not usable(address):
+        said = "" if text.startswith("0x") else f" ({text} is decimal: 0x{address:02x})"
+        raise GestError(Diagnostic("error", f"cannot open port {spec}: a PCA9685's address "
+                                   f"is {ADDRESSES}{said}", hint="its six address pins "
+                                   "give 0x40..0x7F; the I2C bus reserves 0x78..0x7F, and "
+                                   "0x70 is the All Call address every PCA9685 answers; "
+                                   "with no pin bridged: 0x40"))
+    return address
+
+
+def usable(address: int) -> bool:
+    """Is ``address`` one a PCA9685 may be given (ADDRESSES)?"""
+    return 0x40 <= address <= 0x77 and address != 0x70
+
+
+def _readings(bus: str, digits: str) -> str:
+    """How to write an address given as ``digits`` after a leading zero: its readings
+    as hex and as decimal that a PCA9685 may have."""
+    ways = [f"{bus}@0x{a:02x}" + (f" for decimal {digits}" if base == 10 else "")
+            for base, a in ((16, int(digits, 16)), (10, int(digits))) if usable(a)]
+    return "write it in hex with 0x, as i2cdetect shows addresses" + \
+        (f": {' or '.join(ways)}" if ways else f"; a PCA9685's address is {ADDRESSES}")
 
 
 ENABLE = "on a Raspberry Pi, enable I2C (sudo raspi-config, Interface Options): its bus is " \

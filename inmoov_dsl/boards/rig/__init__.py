@@ -11,6 +11,8 @@ import numpy as np
 
 from ... import protocol
 from ...decode import Replies
+from .. import arduino
+from ..arduino import Bootloader
 from ..base import Controller, PlanLike, PoseReader
 from . import encode as _encode
 from .core import BoardCore
@@ -94,6 +96,10 @@ class RigController(Controller):
         """The DUMP reply's reader for this board's ID."""
         return DumpReader(self.board.id)
 
+    def bootloader(self) -> Bootloader:
+        """Its Arduino's (``arduino`` in its ``[[board]]``)."""
+        return arduino.bootloader(self.board.options)
+
     def probe(self) -> bytes:
         """CANCEL: a ready board answers WAIT."""
         return protocol.CANCEL_PENDING
@@ -101,3 +107,15 @@ class RigController(Controller):
     def ready(self, answer: bytes) -> bool:
         """A WAIT came."""
         return protocol.Signal.WAIT in answer
+
+    def answered_late(self) -> str:
+        """No WAIT, a DUMP reply."""
+        return "sent no WAIT, but answered DUMP"
+
+    def stop_sent(self) -> str:
+        """CANCEL (``cancel``)."""
+        return "CANCEL sent"
+
+    def stop_held(self) -> str:
+        """The board holds every servo where the last pair left it."""
+        return "the hand holds its pose"

@@ -17,7 +17,7 @@ from ...profiles.profile import find_profile, load_profile, parse_profile
 from ...protocol import CANCEL_PENDING, MAX_VALUE
 from ...resources import profiles_dir
 from ...wire.link import open_board
-from ...wire.player import ask_dump, wait_ready
+from ...wire.ready import ask_dump, wait_ready
 from ..common import EXIT_OK, send_value, status_line, status_of, warn, why
 from ..keys import key_reader
 

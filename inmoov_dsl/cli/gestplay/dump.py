@@ -9,7 +9,7 @@ from ...errors import Diagnostic, GestError
 from ...hardware import Board, Profile
 from ...profiles.profile import load_profile
 from ...wire.link import every_board, named_boards, open_board, parse_ports
-from ...wire.player import ask_dump, wait_ready
+from ...wire.ready import ask_dump, wait_ready
 from ..common import EXIT_OK, add_ports
 
 

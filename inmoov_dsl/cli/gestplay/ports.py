@@ -8,14 +8,21 @@ import sys
 
 from ...protocol import DEFAULT_BAUD
 from ...wire.identify import answer
-from ...wire.ports import available
+from ...wire.ports import PortInfo, available
 from ..common import EXIT_OK
 
 
 def run(args: argparse.Namespace) -> int:
     """One line per port: device, description, USB VID:PID, what it likely is, and what
-    answers on it."""
+    answers on it. ``--port``: that port alone, asked whatever its USB IDs."""
     found = available()
+    if args.port:
+        known = {p.device: p for p in found}
+        found = [known.get(name, PortInfo(name, "named")) for name in args.port]
+        for port in found:
+            print(f"{port.device}\t{port.description}\tanswers: "
+                  f"{answer(port, args.baud, named=True)}", flush=True)
+        return EXIT_OK
     for port in found:
         usb = f"USB {port.usb}" if port.usb else "-"
         likely = f"\tlikely {port.likely}" if port.likely else ""
@@ -35,6 +42,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--no-ask", dest="ask", action="store_false",
                    help="only list them (asking opens each likely board's port: an Uno "
                    "resets, and keeps its pose)")
+    p.add_argument("--port", action="append", metavar="PORT",
+                   help="ask this port only (again for more), whatever its USB IDs: a "
+                   "board behind a USB adapter gestplay does not know, a port with no "
+                   "USB IDs, a URL")
     p.add_argument("--baud", type=int, default=DEFAULT_BAUD,
                    help=f"the baud a board of ours is asked at (default {DEFAULT_BAUD})")
     p.set_defaults(func=run)

@@ -5,7 +5,8 @@ from __future__ import annotations
 import argparse
 
 from ...profiles.profile import load_profile
-from ...wire.player import drain, relax_all
+from ...wire.player import relax_all
+from ...wire.ready import drain
 from .. import hand
 from ..common import EXIT_OK, add_blind, add_ports
 

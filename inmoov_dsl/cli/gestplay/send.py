@@ -10,7 +10,7 @@ from ...errors import Diagnostic, GestError
 from ...profiles.profile import load_profile
 from ...protocol import MAX_VALUE, Signal
 from ...wire.link import open_board
-from ...wire.player import drain, wait_ready
+from ...wire.ready import drain, wait_ready
 from ..common import EXIT_OK, number
 
 SIGNAL_NAMES = {int(s): s.name for s in Signal}

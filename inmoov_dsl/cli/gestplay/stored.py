@@ -12,7 +12,8 @@ from ...boards import controller
 from ...errors import Diagnostic, GestError, did_you_mean
 from ...profiles.profile import load_profile
 from ...protocol import CANCEL_PENDING, CATALOG, PLAY, Signal, byte_time
-from ...wire.player import Link, ask_dump, drain
+from ...wire.player import Link
+from ...wire.ready import ask_dump, drain
 from ...wire.stored import Catalog, find_catalog
 from .. import hand
 from ..common import EXIT_OK, add_blind, add_ports

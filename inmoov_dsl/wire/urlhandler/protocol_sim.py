@@ -120,8 +120,9 @@ def _board_from_url(url: str) -> tuple[VirtualBoard, Profile]:
         raise SimError(url, f"flash: board {board.id} is a {board.kind}, which stores no "
                        "gestures", "leave flash= out")
     flash = _flash(url, options["flash"][0], core) if "flash" in options else None
-    return VirtualBoard(core, board.baud, stored=stored, flash=flash,
-                        chatty=kind.ours, hello=kind.hello()), profile
+    loader = kind.bootloader()
+    return VirtualBoard(core, board.baud, stored=stored, flash=flash, chatty=kind.ours,
+                        hello=kind.hello(), trap=loader.trap if loader else 0.0), profile
 
 
 def resets(board: VirtualBoard) -> bool:
@@ -166,6 +167,7 @@ class Serial(SerialBase):
 
     board: VirtualBoard | None = None
     hupcl = True  #: drop DTR on closing (the POSIX default)
+    dtr_rose = False  #: the open raised DTR and the board reset (``ports.dtr_rose``)
 
     def open(self) -> None:
         """Connect to the board of this URL, powering it up or resetting it as DTR rises."""
@@ -182,9 +184,11 @@ class Serial(SerialBase):
             board.ready_at = clock.now() + (boot if resets(board) else 0.0)
             _Desk.lines[url] = DtrLine()
             _Desk.lines[url].opened()
-        elif _Desk.lines[url].opened() and resets(board):  # DTR rose: an Uno resets
-            # (a Maestro's USB port does not reset it)
-            board.reset(clock.now(), boot)
+            self.dtr_rose = resets(board)
+        else:  # DTR rose: an Uno resets (a Maestro's USB port does not reset it)
+            self.dtr_rose = _Desk.lines[url].opened() and resets(board)
+            if self.dtr_rose:
+                board.reset(clock.now(), boot)
         self.board = board
         self.is_open = True
 
