@@ -253,7 +253,10 @@ class MrlCommController(Controller):
 
     def setup(self, answer: bytes = b"", pose: Mapping[int, int] | None = None) -> bytes:
         """Acks off; each servo not yet attached attached at its pin, from ``pose``
-        (else its rest), velocity -1 (the plan is the motion), its pulses started."""
+        (else its rest), velocity -1 (the plan is the motion); every servo's pulses
+        started: one a relax detached holds its last width again, as our firmware's
+        servos do at the next command (on a servo pulsing, the Servo library changes
+        nothing)."""
         attached = set()
         for method, args in m.Reader().feed(answer):
             if method == m.BOARD_INFO and args:
@@ -261,6 +264,7 @@ class MrlCommController(Controller):
         out = bytearray(m.message(m.ENABLE_ACK, 0))
         for s, d, j in zip(self.servos, self.devices, range(len(self.servos)), strict=True):
             if d in attached:
+                out += m.message(m.SERVO_ATTACH_PIN, d, s.pin or 0)
                 continue
             value = (pose or {}).get(s.id, s.rest)
             out += m.message(m.SERVO_ATTACH, d, s.pin or 0, int(self.units(j, [value])[0]),
