@@ -187,7 +187,7 @@ def test_a_profile_s_mrlcomm_servo_needs_a_pin_of_the_mega():
     assert np.isfinite(KIND.tau)
 
 
-def test_ports_names_a_board_running_mrlcomm(capsys, monkeypatch):
+def test_ports_names_a_board_running_mrlcomm(virtual_clock, capsys, monkeypatch):
     from serial.tools import list_ports, list_ports_common
 
     from inmoov_dsl.cli import gestplay
@@ -204,7 +204,7 @@ def test_ports_names_a_board_running_mrlcomm(capsys, monkeypatch):
     protocol_sim.power_off()
 
 
-def test_a_port_where_nothing_answers_is_one_clear_error(capsys, monkeypatch):
+def test_a_port_where_nothing_answers_is_one_clear_error(virtual_clock, capsys, monkeypatch):
     from inmoov_dsl.cli import gestplay
     from inmoov_dsl.wire import link
 

@@ -260,7 +260,7 @@ def test_the_cli_plays_to_sim(capsys):
     assert out.startswith("played peace: 0.70 s, 201 bytes, worst lateness ")
 
 
-def test_a_loop_reports_the_whole_run(capsys):
+def test_a_loop_reports_the_whole_run(virtual_clock, capsys):
     one = compile_file(load_library()["wiggle"])
     again = compile_file(load_library()["wiggle"], start=dict(zip(one.servos, one.final,
                                                                         strict=True)))
@@ -285,7 +285,7 @@ def test_a_gesture_is_expanded_once_for_its_boards_and_every_pass(capsys, monkey
     assert expanded == [("peace", None)]
 
 
-def test_a_loop_stopped_in_its_second_pass_was_played_once(capsys, monkeypatch):
+def test_a_loop_stopped_in_its_second_pass_was_played_once(virtual_clock, capsys, monkeypatch):
     from inmoov_dsl.cli.gestplay import play as playing
 
     passes = []
@@ -338,7 +338,7 @@ def test_no_board_is_an_error_before_any_gesture_byte(capsys, monkeypatch, tool,
     assert set(port.sent) <= {255, 253}  # CANCEL probes and a DUMP: no servo ID, no value
 
 
-def test_one_port_is_enough_for_a_gesture_on_one_board_of_many(capsys, monkeypatch):
+def test_one_port_is_enough_for_a_gesture_on_one_board_of_many(virtual_clock, capsys, monkeypatch):
     opened = []
 
     def open_port(name, baud, timeout=0):
@@ -388,8 +388,8 @@ def test_blind_plays_on_a_link_that_cannot_answer(capsys, monkeypatch, virtual_c
      "gestplay: error: cannot open port sim://nosuchprofile: unknown profile 'nosuchprofile'"),
     (["dump", "--port", "loop://"], "gestplay: error: no DUMP reply from loop://"),
 ])
-def test_bad_ports_and_options_are_one_clear_message(capsys, tmp_path, monkeypatch, argv,
-                                                     message):
+def test_bad_ports_and_options_are_one_clear_message(virtual_clock, capsys, tmp_path,
+                                                     monkeypatch, argv, message):
     monkeypatch.chdir(tmp_path)
     (tmp_path / "both.gest").write_text("g: r_index 90, l_index 90\n")
     (tmp_path / "once.gest").write_text("g:\n    r_index 90\n    l_index 90 & neck 100\n")

@@ -42,7 +42,7 @@ def test_hand_left_plays_the_gesture_on_the_left_hand(capsys):
     assert sent[183] > 100 and all(n == 1 for b, n in sent.items() if b != 183)  # CANCEL
 
 
-def test_one_port_plays_a_hand_gesture_on_the_left_hand(capsys, monkeypatch):
+def test_one_port_plays_a_hand_gesture_on_the_left_hand(virtual_clock, capsys, monkeypatch):
     opened = []
 
     class Silent:

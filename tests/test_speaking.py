@@ -103,8 +103,8 @@ def test_each_sound_is_heard_in_order_and_never_early(sound_server, tmp_path):  
                                                                       abs=1e-6)
 
 
-def test_without_a_sound_library_gestplay_says_how_or_plays_in_silence(tmp_path, capsys,
-                                                                        monkeypatch):
+def test_without_a_sound_library_gestplay_says_how_or_plays_in_silence(virtual_clock, tmp_path,
+                                                                        capsys, monkeypatch):
     tone_wav(tmp_path / "a.wav")
     (tmp_path / "g.gest").write_text('g: say "a.wav" & neck 100 over 0.5s\n')
     real_import = builtins.__import__
@@ -125,7 +125,7 @@ def test_without_a_sound_library_gestplay_says_how_or_plays_in_silence(tmp_path,
     assert capsys.readouterr().out.startswith("played g: ")
 
 
-def test_say_plays_at_its_own_speed_only(tmp_path, capsys):
+def test_say_plays_at_its_own_speed_only(virtual_clock, tmp_path, capsys):
     tone_wav(tmp_path / "a.wav")
     (tmp_path / "g.gest").write_text('g: say "a.wav"\n')
     assert gestplay.main([str(tmp_path / "g.gest"), "--profile", "inmoov", "--port",
@@ -133,7 +133,7 @@ def test_say_plays_at_its_own_speed_only(tmp_path, capsys):
     assert "'say' plays its sound at its own speed" in capsys.readouterr().err
 
 
-def test_a_wav_changed_since_it_was_compiled_is_refused(tmp_path, capsys):
+def test_a_wav_changed_since_it_was_compiled_is_refused(virtual_clock, tmp_path, capsys):
     from inmoov_dsl.compiling.compiled import to_json
 
     tone_wav(tmp_path / "a.wav")
