@@ -528,7 +528,9 @@ def test_the_service_speaks_on_its_computer(sound_server, tmp_path):  # noqa: F8
                                                                    '& neck 100 over 1s'})
             told = until(ws, "done", a["id"], timeout=30)
             jaw = [e["servos"]["jaw"] for e in told if e["event"] == "pose"]
-            assert max(jaw) > 50  # the mouth opened
+            # the mouth opened (how wide the poses caught it, a busy machine decides:
+            # the service shows at most a pose a frame, fewer when it runs late)
+            assert max(jaw) > jaw[-1] + 15
             # and the sink heard the voice (when, on a busy machine: its own time)
             wait_for(lambda: loudest.peak > 1000, "the voice at the sink", 30)
         finally:
