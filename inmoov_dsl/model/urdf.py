@@ -4,7 +4,9 @@ The body is urdf_parts' InMoov. A profile's model is the part of it that holds t
 profile's joints (a hand alone from its forearm, or the whole robot from its hips);
 each servo turns its ``joint`` (profile table), with the limits of its range as
 joints.py converts them. Joints of the body that no servo turns are fixed at their
-rest pose, and a finger's phalanges follow its joint.
+rest pose, and a finger's phalanges follow its joint. Each part's shape is both its
+look (``visual``) and its ``collision`` geometry, so any URDF tool checks the model
+collide.py checks.
 """
 
 from __future__ import annotations
@@ -17,7 +19,7 @@ from ..errors import Diagnostic, GestError, did_you_mean
 from ..hardware import Profile, Servo
 from . import joints
 from . import urdf_parts as parts
-from .urdf_parts import Part
+from .urdf_parts import Part, Shape
 
 EFFORT = 1.0  #: N m: about what an MG996R-class servo gives (the model has no dynamics)
 
@@ -94,10 +96,16 @@ def _link(robot: ET.Element, part: Part) -> None:
     link = ET.SubElement(robot, "link", name=part.link)
     if part.shape is None:
         return
-    visual = ET.SubElement(link, "visual")
-    ET.SubElement(visual, "origin", xyz=_text(part.shape.xyz), rpy="0 0 0")
-    geometry = ET.SubElement(visual, "geometry")
-    shape = part.shape
+    visual = _shape(link, "visual", part.shape)
+    ET.SubElement(visual, "material", name=part.shape.colour)
+    _shape(link, "collision", part.shape)  # the same shape: what collide.py checks
+
+
+def _shape(link: ET.Element, kind: str, shape: Shape) -> ET.Element:
+    """A ``visual`` or ``collision`` element of ``link``: the shape, where it is."""
+    element = ET.SubElement(link, kind)
+    ET.SubElement(element, "origin", xyz=_text(shape.xyz), rpy="0 0 0")
+    geometry = ET.SubElement(element, "geometry")
     if shape.kind == "box":
         ET.SubElement(geometry, "box", size=_text(shape.size))
     elif shape.kind == "cylinder":
@@ -105,7 +113,7 @@ def _link(robot: ET.Element, part: Part) -> None:
                       length=_text(shape.size[1:]))
     else:
         ET.SubElement(geometry, "sphere", radius=_text(shape.size))
-    ET.SubElement(visual, "material", name=shape.colour)
+    return element
 
 
 def _joint(robot: ET.Element, part: Part, servos: dict[str, Servo]) -> None:
