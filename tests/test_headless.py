@@ -86,6 +86,11 @@ def picture(line: str, where: Path) -> np.ndarray:
         return np.asarray(image.convert("RGB"), dtype=int)
 
 
+#: times a documented screenshot is taken before a blank one fails the test (as a user
+#: on a busy machine takes it again: docs/simulation.md)
+TRIES = 3
+
+
 def colours(shot: np.ndarray) -> int:
     return len(np.unique(shot.reshape(-1, 3), axis=0))
 
@@ -98,9 +103,11 @@ def test_the_simulations_command_shows_the_hand(tmp_path):
     assert "--screenshot=" in line
     with web_board() as (proc, path, said):
         url = re.fullmatch(r"the hand in 3-D at (http://127\.0\.0\.1:\d+/)", said)[1]
-        run(line.replace(placeholder, url), url, tmp_path)
+        for _ in range(TRIES):  # a busy machine may not draw it within the page's budget
+            run(line.replace(placeholder, url), url, tmp_path)
+            if colours(shot := picture(line, tmp_path)) > 200:
+                break
         assert proc.poll() is None, "gestsim ended while the page was taken"
-    shot = picture(line, tmp_path)
     width, height = map(int, re.search(r"--window-size=(\d+),(\d+)", line).groups())
     assert shot.shape == (height, width, 3)
     assert colours(shot) > 200  # drawn, not a blank page
