@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import os
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from contextvars import ContextVar
 from pathlib import Path
 
-from ..errors import Diagnostic, GestError, did_you_mean
+from ..errors import Diagnostic, GestError, SourceMap, did_you_mean
 from ..hardware import Profile
 from ..language import snippet
 from ..language.load import load
@@ -59,6 +62,24 @@ def pick_gesture(program: Program, name: str | None) -> str:
 
 Start = str | Mapping[str, int] | None  #: ``--from`` text, or servo name -> value
 
+#: a further check of every plan compiled: its warnings (with ``strict``, it raises
+#: them as a GestError). The self-collision check (model/collide.py ``check_plan``)
+#: is one, given by the commands that want it (``plan_checks``): ``compiling`` does
+#: not import ``model``.
+PlanCheck = Callable[[Plan, SourceMap, bool], tuple[Diagnostic, ...]]
+_CHECKS: ContextVar[tuple[PlanCheck, ...]] = ContextVar("plan_checks", default=())
+
+
+@contextmanager
+def plan_checks(*checks: PlanCheck) -> Iterator[None]:
+    """Run ``checks`` on every plan compiled within the ``with`` (in this context only:
+    a long-running process, or a test, is left as it was)."""
+    token = _CHECKS.set(_CHECKS.get() + checks)
+    try:
+        yield
+    finally:
+        _CHECKS.reset(token)
+
 
 def resolve_start(program: Program, profile: Profile,
                   text: str | Mapping[str, int] | None) -> tuple[int, ...]:
@@ -94,7 +115,9 @@ def plan_gesture(program: Program, gesture: str, profile: Profile, start: Start 
     if actions is None:
         actions = resolver(program, profile).gesture(gesture, side)
     pose = resolve_start(program, profile, start)
-    return Planner(profile, program.sources).plan(actions, pose, strict)
+    plan = Planner(profile, program.sources).plan(actions, pose, strict)
+    found = tuple(d for check in _CHECKS.get() for d in check(plan, program.sources, strict))
+    return dataclasses.replace(plan, warnings=plan.warnings + found) if found else plan
 
 
 def compile_program(program: Program, gesture: str | None = None,

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from ...compiling.checking import Told, check_program
+from ...compiling.compiler import plan_checks
 from ...errors import GestError, decode_utf8
 from ...language.incremental import BlockParser
 from ...language.library import library_dirs
@@ -21,6 +22,8 @@ def run(args: argparse.Namespace) -> int:
     warning is told once per place and message for the whole check, however many
     gestures (or files) play that place. With --strict a link that cannot keep up is an
     error too."""
+    from ...model.collide import check_plan
+
     status = EXIT_OK
     dirs = library_dirs(args.lib)
     told: Told = set()
@@ -33,8 +36,9 @@ def run(args: argparse.Namespace) -> int:
             report(exc.diagnostics, PROG)
             status = EXIT_ERROR
             continue
-        errors, warnings = check_program(program, args.profile, args.strict, told,
-                                         link_keeps_up if args.strict else None)
+        with plan_checks(check_plan):  # the robot's parts against each other (collide)
+            errors, warnings = check_program(program, args.profile, args.strict, told,
+                                             link_keeps_up if args.strict else None)
         report(warnings, PROG)
         if errors:
             report(errors, PROG)

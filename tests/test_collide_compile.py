@@ -1,0 +1,76 @@
+"""The compiler's self-collision check (issue 43, model/collide.py ``check_plan``): a
+gesture that drives the right upper arm into the chest warns at its step, at a plausible
+time; --strict makes it an error; the same gesture moved clear passes; the library's
+whole-robot gestures pass."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+from conftest import WHOLE_ROBOT
+
+from inmoov_dsl.cli import gestc
+from inmoov_dsl.compiling.checking import check_program
+from inmoov_dsl.compiling.compiler import plan_checks
+from inmoov_dsl.language.load import load
+from inmoov_dsl.model.collide import check_plan
+
+pytest.importorskip("fcl", reason="the [collide] extra brings python-fcl")
+
+ROOT = Path(__file__).resolve().parent.parent
+# tests/test_collide.py's pinned pose: the upper arm over the top of the chest
+INTO_CHEST = """robot inmoov
+
+reach:
+    r_bicep 96, r_rotate 32 over 2s
+    r_shoulder {shoulder}, r_omoplate 151 over 3s
+"""
+
+
+@pytest.fixture(autouse=True)
+def checked():
+    """Every plan of the test checked, as gestc check does (and only within the test)."""
+    with plan_checks(check_plan):
+        yield
+
+
+def write(tmp_path: Path, shoulder: int) -> Path:
+    path = tmp_path / "reach.gest"
+    path.write_text(INTO_CHEST.format(shoulder=shoulder), encoding="utf-8")
+    return path
+
+
+def test_the_arm_into_the_chest_warns_at_its_step(tmp_path):
+    program = load(str(write(tmp_path, 135)))
+    errors, warnings = check_program(program, "inmoov")
+    assert not errors
+    (w,) = [w for w in warnings if "chest" in w.message]
+    assert (w.pos.line, w.pos.column) == (5, 5)
+    assert "the right upper arm enters the chest by" in w.message
+    assert "r_shoulder" in w.message and "r_omoplate" in w.message and w.hint
+    at = float(w.message.split()[1])
+    assert 2.0 < at < 5.0 + 1e-9  # during the second step, which starts at 2 s
+
+
+def test_strict_makes_it_an_error(tmp_path, capsys):
+    path = write(tmp_path, 135)
+    assert gestc.main(["check", str(path), "--profile", "inmoov", "--strict"]) == 1
+    err = capsys.readouterr().err
+    assert ":5:5: error: at " in err and "enters the chest" in err
+    assert gestc.main(["check", str(path), "--profile", "inmoov"]) == 0
+    assert ":5:5: warning: at " in capsys.readouterr().err
+
+
+def test_the_arm_kept_clear_passes(tmp_path, capsys):
+    path = write(tmp_path, 90)
+    assert gestc.main(["check", str(path), "--profile", "inmoov", "--strict"]) == 0
+    assert "warning" not in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("name", WHOLE_ROBOT)
+def test_the_library_whole_robot_gestures_touch_nothing(name):
+    program = load(str(ROOT / "gestures" / name))
+    errors, warnings = check_program(program)
+    assert not errors
+    assert not [w for w in warnings if " s the " in w.message], warnings
