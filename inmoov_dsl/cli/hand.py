@@ -90,8 +90,8 @@ def no_answer(link: Link, profile: Profile) -> Diagnostic:
     """What to say when nothing answers on a link (no WAIT, no DUMP reply)."""
     from ..firmware.sketches import sketch_names
 
-    board = next(b for b in profile.boards if b.id == link.board)
     kind = kind_of(link, profile)
+    board = kind.board
     if not kind.ours:
         return Diagnostic(
             "error", f"no board answered on {link.name} (board {link.board}, {board.kind} "
@@ -136,6 +136,9 @@ def opened(prog: str, profile: Profile, ports: list[str], blind: bool = False,
         close(links)
 
 
+HELD = "each servo holds its last position"  #: after a stop, when the kinds say it apart
+
+
 def stopped(links: list[Link], profile: Profile) -> str:
     """What a stop did, in one clause: what each kind was sent (``stop_sent``; by board
     when the kinds differ), then what the servos do (``stop_held``)."""
@@ -149,9 +152,6 @@ def stopped(links: list[Link], profile: Profile) -> str:
     said = ", ".join(f"{words} to board{'s' * (len(ids) > 1)} {', '.join(map(str, ids))}"
                      for words, ids in sent.items())
     return f"{said}; {held.pop() if len(held) == 1 else HELD}"
-
-
-HELD = "each servo holds its last position"  #: after a stop, when the kinds say it apart
 
 
 def _interrupted(prog: str, links: list[Link], exc: KeyboardInterrupt,

@@ -16,7 +16,7 @@ from ..decode import Replies
 from ..errors import GestError
 from ..protocol import ASK_POSE, DEFAULT_BAUD
 from .ports import PortInfo, open_port
-from .ready import DUMP_TIMEOUT, PROBE, READY_TIMEOUT, drain, hear_boot, wait_ready
+from .ready import DUMP_TIMEOUT, READY_TIMEOUT, ask, drain, hear_boot, wait_ready
 
 POLOLU = 0x1FFB  #: Pololu's USB vendor ID
 MAESTRO_BAUD = 115_200
@@ -83,26 +83,26 @@ def _mrlcomm(device: str) -> str | None:
     except GestError:
         return None
     try:
-        reader = mrl.Reader()
-        if heard := hear_boot(port, ARDUINO):
-            reader.feed(heard)
-        deadline, probe = clock.now() + READY_TIMEOUT, 0.0
-        while clock.now() < deadline:
-            if clock.now() >= probe:
-                port.write(mrl.message(mrl.GET_BOARD_INFO))
-                probe = clock.now() + PROBE
-            for method, args in reader.feed(drain(port)):
-                if method == mrl.BOARD_INFO and args:
-                    known = "" if args[0] == mrl.VERSION else \
-                        f" (gestplay speaks {mrl.VERSION}: {mrl.RELEASE})"
-                    return f"MyRobotLab's MrlComm, version {args[0]}{known}: profile " \
-                           "kind mrlcomm"
-            clock.sleep(0.005)
+        answer = bytearray(hear_boot(port, ARDUINO))
+        if not _board_info(answer) and not ask(port, mrl.message(mrl.GET_BOARD_INFO),
+                                               _board_info, answer,
+                                               clock.now() + READY_TIMEOUT, clock.now,
+                                               clock.sleep):
+            return None
+        version = _board_info(answer)[0]
+        known = "" if version == mrl.VERSION else \
+            f" (gestplay speaks {mrl.VERSION}: {mrl.RELEASE})"
+        return f"MyRobotLab's MrlComm, version {version}{known}: profile kind mrlcomm"
     except OSError:
         return None
     finally:
         port.close()
-    return None
+
+
+def _board_info(data: bytes) -> list | None:
+    """The arguments of MrlComm's board info in ``data``, or None."""
+    return next((args for method, args in mrl.Reader().feed(bytes(data))
+                 if method == mrl.BOARD_INFO and args), None)
 
 
 def _maestro(device: str, quiet: bool = False) -> str | None:
@@ -118,7 +118,7 @@ def _maestro(device: str, quiet: bool = False) -> str | None:
         while len(got) < 2 and clock.now() < deadline:
             got += drain(port)
             clock.sleep(0.005)
-        if quiet and (len(got) != 2 or got[1] & 0xFE):  # (its errors are 9 bits)
+        if quiet and (len(got) != 2 or (got[0] | got[1] << 8) & ~maestro.ERROR_BITS):
             return None
         if len(got) < 2:
             return "a Maestro's port that does not answer (its TTL Port, or the Maestro " \

@@ -65,12 +65,12 @@ def wait_ready(port: Port, now: Clock | None = None, sleep: Sleep | None = None,
     answer = bytearray(hear_boot(port, boot, now, sleep))
     ready = bool(answer) and answered(bytes(answer))
     if not ready:
-        ready = _ask(port, question, answered, answer, now() + timeout, now, sleep)
+        ready = ask(port, question, answered, answer, now() + timeout, now, sleep)
     if not ready and patient and boot is not None and boot.trap and \
             reset_on_open(port) is not None:
         answer = bytearray(_hear(port, now() + boot.trap + PROBE, now, sleep))
         ready = bool(answer) and answered(bytes(answer)) or \
-            _ask(port, question, answered, answer, now() + timeout, now, sleep)
+            ask(port, question, answered, answer, now() + timeout, now, sleep)
     if ready and heard is not None:
         heard += answer
     return ready
@@ -97,8 +97,8 @@ def _hear(port: Port, until: float, now: Clock, sleep: Sleep) -> bytes:
     return b""
 
 
-def _ask(port: Port, question: bytes, answered: Callable[[bytes], bool],
-         answer: bytearray, deadline: float, now: Clock, sleep: Sleep) -> bool:
+def ask(port: Port, question: bytes, answered: Callable[[bytes], bool],
+        answer: bytearray, deadline: float, now: Clock, sleep: Sleep) -> bool:
     """Ask ``question`` every PROBE s until ``deadline``: has it been answered
     (``answer``: what came since the last question)?"""
     probe = now()

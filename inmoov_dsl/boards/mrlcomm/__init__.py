@@ -30,6 +30,7 @@ EVENT = len(m.message(m.SERVO_EVENT, 0, 0, 0, 0))  #: bytes of a servo event
 #: (``Serial.flush``), so that its loop, not the wire, bounds how fast it reads: a move,
 #: its started and stopped events (1.56 ms at 115200, as measured in simavr)
 PUBLISHED = {m.SERVO_MOVE_TO_MICROSECONDS: 2 * EVENT, m.SERVO_STOP: EVENT}
+ACK = len(m.message(m.ACK, 0))  #: bytes of an ack (counted on every message, as if on)
 #: s of its loop the host counts on each message beyond what it publishes (MrlComm in
 #: simavr reported 26-105 us a loop): with an ack counted on every message, a move is
 #: 2.1 ms of the board's time by the host's account, 1.6 ms measured
@@ -154,9 +155,11 @@ class MrlCommController(Controller):
         """What it publishes for ``command`` (an ack counted, as if acks were on), which
         it waits to see out, and its loop."""
         method = command[2] if len(command) > 2 else None
-        info = len(m.message(m.BOARD_INFO, 0, 0, 0, 0, 0, bytes(len(self.servos))))
-        published = PUBLISHED.get(method, info if method == m.GET_BOARD_INFO else 0)
-        return (published + len(m.message(m.ACK, 0))) * self.tau + LOOP
+        if method == m.GET_BOARD_INFO:  # its board info, listing every device
+            published = len(m.message(m.BOARD_INFO, 0, 0, 0, 0, 0, bytes(len(self.servos))))
+        else:
+            published = PUBLISHED.get(method, 0)
+        return (published + ACK) * self.tau + LOOP
 
     def key(self, command: bytes) -> tuple[int, int] | None:
         """A move's device: a newer move of it makes an older one needless."""
