@@ -90,6 +90,9 @@ class Voice:
     pos: Pos | None = field(default=None, compare=False)  #: the ``[voice]`` table
 
 
+CLEARANCE_MM = 10.0  #: mm; two of a robot's parts closer than this touch (by default)
+
+
 @dataclass(frozen=True)
 class Profile:
     """A robot: its boards, its servos board by board, its groups and its gloves."""
@@ -106,6 +109,8 @@ class Profile:
     #: mirror image of the k-th of the other (empty: the profile has one side)
     sides: dict[str, tuple[str, ...]] = field(default_factory=dict)
     voice: Voice | None = None  #: ``[voice]``: the mouth that moves with ``say``
+    #: ``[collision]``: closer than this (mm), two of the robot's parts touch
+    clearance_mm: float = CLEARANCE_MM
 
     def index(self, name: str) -> int:
         """The position of servo ``name`` in ``servos``; KeyError if there is none."""

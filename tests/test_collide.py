@@ -8,6 +8,7 @@ from __future__ import annotations
 import io
 import sys
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -62,7 +63,7 @@ def test_the_upper_arm_driven_into_the_chest_is_found(inmoov):
 def test_a_near_miss_is_a_contact_within_the_clearance_only():
     profile = load_profile("inmoov")
     loose, tight = Checker(profile), Checker(profile, clearance_mm=0.0)
-    assert loose.clearance_mm == 10.0  # the allowed pairs' file's
+    assert loose.clearance_mm == 10.0  # the profile's (by default)
     misses = 0
     for pose in random_poses(profile, 300, 7, ARM):
         near = {(c.a, c.b) for c in loose.contacts(pose) if c.distance_mm > 0}
@@ -167,7 +168,7 @@ def test_another_library_reading_the_urdf_agrees(inmoov):
     for node, name in link.items():
         manager.add_object(name, scene.geometry[scene.graph[node][1]])
     checked, seen = set(inmoov.pairs), 0
-    for pose in random_poses(profile, 300, 13):
+    for pose in random_poses(profile, 2000, 13):
         values = inmoov.chain.values(pose)
         robot.update_cfg(dict(zip(joints.names(profile), joints.positions(profile, values),
                                   strict=True)))
@@ -183,3 +184,72 @@ def test_another_library_reading_the_urdf_agrees(inmoov):
         assert theirs - ours <= unsure, pose
         seen += len(ours)
     assert seen > 50  # the poses did put parts into each other
+
+
+def test_a_motion_swept_at_once_finds_what_each_of_its_poses_finds(inmoov):
+    """The sweep measures a pair again only once its parts may have moved far enough:
+    along a motion through random whole-robot poses, it finds at every pose exactly the
+    contacts (and distances) that checking that pose alone finds."""
+    profile = inmoov.profile
+    keys = np.array([inmoov.chain.values(p) for p in random_poses(profile, 9, 17)])
+    t = np.linspace(0, len(keys) - 1, 400)  # 50 poses from one key pose to the next
+    values = np.stack([np.interp(t, np.arange(len(keys)), keys[:, i])
+                       for i in range(keys.shape[1])], axis=1)
+    swept = {(row, c.a, c.b): c.distance_mm for row, found in inmoov.sweep(values)
+             for c in found}
+    alone = {(row, c.a, c.b): c.distance_mm for row in range(len(values))
+             for c in inmoov.contacts_of(values[row])}
+    assert len(alone) > 100  # the motion does put parts into each other
+    assert swept == alone
+
+
+def test_the_clearance_is_the_profile_s(inmoov):
+    from inmoov_dsl.profiles.profile import parse_profile
+
+    text = Path(load_profile("inmoov").path).read_text(encoding="utf-8")
+    near = {"r_bicep": 96, "r_rotate": 32, "r_shoulder": 123, "r_omoplate": 151}
+    gaps = [c.distance_mm for c in inmoov.contacts(near)]
+    assert gaps and all(0 < g < 10 for g in gaps)  # near, not in: within 10 mm
+    touching = parse_profile(text + "\n[collision]\nclearance_mm = 0\n", "inmoov.toml")
+    assert touching.clearance_mm == 0.0
+    assert Checker(touching, inmoov.allowed).contacts(near) == []  # 0: overlaps only
+    for bad, said in (("clearance_mm = -1", "must be a number of millimetres in 0..100"),
+                      ("clearance = 5", "unknown key 'clearance'"),
+                      ("clearance_mm = true", "must be a number")):
+        with pytest.raises(GestError) as caught:
+            parse_profile(text + f"\n[collision]\n{bad}\n", "inmoov.toml")
+        assert said in caught.value.first.message, caught.value.first.message
+
+
+def test_without_python_fcl_players_say_so_once_and_check_nothing(monkeypatch):
+    from inmoov_dsl.model import collide, guard
+
+    monkeypatch.setitem(sys.modules, "fcl", None)
+    monkeypatch.setattr(collide, "_CHECKERS", {})
+    robot, hand = load_profile("inmoov"), load_profile("rhand")
+    assert guard.Guard(hand).missing is None  # a hand alone: nothing to check anyway
+    keeper = guard.Guard(robot)
+    assert "python-fcl is not installed" in keeper.missing.message
+    assert keeper.missing.hint == "pip install 'inmoov-dsl[collide]'"
+    from inmoov_dsl.compiling.compiler import compile_source
+
+    with pytest.raises(GestError) as caught:  # --strict: not checked is an error
+        from inmoov_dsl.compiling.compiler import plan_checks
+
+        with plan_checks(guard.check_plan):
+            compile_source("robot inmoov\nx: r_shoulder 135 over 3s", strict=True)
+    assert "needs python-fcl" in caught.value.first.message
+
+
+def test_a_pose_taught_into_the_chest_is_refused_and_allowed_with_a_warning():
+    from inmoov_dsl.model.guard import Guard
+
+    profile = load_profile("inmoov")
+    pose = [INTO_CHEST.get(s.name, s.rest) for s in profile.servos]
+    with pytest.raises(GestError) as caught:
+        Guard(profile).pose(pose, [profile.index("r_shoulder")])
+    (said,) = caught.value.diagnostics
+    assert said.message.startswith("the right upper arm enters the chest by ")
+    assert said.message.endswith("(r_shoulder 135)") and "--allow-contact" in said.hint
+    (warned,) = Guard(profile, allow_contact=True).pose(pose, [profile.index("r_shoulder")])
+    assert warned.severity == "warning"

@@ -14,7 +14,7 @@ from inmoov_dsl.cli import gestc
 from inmoov_dsl.compiling.checking import check_program
 from inmoov_dsl.compiling.compiler import plan_checks
 from inmoov_dsl.language.load import load
-from inmoov_dsl.model.collide import check_plan
+from inmoov_dsl.model.guard import check_plan
 
 pytest.importorskip("fcl", reason="the [collide] extra brings python-fcl")
 

@@ -134,7 +134,7 @@ class FakeEdge:
 def test_the_core_plays_requests_reports_errors_and_keeps_serving():
     edge = FakeEdge()
     args = Namespace(port=["sim://?boot=0"], profile="rhand", listen=False, rate=50.0,
-                     blind=False, lib=[])
+                     allow_contact=False, blind=False, lib=[])
     result: list[int] = []
     serving = threading.Thread(target=lambda: result.append(core.serve(args, edge)))
     serving.start()
@@ -190,7 +190,7 @@ def test_a_wrong_port_name_gets_the_hint_every_command_gives(listen):
     from inmoov_dsl.wire.ports import not_found
 
     args = Namespace(port=["COM3"], profile="rhand", listen=listen, rate=50.0, blind=False,
-                     lib=[])
+                     allow_contact=False, lib=[])
     with pytest.raises(GestError) as failed:
         core.serve(args, FakeEdge())
     assert failed.value.diagnostics == (not_found("COM3"),)

@@ -239,3 +239,21 @@ def stdin_bytes() -> bytes:
     buffer = getattr(sys.stdin, "buffer", None)
     return buffer.read() if buffer is not None else \
         sys.stdin.read().encode("utf-8", "surrogatepass")
+
+
+def add_allow_contact(p: argparse.ArgumentParser) -> None:
+    """``--allow-contact``: play what drives the robot's parts into each other."""
+    p.add_argument("--allow-contact", action="store_true",
+                   help="play a motion that drives the robot's parts into each other "
+                   "(a warning instead of a refusal), for a robot whose parts are padded")
+
+
+def guard_for(profile, allow_contact: bool, prog: str):
+    """The players' self-collision guard for ``profile`` (``model.guard.Guard``); its
+    warning that nothing is checked, said once now if python-fcl is missing."""
+    from ..model.guard import Guard
+
+    guard = Guard(profile, allow_contact)
+    if guard.missing is not None:
+        report([guard.missing], prog)
+    return guard

@@ -19,6 +19,7 @@ from typing import Any, Literal
 
 from .. import clock
 from ..compiling.actions import Action, Steps
+from ..compiling.plan import Plan, Planner
 from ..errors import Diagnostic, GestError, SourceMap
 from ..hardware import Profile
 from ..language.library import library_dirs, library_files, scan
@@ -55,6 +56,10 @@ class Note:
 
 
 Tell = Callable[[Note], None]
+#: a check of what is about to move the robot (``model.guard.Guard.plan``): its warnings,
+#: or a GestError that refuses it; (plan, its texts, whether contact is allowed: None,
+#: the guard's own way)
+Guard = Callable[[Plan, SourceMap | None, bool | None], tuple[Diagnostic, ...]]
 
 
 def library_program(dirs: list[Path] | None = None) -> Program:
@@ -67,14 +72,43 @@ def library_program(dirs: list[Path] | None = None) -> Program:
     return load("<library>", uses, search=[str(d) for d in dirs], first_wins=True)
 
 
+class Guarding:
+    """The guard's part in the loop (``guard``: None, nothing is checked): a request's
+    steps planned from where the hand is going and checked before they are queued, each
+    segment again before it is sent; which requests allow contact."""
+
+    def __init__(self, guard: Guard | None, profile: Profile):
+        self.guard, self.profile = guard, profile
+        self.allowing: dict[str | None, bool | None] = {}  #: request id -> allow_contact
+
+    def request(self, order: Order, steps: list[Action], sources: SourceMap | None,
+                final: tuple[int, ...], tags: set[str | None]) -> tuple[Diagnostic, ...]:
+        """Its warnings, or a GestError (refused); ``final``: where the hand is going."""
+        if self.guard is None or order.checked:
+            return ()
+        if order.allow_contact is not None:  # kept while its steps may still begin
+            if len(self.allowing) > 64:
+                self.allowing = {t: a for t, a in self.allowing.items() if t in tags}
+            self.allowing[order.id] = order.allow_contact
+        ahead = Planner(self.profile, sources).plan(steps, final)
+        return self.guard(ahead, sources, order.allow_contact)
+
+    def segment(self, segment: Segment) -> None:
+        """A GestError if the guard refuses ``segment``: a take-over's own path (any
+        other segment is planned from where it was checked to start)."""
+        if self.guard is not None and segment.took_over:
+            self.guard(segment.plan, None, self.allowing.get(segment.tag))
+
+
 class Drive:
     """One hand driven live: its links, the motion it follows, what its boards hold."""
 
     def __init__(self, links: list[Link], profile: Profile, pose: dict[str, int],
                  program: Program, tell: Tell, take_over: bool = True,
                  now: clock.Clock | None = None, sleep: clock.Sleep | None = None,
-                 file: str = LINE, speaker: Any = None):
+                 file: str = LINE, speaker: Any = None, guard: Guard | None = None):
         self.links, self.profile, self.program = links, profile, program
+        self.guarding = Guarding(guard, profile)
         self.file, self.lines = file, 0  #: typed lines are lines of ``file``; how many came
         self.take_over, self.told = take_over, tell
         self.speaker = speaker  #: where ``say`` steps are heard (``wire.audio.Speaker``)
@@ -128,8 +162,7 @@ class Drive:
             self._flush()
 
     def settled(self) -> bool:
-        """The steps requested so far are done: nothing to send, nothing queued, no
-        move or wait running."""
+        """The requested steps are done: nothing to send or queued, nothing running."""
         return not self.out.sending() and not self.session.busy(self.now())
 
     def _still(self, t: float) -> bool:
@@ -168,6 +201,8 @@ class Drive:
             except GestError as exc:
                 self.tell(Note("error", tuple(exc.diagnostics), name, id=order.id))
                 return None
+        if not self._guarded(order, steps, sources, name):
+            return None
         after = not self.take_over if order.after is None else order.after
         dropped = set() if after else {self.tracker.playing, *self.session.tags()}
         run = self.session.append if after else self.session.submit
@@ -182,9 +217,31 @@ class Drive:
         self.tell(Note("start", text=name, id=order.id))
         return segment
 
+    def _guarded(self, order: Order, steps: list[Action], sources: SourceMap | None,
+                 name: str) -> bool:
+        """Whether the request may go on (``Guarding.request``); else its refusal is
+        told."""
+        try:
+            warnings = self.guarding.request(order, steps, sources,
+                                             self.session.current.plan.final,
+                                             self.session.tags())
+        except GestError as exc:
+            self.tell(Note("error", tuple(exc.diagnostics), name, id=order.id))
+            return False
+        if warnings:
+            self.tell(Note("warning", warnings, id=order.id))
+        return True
+
     def _begin(self, segment: Segment, aside: bool) -> None:
         """Send ``segment`` from now on; tell what began, and its warnings (``aside``:
-        of a queued step, told while the front end waits)."""
+        of a queued step, told while the front end waits). A segment the guard refuses
+        (a take-over's path the request's check did not see) stops the hand instead."""
+        try:
+            self.guarding.segment(segment)
+        except GestError as exc:
+            self._control(Control("stop"), self.now())
+            self.tell(Note("error", tuple(exc.diagnostics), aside=aside, id=segment.tag))
+            return
         if not aside and self.out.sending():  # it takes over: what is queued is dropped
             self.out.discard(self.now())
         self.out.add(segment.origin, segment.streams)

@@ -25,12 +25,16 @@ Request = str | Steps
 class Order:
     """A request with how to do it: ``after`` queues it behind what runs instead of
     taking over (None: the front end's way), ``loop`` is its passes (0: until stopped or
-    taken over)."""
+    taken over); ``allow_contact`` plays it though the robot's parts meet (None: the
+    front end's way); ``checked``: the front end has checked it (the drive loop's guard
+    need not, from where the hand stands)."""
 
     what: Request
     id: str | None = None
     after: bool | None = None
     loop: int = 1
+    allow_contact: bool | None = None
+    checked: bool = False
 
 
 @dataclass(frozen=True)

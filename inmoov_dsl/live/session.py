@@ -47,6 +47,7 @@ class Segment:
     step: Action
     warnings: tuple[Diagnostic, ...] = ()
     tag: str | None = None  #: the request the step came from (its id), if it has one
+    took_over: bool = False  #: planned from the hand's motion, not from where it stood
 
 
 class Session:
@@ -126,6 +127,7 @@ class Session:
         if sources is not None:
             self.planner.sources = sources
         final = list(self.current.plan.final)
+        took_over = False
         if step.hold > 0 or step.branches or step.speech is not None:
             plan = self.planner.plan([step], final)
         elif now >= self.end:
@@ -134,8 +136,10 @@ class Session:
             for i, v in step.targets:
                 final[i] = v
             plan, now = self._take_over(now, final, step)
+            took_over = True
         plan = replace(plan, start=tuple(held))  # what the board holds is what changed
-        self.current = Segment(now, plan, encode(plan), step, plan.warnings)
+        self.current = Segment(now, plan, encode(plan), step, plan.warnings,
+                               took_over=took_over)
         return self.current
 
     def _take_over(self, now: float, final: list[int], step: Action) -> tuple[Plan, float]:

@@ -28,7 +28,6 @@ from .kinematics import Chain
 from .shapes import Bodies
 from .urdf import body
 
-CLEARANCE_MM = 10.0  #: closer than this counts as touching
 SAMPLES = 10_000  #: random poses the "always" pairs are found in (MoveIt's default)
 SEED = 43
 SUFFIX = ".collisions.json"
@@ -87,9 +86,12 @@ def joined(chain: Chain) -> dict[tuple[int, int], str]:
 
 
 def allowed_pairs(profile: Profile, samples: int = SAMPLES, seed: int = SEED,
-                  clearance_mm: float = CLEARANCE_MM) -> Allowed:
+                  clearance_mm: float | None = None) -> Allowed:
     """The profile's allowed pairs: joined ones, then those closer than ``clearance_mm``
-    in each of ``samples`` random poses (each servo anywhere in its range)."""
+    (the profile's clearance unless given) in each of ``samples`` random poses (each
+    servo anywhere in its range)."""
+    if clearance_mm is None:
+        clearance_mm = profile.clearance_mm
     chain = Chain(profile)
     bodies = Bodies(chain)
     where = {link: k for k, link in enumerate(bodies.links)}
@@ -146,14 +148,16 @@ def load(path: str | os.PathLike) -> Allowed:
 
 
 def allowed_for(profile: Profile) -> Allowed:
-    """The profile's allowed pairs: its file's when it was made from this model, else
-    made now (a second or so): a file that cannot be read is made again too."""
+    """The profile's allowed pairs: its file's when it was made from this model at the
+    profile's clearance, else made now (a second or so): a file that cannot be read is
+    made again too."""
     path = path_for(profile)
     if path is not None and path.is_file():
         try:
             kept = load(path)
         except (OSError, ValueError, KeyError, TypeError):
             kept = None
-        if kept is not None and kept.model == digest(profile):
+        if (kept is not None and kept.model == digest(profile)
+                and kept.clearance_mm == profile.clearance_mm):
             return kept
     return allowed_pairs(profile)

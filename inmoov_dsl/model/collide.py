@@ -5,7 +5,7 @@ Built once per profile (``Checker``): the model's parts as FCL objects (shapes.p
 pairs to check (every pair but the allowed ones, allowed.py) and each pair's clearance.
 A pose is servo values by servo name, as gestures give them; ``contacts`` places every
 part (kinematics.py) and returns the checked pairs closer than their clearance, with
-FCL's distance or depth. A pair's clearance is the profile's (``CLEARANCE_MM``), but
+FCL's distance or depth. A pair's clearance is the profile's (``[collision]``), but
 never more than the gap the pair has at rest, less ``TOLERANCE_MM``: parts that stand
 that close by design (the upper arms hang 10 mm from the chest) count as touching only
 when closer still, so the rest pose is never a contact (docs/collisions.md).
@@ -13,20 +13,21 @@ when closer still, so the rest pose is never a contact (docs/collisions.md).
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..compiling.plan import Plan, PlannedStep
-from ..errors import Diagnostic, GestError, SourceMap
+from ..compiling.plan import Plan
+from ..errors import GestError
 from ..hardware import Profile
 from ..protocol import SERVO_FRAME
-from .allowed import Allowed, allowed_for
+from .allowed import PALM, Allowed, allowed_for
 from .kinematics import Chain
-from .shapes import Bodies, need_fcl
+from .shapes import Bodies
 
 TOLERANCE_MM = 0.01  #: FCL's distances agree to about a micrometre; ten of them
+DEEPER_MM = 1.0  #: a contact the motion starts in counts once it is this much deeper
 
 
 @dataclass(frozen=True)
@@ -47,13 +48,13 @@ class Contact:
 class Checker:
     """A profile's self-collision check. ``allowed``: the pairs never checked (the
     profile's file, or made now); ``clearance_mm``: closer than this is touching (the
-    allowed pairs' own, 10 mm, unless given)."""
+    profile's ``[collision]`` clearance, 10 mm by default, unless given)."""
 
     def __init__(self, profile: Profile, allowed: Allowed | None = None,
                  clearance_mm: float | None = None):
         self.profile = profile
         self.allowed = allowed if allowed is not None else allowed_for(profile)
-        self.clearance_mm = (self.allowed.clearance_mm if clearance_mm is None
+        self.clearance_mm = (profile.clearance_mm if clearance_mm is None
                              else float(clearance_mm))
         self.chain = Chain(profile)
         self.bodies = Bodies(self.chain)
@@ -62,8 +63,25 @@ class Checker:
                    if (names[i], names[j]) not in self.allowed]
         self._a = np.array([i for i, _ in checked], dtype=int)
         self._b = np.array([j for _, j in checked], dtype=int)
+        links = self.bodies.links
+        self._parts = {self.chain.links[i]: part(self.chain.links[i]) for i in links}
+        palm = [-1] * len(self.chain.links)  # a hand's links are told as the hand
+        for i, p in enumerate(self.chain.parent):
+            palm[i] = i if self.chain.links[i].endswith(PALM) else palm[p] if p >= 0 else -1
+            if palm[i] >= 0:
+                self._parts[self.chain.links[i]] = part(
+                    self.chain.links[palm[i]].removesuffix(PALM) + "_hand")
+        #: which servos move each checked pair's parts relative to each other
+        self._turns = np.zeros((len(checked), len(profile.servos)), dtype=bool)
+        for k, (i, j) in enumerate(checked):
+            self._turns[k, list(self.chain.servos_between(links[i], links[j]))] = True
         rest = self.bodies.gaps(self.chain.transforms(self.chain.values({})), self._a, self._b)
         self._limit = np.minimum(self.clearance_mm, rest - TOLERANCE_MM)
+
+    def part(self, link: str) -> str:
+        """A link as a message names it: ``the right upper arm``; a finger or a palm,
+        ``the right hand``."""
+        return self._parts.get(link) or part(link)
 
     @property
     def pairs(self) -> list[tuple[str, str]]:
@@ -84,27 +102,74 @@ class Checker:
 
     def contacts_of(self, values: np.ndarray) -> list[Contact]:
         """``contacts`` of servo values in the profile's order."""
-        transforms = self.chain.transforms(np.asarray(values, dtype=float))
-        near = np.flatnonzero(self.bodies.near(transforms, self._a, self._b,
-                                               self.clearance_mm))
-        gaps = self.bodies.gaps(transforms, self._a[near], self._b[near])
-        close = gaps < self._limit[near]
-        names = self.bodies.names
-        found = [Contact(names[self._a[k]], names[self._b[k]], round(float(gap), 3))
-                 for k, gap in zip(near[close].tolist(), gaps[close].tolist(), strict=True)]
-        return sorted(found, key=lambda c: c.distance_mm)
+        found = self.sweep(np.asarray(values, dtype=float)[None])
+        return sorted(found[0][1] if found else [], key=lambda c: c.distance_mm)
+
+    def sweep(self, values: np.ndarray) -> list[tuple[int, list[Contact]]]:
+        """(row, contacts) of each row of ``values`` (poses in the profile's servo order,
+        one after another along a motion) where a checked pair is closer than its
+        clearance. A pair whose parts no servo of the motion moves relative to each
+        other is measured in the first pose only; the others along the motion
+        (``_scan``)."""
+        values = np.asarray(values, dtype=float)
+        moves = (values != values[:1]).any(axis=0)
+        live = self._turns[:, moves].any(axis=1)
+        found: dict[int, list[Contact]] = {}
+        for rows, pairs in ((values[:1], np.flatnonzero(~live)), (values, np.flatnonzero(live))):
+            for row, contacts in self._scan(rows, pairs):
+                found.setdefault(row, []).extend(contacts)
+        return sorted(found.items())
+
+    def _scan(self, values: np.ndarray, pairs: np.ndarray) -> Iterator[tuple[int, list[Contact]]]:
+        """``sweep`` over the checked pairs ``pairs``: every pose placed at once (numpy);
+        FCL asked only of pairs whose bounding spheres are near, and not again while
+        neither part can have moved far enough since FCL last measured them to come
+        within the pair's clearance (``travel``)."""
+        if not pairs.size:
+            return
+        bodies, a, b, limit = self.bodies, self._a[pairs], self._b[pairs], self._limit[pairs]
+        places = self.chain.transforms(values)[:, bodies.links]
+        centres = bodies.centres_of(places)
+        apart = np.linalg.norm(centres[:, a] - centres[:, b], axis=-1)
+        near = apart < bodies.reach(a, b) + self.clearance_mm / 1000
+        went = travel(places, centres, bodies.radius)
+        went = went[:, a] + went[:, b]  #: how far the pair's parts have gone, together
+        budget = np.full(len(a), -np.inf)  #: how far they may go before FCL is asked
+        gap = np.zeros(len(a))
+        for row in np.flatnonzero(near.any(axis=1)).tolist():
+            k = np.flatnonzero(near[row])
+            k = k[went[row, k] >= budget[k]]
+            if not k.size:
+                continue
+            gap[k] = bodies.gaps_at(places[row], centres[row], a[k], b[k])
+            budget[k] = went[row, k] + gap[k] - limit[k]
+            close = k[gap[k] < limit[k]]
+            if close.size:
+                names = bodies.names
+                yield row, [Contact(names[a[i]], names[b[i]], round(float(gap[i]), 3))
+                            for i in close.tolist()]
 
 
-# --- the compiler's check of a plan (docs/collisions.md), given by a command:
-# compiler.plan_checks
+def travel(places: np.ndarray, centres: np.ndarray, radius: np.ndarray) -> np.ndarray:
+    """How far (mm) each body may have gone by each row of a motion, at most: from one
+    row to the next every point of a body moves no more than its centre did plus its
+    radius times the angle it turned; summed along the rows (rows, bodies)."""
+    shift = np.linalg.norm(np.diff(centres, axis=0), axis=-1)
+    turn = np.einsum("tnij,tnij->tn", places[1:, :, :3, :3], places[:-1, :, :3, :3])
+    angle = np.arccos(np.clip((turn - 1) / 2, -1.0, 1.0))  # trace R1 R0^T = 1 + 2 cos
+    step = (shift + radius * angle) * 1000
+    return np.concatenate([np.zeros((1, centres.shape[1])), np.cumsum(step, axis=0)])
+
+
+# --- a profile's check, and a plan's contacts (what guard.py tells and refuses)
 
 _CHECKERS: dict[tuple[str, str], Checker | None] = {}  #: (name, sha256) -> its Checker
 
 
 def checker_for(profile: Profile) -> Checker | None:
     """The profile's ``Checker``, built once; None when it has no model (a servo on a
-    joint the model lacks) or no two parts of the robot that can meet (a hand alone:
-    only its own fingers and forearm)."""
+    joint the model lacks), no two parts of the robot that can meet (a hand alone:
+    only its own fingers and forearm) or no python-fcl."""
     key = (profile.name, profile.sha256)
     if key not in _CHECKERS:
         try:
@@ -127,56 +192,29 @@ def part(link: str) -> str:
 def first_contacts(checker: Checker, plan: Plan) -> list[tuple[float, Contact, np.ndarray]]:
     """(time, contact, servo values) of each checked pair's first contact in ``plan``
     (the time and values when it began, the contact at its deepest), sampled every servo
-    frame; a sample where no servo moved is not checked again."""
+    frame."""
     times = np.arange(0.0, plan.duration + SERVO_FRAME, SERVO_FRAME)
     values = np.stack([track.position(times) for track in plan.tracks], axis=1)
+    return contacts_along(checker, times, values)
+
+
+def contacts_along(checker: Checker, times: np.ndarray, values: np.ndarray
+                   ) -> list[tuple[float, Contact, np.ndarray]]:
+    """``first_contacts`` of a motion: servo ``values`` (rows, profile order) at
+    ``times``; two parts as messages name them are one pair (a hand's palm and fingers
+    are the hand). A pair already touching in the first pose is the motion's only where
+    it goes DEEPER_MM further in: a robot that starts in contact may move out of it."""
     found: dict[tuple[str, str], tuple[float, Contact, np.ndarray]] = {}
-    last = None
-    for t, row in zip(times.tolist(), values, strict=True):
-        if last is not None and np.array_equal(row, last):
-            continue
-        last = row
-        for contact in checker.contacts_of(row):
-            begun = found.setdefault((contact.a, contact.b), (t, contact, row))
+    already: dict[tuple[str, str], float] = {}
+    for row, contacts in checker.sweep(values):
+        for contact in contacts:
+            pair = (checker.part(contact.a), checker.part(contact.b))
+            if row == 0:
+                already[pair] = contact.distance_mm
+                continue
+            if pair in already and contact.distance_mm > already[pair] - DEEPER_MM:
+                continue
+            begun = found.setdefault(pair, (times[row], contact, values[row]))
             if contact.distance_mm < begun[1].distance_mm:  # the deepest it goes
-                found[contact.a, contact.b] = (begun[0], contact, begun[2])
+                found[pair] = (begun[0], contact, begun[2])
     return sorted(found.values(), key=lambda f: f[0])
-
-
-def moving_step(plan: Plan, t: float) -> PlannedStep | None:
-    """The step that was moving at ``t`` (the last one begun by then that moves a
-    servo), or None."""
-    begun = [s for s in plan.steps if s.start <= t + 1e-9 and s.servos]
-    return begun[-1] if begun else None
-
-
-def check_plan(plan: Plan, sources: SourceMap, strict: bool) -> tuple[Diagnostic, ...]:
-    """Each checked pair's first contact in ``plan``: a warning at the step moving when
-    it began (an error with ``strict``: raised). Without python-fcl nothing is checked,
-    unless ``strict``: then that is the error."""
-    try:
-        need_fcl()
-    except GestError:
-        if strict:
-            raise
-        return ()
-    checker = checker_for(plan.profile)
-    if checker is None:
-        return ()
-    make = sources.error if strict else sources.warning
-    told = []
-    for t, contact, row in first_contacts(checker, plan):
-        step = moving_step(plan, t)
-        servos = step.servos if step else ()
-        named = ", ".join(f"{plan.profile.servos[i].name} {row[i]:.0f}" for i in servos)
-        how = (f"enters {part(contact.a)} by {contact.depth_mm:.0f} mm" if contact.depth_mm
-               else f"comes within {contact.distance_mm:.0f} mm of {part(contact.a)}")
-        told.append(make(
-            f"at {t:.2f} s {part(contact.b)} {how}" + (f" ({named})" if named else ""),
-            step.pos if step else None,
-            "move " + (", ".join(plan.profile.servos[i].name for i in servos) or "the servos")
-            + " less far, or in another order, so the parts stay apart "
-            "(gestc urdf shows the model)"))
-    if strict and told:
-        raise GestError(told)
-    return tuple(told)

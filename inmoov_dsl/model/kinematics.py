@@ -67,6 +67,10 @@ class Chain:
         self._gain = np.array([m[3] for m in moving], dtype=float)
         self._origin = np.stack([_origin(p) for p in parts])
         self._levels = self._by_depth()
+        self._above: list[frozenset[int]] = []  #: each link's moving joints, root down
+        for i, p in enumerate(self.parent):
+            own = {j for j, link in enumerate(self._joint_link.tolist()) if link == i}
+            self._above.append((self._above[p] if p >= 0 else frozenset()) | own)
 
     def _by_depth(self) -> list[tuple[np.ndarray, np.ndarray]]:
         """(links, their parents) at each depth of the tree below the root."""
@@ -76,6 +80,11 @@ class Chain:
         return [(np.array(ids), np.array([self.parent[i] for i in ids]))
                 for d in range(1, max(depth) + 1)
                 if (ids := [i for i, x in enumerate(depth) if x == d])]
+
+    def servos_between(self, i: int, j: int) -> frozenset[int]:
+        """The servos (profile indices) whose turning moves link ``i`` and link ``j``
+        relative to each other: those of the joints between them in the tree."""
+        return frozenset(self._slot[k] for k in self._above[i] ^ self._above[j])
 
     def values(self, pose: Mapping[str, float]) -> np.ndarray:
         """The pose as an array in the profile's servo order (rest where not given);
@@ -87,17 +96,21 @@ class Chain:
 
     def transforms(self, values: np.ndarray) -> np.ndarray:
         """Every link's place (4x4, the base's frame) for servo ``values`` in the
-        profile's order: an array (links, 4, 4)."""
-        angles = (values[self._slot] - self._rest[self._slot]) * self._gain
-        local = self._origin.copy()
-        eye, outer, cross = self._turn
-        c, s = np.cos(angles)[:, None, None], np.sin(angles)[:, None, None]
-        turned = eye * c + outer * (1 - c) + cross * s  # Rodrigues, every joint at once
-        local[self._joint_link, :3, :3] = local[self._joint_link, :3, :3] @ turned
-        world = local  # the root's place is its origin; each level below its parent's
-        for ids, parents in self._levels:
-            world[ids] = world[parents] @ local[ids]
-        return world
+        profile's order: an array (links, 4, 4); for poses (rows, servos), one (rows,
+        links, 4, 4), every pose at once."""
+        values = np.asarray(values, dtype=float)
+        rows = values.reshape(-1, values.shape[-1])
+        angles = ((rows[:, self._slot] - self._rest[self._slot]) * self._gain).T
+        eye, outer, cross = self._turn  # each (joints, 3, 3); below, (joints, rows, 3, 3)
+        c, s = np.cos(angles)[..., None, None], np.sin(angles)[..., None, None]
+        turned = eye[:, None] * c + outer[:, None] * (1 - c) + cross[:, None] * s  # Rodrigues
+        world = np.repeat(self._origin[:, None], len(rows), axis=1)  # (links, rows, 4, 4)
+        links = self._joint_link
+        world[links, :, :3, :3] = world[links, :, :3, :3] @ turned
+        for ids, parents in self._levels:  # the root's place is its origin; each level
+            world[ids] = world[parents] @ world[ids]  # below its parent's, level by level
+        world = world.transpose(1, 0, 2, 3)
+        return world.reshape(values.shape[:-1] + world.shape[1:])
 
 
 def _rodrigues(axes: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import os
 import textwrap
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -25,6 +26,7 @@ SENT_COLOUR = "#d62728"
 LIMIT_COLOUR = "#7f7f7f"
 HOLD_COLOUR = "#eeeeee"
 SOUND_COLOUR = "#2ca02c"
+CONTACT_COLOUR = "#9c36b5"
 TITLE_WIDTH = 110  #: characters of the title's line at most (13 pt across 12 inches)
 
 
@@ -45,13 +47,16 @@ def moving_servos(plan: Plan, sent: dict) -> list[int]:
     return [i for i in range(len(plan.tracks)) if i in moved or i in sent]
 
 
-def plot(plan: Plan, compiled: Compiled, path: str | os.PathLike) -> None:
-    """Draw the gesture to ``path`` (the suffix picks the format: .png, .svg, .pdf)."""
-    figure(plan, compiled).savefig(path, dpi=110)
+def plot(plan: Plan, compiled: Compiled, path: str | os.PathLike,
+         contacts: Sequence[tuple[float, str]] = ()) -> None:
+    """Draw the gesture to ``path`` (the suffix picks the format: .png, .svg, .pdf);
+    ``contacts``: (time, what) of each place the robot meets itself, marked."""
+    figure(plan, compiled, contacts).savefig(path, dpi=110)
 
 
-def figure(plan: Plan, compiled: Compiled):
-    """The gesture drawn: a matplotlib ``Figure``."""
+def figure(plan: Plan, compiled: Compiled, contacts: Sequence[tuple[float, str]] = ()):
+    """The gesture drawn: a matplotlib ``Figure``; each of ``contacts`` a line across
+    the rows at its time."""
     Figure, Patch = _matplotlib()  # noqa: N806 (classes)
     sent = sent_values(plan, compiled)
     rows = [None] * len(plan.sounds) + (moving_servos(plan, sent) or [0])
@@ -67,8 +72,10 @@ def figure(plan: Plan, compiled: Compiled):
     fig.suptitle(textwrap.fill(title, TITLE_WIDTH, break_on_hyphens=False), fontsize=13,
                  x=0.01, ha="left")
     first_pos = first_vel = None
+    timed = []  #: the rows' position axes, where a contact is marked
     for k, (start, speech) in enumerate(plan.sounds):
         ax = fig.add_subplot(grid[k, 0], sharex=first_pos)
+        timed.append(ax)
         first_pos = first_pos or ax
         _sound_row(ax, start, speech, sent.get(speech.servo, (np.empty(0), np.empty(0))),
                    plan.start[speech.servo], end)
@@ -79,6 +86,7 @@ def figure(plan: Plan, compiled: Compiled):
     for row, i in enumerate(rows[len(plan.sounds):], len(plan.sounds)):
         pos = fig.add_subplot(grid[row, 0], sharex=first_pos)
         vel = fig.add_subplot(grid[row, 1], sharex=first_vel)
+        timed.append(pos)
         first_pos, first_vel = first_pos or pos, first_vel or vel
         _servo_row(pos, vel, plan, i, sent.get(i, (np.empty(0), np.empty(0))), t)
         if row < len(rows) - 1:
@@ -89,6 +97,11 @@ def figure(plan: Plan, compiled: Compiled):
             vel.set_title("velocity (command degrees / s)", fontsize=10, loc="left")
     pos.set_xlabel("time (s)")
     vel.set_xlabel("time (s)")
+    for ax in timed:
+        for k, (at, _) in enumerate(contacts):
+            ax.axvline(at, color=CONTACT_COLOUR, lw=1.6, ls="-.",
+                       label="the robot meets itself (gestc check says where)" if not k
+                       else None)
     _legend(fig, fig.axes[2 * len(plan.sounds)], first_vel, plan, Patch)
     return fig
 

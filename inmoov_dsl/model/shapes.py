@@ -66,8 +66,8 @@ class Bodies:
         shapes = [chain.shapes[i] for i in self.links]
         self._objects = [fcl.CollisionObject(geometry(fcl, s)) for s in shapes]
         self._offset = np.array([s.xyz for s in shapes], dtype=float).reshape(-1, 3)
-        radius = np.array([bounding_radius(s) for s in shapes])
-        self._reach = radius[:, None] + radius[None, :]  #: two bounding spheres touch
+        self.radius = np.array([bounding_radius(s) for s in shapes])  #: m, about centres
+        self._reach = self.radius[:, None] + self.radius[None, :]  #: bounding spheres touch
         self._distance = fcl.DistanceRequest()
         self._collision = fcl.CollisionRequest(num_max_contacts=8, enable_contact=True)
 
@@ -83,22 +83,36 @@ class Bodies:
         return apart.take(pairs) < reach * reach
 
     def centres(self, transforms: np.ndarray) -> np.ndarray:
-        """Each body's shape's centre in the base's frame."""
-        places = transforms[self.links]
-        return np.einsum("nij,nj->ni", places[:, :3, :3], self._offset) + places[:, :3, 3]
+        """Each body's shape's centre in the base's frame (m), for every link's place."""
+        return self.centres_of(transforms[..., self.links, :, :])
+
+    def centres_of(self, places: np.ndarray) -> np.ndarray:
+        """The centres (m) for the bodies' own places: (..., bodies, 4, 4) in, (...,
+        bodies, 3) out."""
+        return (np.einsum("...nij,nj->...ni", places[..., :3, :3], self._offset)
+                + places[..., :3, 3])
+
+    def reach(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """How near (m) the centres of each pair may be before their bounding spheres
+        touch."""
+        return self._reach[a, b]
 
     def gaps(self, transforms: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """The distance in mm between each pair's shapes, FCL's; less than 0 where they
         overlap: minus the depth of the overlap."""
         places = transforms[self.links]
-        centre = self.centres(transforms)
+        return self.gaps_at(places, self.centres_of(places), a, b)
+
+    def gaps_at(self, places: np.ndarray, centres: np.ndarray, a: np.ndarray,
+                b: np.ndarray) -> np.ndarray:
+        """``gaps`` for the bodies' own places and centres (one pose)."""
         placed = set()
         out = np.empty(len(a))
         for k, (i, j) in enumerate(zip(a.tolist(), b.tolist(), strict=True)):
             for n in (i, j):
                 if n not in placed:
                     self._objects[n].setRotation(places[n, :3, :3])
-                    self._objects[n].setTranslation(centre[n])
+                    self._objects[n].setTranslation(centres[n])
                     placed.add(n)
             out[k] = self._gap(self._objects[i], self._objects[j])
         return out

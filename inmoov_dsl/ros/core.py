@@ -27,7 +27,16 @@ from typing import Protocol
 import serial
 
 from ..cli import hand
-from ..cli.common import EXIT_OK, add_blind, add_lib, add_ports, add_version, number
+from ..cli.common import (
+    EXIT_OK,
+    add_allow_contact,
+    add_blind,
+    add_lib,
+    add_ports,
+    add_version,
+    guard_for,
+    number,
+)
 from ..decode import RECORDER, Pair, Reader
 from ..errors import Diagnostic, GestError
 from ..hardware import Profile
@@ -150,8 +159,9 @@ def _drive(args: argparse.Namespace, profile: Profile, edge: Edge) -> int:
     """Drive the hand on its ports, requests taking over one another."""
     with hand.opened(PROG, profile, args.port, args.blind) as on:
         program = library_program(library_dirs(args.lib))
+        guard = guard_for(profile, args.allow_contact, PROG)
         drive = Drive(on.links, profile, on.pose, program,
-                      functools.partial(tell, say=edge.say))
+                      functools.partial(tell, say=edge.say), guard=guard.plan)
         node = Node(profile, drive.mirror, edge.say)
         edge.start(node)
         edge.say("info", f"ready: {profile.name} on {', '.join(args.port)}")
@@ -196,6 +206,7 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--rate", type=number(0, 1000, above=True), default=50.0,
                    help="joint states per second (default 50)")
     add_blind(p)
+    add_allow_contact(p)
     add_lib(p)
     add_version(p)
     return p

@@ -23,7 +23,7 @@ from ..profiles.tables import SIDES
 
 MAX_BODY = 64 * 1024  #: bytes of a request's body; a larger one is refused
 MAX_LOOP = 1000  #: passes a request may ask for (``"loop": true`` plays until stopped)
-PLAY_FIELDS = ("gesture", "steps", "side", "when", "loop")
+PLAY_FIELDS = ("gesture", "steps", "side", "when", "loop", "allow_contact")
 REQUEST = "<request>"  #: the file a request's steps are, in diagnostics
 
 
@@ -68,11 +68,15 @@ def play_order(doc: dict[str, Any], program: Program, profile: Profile, id: str)
     side = _choice(doc, "side", (None, *SIDES))
     when = _choice(doc, "when", ("now", "after"), "now")
     loop = _loop(doc.get("loop", 1))
+    allow = doc.get("allow_contact")
+    if allow is not None and not isinstance(allow, bool):
+        raise BadRequest("'allow_contact' must be true or false",
+                         "true plays it though the robot's parts meet (padded parts)")
     if what == "gesture":
         _library_gesture(text, program)
     steps, sources = line_steps(_one_line(text), program, profile, REQUEST, 1, side)
     name = text if what == "gesture" else "steps"
-    return Order(Steps(tuple(steps), name, sources), id, when == "after", loop)
+    return Order(Steps(tuple(steps), name, sources), id, when == "after", loop, allow)
 
 
 def boards_of(actions: Sequence[Action], profile: Profile) -> set[int]:

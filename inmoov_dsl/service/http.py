@@ -10,6 +10,7 @@ tells comes back as events to every WebSocket.
 from __future__ import annotations
 
 import asyncio
+import dataclasses
 import json
 import logging
 import sys
@@ -102,8 +103,13 @@ async def _play(request: web.Request, service: Service) -> web.Response:
     needed = core.boards_of(order.what.actions, service.profile) & service.lost
     if needed:
         return _lost(needed)
-    service.requests.put(order)
-    return _json({"id": order.id}, 202)
+    try:  # planned and checked off the event loop: a few milliseconds
+        warnings = await asyncio.get_running_loop().run_in_executor(None, service.check, order)
+    except GestError as exc:  # it would drive the robot into itself: nothing moves
+        return _json(core.problem(exc), 422)
+    service.requests.put(dataclasses.replace(order, checked=True))
+    said = {"warnings": [core.diagnostic(d) for d in warnings]} if warnings else {}
+    return _json({"id": order.id, **said}, 202)
 
 
 async def _control(request: web.Request, service: Service, kind: str) -> web.Response:

@@ -8,8 +8,9 @@ import queue
 from collections.abc import Callable
 from typing import Any
 
+from ..errors import Diagnostic
 from ..live.drive import Drive, Next, Note
-from ..live.orders import Control
+from ..live.orders import Control, Order
 from . import core
 
 QUEUE = 1000  #: events kept for a WebSocket that reads slowly; older ones are dropped
@@ -28,6 +29,19 @@ class Service:
         self.view = None  #: the hand in 3-D (``model.webview.WebView``), when it can be
         #: makes the view, the first time the page asks where it is (None: tried)
         self.make_view: Callable[[], Any] | None = None
+        #: refuses what drives the robot into itself (``model.guard.Guard``), or None
+        self.collisions = None
+
+    def check(self, order: Order) -> tuple[Diagnostic, ...]:
+        """A play request's steps against the guard, planned from where the hand is
+        going (the HTTP thread: a 422 before anything moves; the drive loop checks
+        them again as it takes them): its warnings, or a GestError."""
+        drive = self.drive
+        if self.collisions is None or drive is None:
+            return ()
+        what = order.what
+        return self.collisions.steps(what.actions, drive.session.current.plan.final,
+                                what.sources, order.allow_contact)
 
     def next_request(self, timeout: float) -> Next:
         """The drive loop's ``next_request``."""

@@ -36,7 +36,9 @@ def document(version: str, max_body: int, max_loop: int) -> dict[str, Any]:
                 "requestBody": {"required": True, "content": {"application/json": {
                     "schema": {"$ref": "#/components/schemas/Play"}}}},
                 "responses": {"202": _answer("accepted: its id", "Accepted"),
-                              "422": _answer("it does not compile", "Problem"), **errors}}},
+                              "422": _answer("it does not compile, or it would drive the "
+                                             "robot's parts into each other (where and "
+                                             "when)", "Problem"), **errors}}},
             "/api/stop": {"post": {"summary": "CANCEL: the hand holds where it is, the "
                                               "queue is emptied", **control}},
             "/api/relax": {"post": {"summary": "the servos go limp", **control}},
@@ -62,9 +64,13 @@ def _schemas(max_loop: int) -> dict[str, Any]:
             "side": {"enum": ["left", "right"]},
             "when": {"enum": ["now", "after"], "default": "now"},
             "loop": {"oneOf": [{"type": "boolean"},
-                               {"type": "integer", "minimum": 1, "maximum": max_loop}]}},
+                               {"type": "integer", "minimum": 1, "maximum": max_loop}]},
+            "allow_contact": {"type": "boolean", "description": "play it though the "
+                              "robot's parts meet (padded parts); default: the service's "
+                              "--allow-contact"}},
             "oneOf": [{"required": ["gesture"]}, {"required": ["steps"]}]},
-        "Accepted": {"type": "object", "properties": {"id": text}},
+        "Accepted": {"type": "object", "properties": {"id": text, "warnings": {
+            "type": "array", "items": {"type": "object"}}}},
         "BadRequest": {"type": "object", "properties": {"error": text, "hint": text}},
         "Problem": {"type": "object", "properties": {
             "error": text, "text": text, "diagnostics": {"type": "array", "items": {

@@ -11,7 +11,7 @@ from ...language.incremental import BlockParser
 from ...language.library import library_dirs
 from ...language.load import load
 from ..common import EXIT_ERROR, EXIT_OK, report, stdin_bytes
-from .target import PROG, add_arguments, link_keeps_up
+from .target import PROG, add_arguments, collisions, link_keeps_up
 
 STDIN = "<stdin>"  #: the name of the text read from standard input (``-``)
 
@@ -22,8 +22,6 @@ def run(args: argparse.Namespace) -> int:
     warning is told once per place and message for the whole check, however many
     gestures (or files) play that place. With --strict a link that cannot keep up is an
     error too."""
-    from ...model.collide import check_plan
-
     status = EXIT_OK
     dirs = library_dirs(args.lib)
     told: Told = set()
@@ -36,7 +34,7 @@ def run(args: argparse.Namespace) -> int:
             report(exc.diagnostics, PROG)
             status = EXIT_ERROR
             continue
-        with plan_checks(check_plan):  # the robot's parts against each other (collide)
+        with plan_checks(collisions):  # the robot's parts against each other
             errors, warnings = check_program(program, args.profile, args.strict, told,
                                              link_keeps_up if args.strict else None)
         report(warnings, PROG)

@@ -11,11 +11,12 @@ from .target import add_arguments, compile_target, output_path
 
 def run(args: argparse.Namespace) -> int:
     """Write the figure (.png, .svg or .pdf)."""
+    from ...model.guard import marks
     from ...model.plot import plot
 
     compiled, plan = compile_target(args)
     out = output_path(args.output, compiled.gesture, (".png", ".svg", ".pdf"))
-    plot(plan, compiled, out)
+    plot(plan, compiled, out, marks(plan))  # where the robot meets itself, marked
     print(f"wrote {out}", file=sys.stderr)
     return EXIT_OK
 

@@ -8,7 +8,7 @@ import argparse
 import sys
 
 from ...boards import arduino
-from ...compiling.compiler import compile_program, pick_gesture
+from ...compiling.compiler import compile_program, pick_gesture, plan_checks
 from ...errors import Diagnostic, GestError
 from ...firmware.store import Request, parse_pin, room, stored_gesture
 from ...firmware.store import stored_set as make_set
@@ -18,6 +18,7 @@ from ...language.load import load
 from ...language.program import Program
 from ...wire.stored import DEFAULT_IDLE_AFTER, StoredSet
 from ..common import number, report
+from .target import collisions
 
 ALL = "all"  #: ``--store all``: every library gesture that plays on the board
 
@@ -81,7 +82,8 @@ def stored_sets(args: argparse.Namespace, profile: Profile, board: Board, prog: 
             found.add(ref)
     gestures = []
     for path, name in found.order:
-        compiled, _ = compile_program(found.programs[path], name, profile)
+        with plan_checks(collisions):  # a board plays what it stores with no host to ask
+            compiled, _ = compile_program(found.programs[path], name, profile)
         report(compiled.warnings, prog)
         gestures.append(stored_gesture(compiled, profile, board))
     named = {ref: found.refs[ref, False][0][1] for ref, store in found.refs if not store}

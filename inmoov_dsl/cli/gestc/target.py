@@ -7,9 +7,9 @@ import argparse
 from pathlib import Path
 
 from ...compiling.compiled import Compiled
-from ...compiling.compiler import compile_program
+from ...compiling.compiler import compile_program, plan_checks
 from ...compiling.plan import Plan
-from ...errors import Diagnostic, GestError
+from ...errors import Diagnostic, GestError, SourceMap
 from ...hardware import Profile
 from ...language.program import Program
 from ..common import add_lib, report
@@ -52,12 +52,22 @@ def compile_target(args: argparse.Namespace, target: Target | None = None
 def compile_one(program: Program, gesture: str | None, profile: str | Profile,
                 start: str | None, strict: bool) -> tuple[Compiled, Plan]:
     """Compile one gesture and report its warnings; if ``strict``, a link that cannot
-    keep up is an error too."""
-    compiled, plan = compile_program(program, gesture, profile, start, strict)
+    keep up is an error too. The robot's parts are checked against each other
+    (``collisions``)."""
+    with plan_checks(collisions):
+        compiled, plan = compile_program(program, gesture, profile, start, strict)
     report(compiled.warnings, PROG)
     if strict:
         link_keeps_up(program, compiled, plan)
     return compiled, plan
+
+
+def collisions(plan: Plan, sources: SourceMap, strict: bool) -> tuple[Diagnostic, ...]:
+    """The self-collision check of every plan a gestc command compiles (``model.guard``,
+    imported when a plan is checked)."""
+    from ...model.guard import check_plan
+
+    return check_plan(plan, sources, strict)
 
 
 def link_keeps_up(program: Program, compiled: Compiled, plan: Plan) -> None:

@@ -8,11 +8,12 @@ import os
 import shlex
 import sys
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 from ...boards import controller
 from ...compiling.actions import Action
 from ...compiling.compiled import Compiled, to_timed
-from ...compiling.compiler import compile_program
+from ...compiling.compiler import compile_program, plan_checks
 from ...compiling.resolve import resolver
 from ...errors import Diagnostic, GestError, counted
 from ...hardware import Profile
@@ -21,10 +22,13 @@ from ...profiles.profile import profile_arg
 from ...profiles.tables import SIDES
 from ...wire.player import play
 from .. import hand
-from ..common import EXIT_OK, add_blind, add_lib, number, report, warn
+from ..common import EXIT_OK, add_allow_contact, add_blind, add_lib, guard_for, number, report, warn
 from ..options import PORT_FORMS
 from ..target import Target, load_target
 from . import sounds
+
+if TYPE_CHECKING:
+    from ...model.guard import Guard
 
 PROG = "gestplay"
 
@@ -34,11 +38,14 @@ class Playing:
     pose the hand is in, its actions resolved once (the boards they drive, then every
     pass's streams)."""
 
-    def __init__(self, target: Target, strict: bool = False, side: str | None = None):
+    def __init__(self, target: Target, strict: bool = False, side: str | None = None,
+                 guard: Guard | None = None):
         self.profile, self.gesture = target.profile, target.gesture
         self.program, self.compiled = target.program, target.compiled
         self.strict, self.side = strict, side
+        self.guard = guard  #: refuses what drives the robot into itself, before a byte
         self._actions: tuple[Action, ...] | None = None
+        self._guarded = False  #: the compiled file has been checked
 
     def actions(self) -> tuple[Action, ...]:
         """The gesture's actions on its side, resolved the first time they are asked."""
@@ -55,11 +62,16 @@ class Playing:
         return {self.profile.servos[i].board for a in self.actions() for i in a.servos()}
 
     def build(self, start: dict[str, int] | None) -> Compiled:
-        """The streams, planned from ``start`` (servo name -> value) when given."""
+        """The streams, planned from ``start`` (servo name -> value) when given; the
+        guard refuses them (a GestError) if they drive the robot into itself."""
         if self.program is None:
+            if self.guard is not None and not self._guarded:
+                report(self.guard.compiled(self.compiled), PROG)
+                self._guarded = True
             return self.compiled
-        compiled, _ = compile_program(self.program, self.gesture, self.profile, start,
-                                      self.strict, self.side, self.actions())
+        with plan_checks(*([self.guard.check] if self.guard else [])):
+            compiled, _ = compile_program(self.program, self.gesture, self.profile, start,
+                                          self.strict, self.side, self.actions())
         report(compiled.warnings, PROG)
         return compiled
 
@@ -70,8 +82,10 @@ def run(args: argparse.Namespace) -> int:
         from .stored import play_stored
 
         return play_stored(args)
-    target = Playing(load_target(args.target, args.gesture, args.profile, args.lib, PROG,
-                                 compiled=True, side=args.hand), args.strict, args.hand)
+    loaded = load_target(args.target, args.gesture, args.profile, args.lib, PROG,
+                         compiled=True, side=args.hand)
+    target = Playing(loaded, args.strict, args.hand,
+                     guard_for(loaded.profile, args.allow_contact, PROG))
     if args.dry_run:
         return dry_run(target.build(None), args.speed)
     if not args.port:
@@ -244,6 +258,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     ap.add_argument("--dry-run", action="store_true",
                     help="print the schedule ('<seconds> <byte>') without a port")
     ap.add_argument("--strict", action="store_true", help="stretched moves are errors")
+    add_allow_contact(ap)
     ap.add_argument("--stored", action="store_true", help="the board plays the gesture it "
                     "stores in its flash (gestc upload --store; gestplay stored lists them), "
                     "from wherever the hand is")

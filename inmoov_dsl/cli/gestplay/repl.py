@@ -16,7 +16,7 @@ import sys
 import threading
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 from ... import clock
 from ...hardware import Profile
@@ -26,8 +26,20 @@ from ...live.session import LINE, STDIN
 from ...profiles.profile import load_profile
 from ...wire.player import Link
 from .. import hand
-from ..common import EXIT_ERROR, EXIT_OK, add_blind, add_lib, add_ports, report
+from ..common import (
+    EXIT_ERROR,
+    EXIT_OK,
+    add_allow_contact,
+    add_blind,
+    add_lib,
+    add_ports,
+    guard_for,
+    report,
+)
 from . import sounds
+
+if TYPE_CHECKING:
+    from ...model.guard import Guard
 
 PROG = "gestplay repl"
 HELP = """\
@@ -112,17 +124,18 @@ def repl(links: list[Link], profile: Profile, pose: dict[str, int],
          next_line: Callable[[float], Line], take_over: bool = True,
          now: clock.Clock | None = None, sleep: clock.Sleep | None = None,
          dirs: list[Path] | None = None, screen: Screen | None = None,
-         speaker: Any = None) -> int:
+         speaker: Any = None, guard: Guard | None = None) -> int:
     """Run until the input ends and the hand is still. ``next_line(timeout)`` waits at
     most ``timeout`` s for a line (``waiting_on`` a queue). Each line takes over the
     running move (``take_over``, a person typing: errors say ``<repl>:N``), or waits for
     the steps before it (a script: errors say ``<stdin>:N``, and a line that failed
     makes the exit status 1, once every line has run). With a ``screen``, each line is
     answered before the next prompt. A ``speaker`` (``wire.audio.Speaker``) says what
-    ``say`` steps say."""
+    ``say`` steps say. A ``guard`` (``model.guard.Guard``) refuses a line that would
+    drive the robot into itself."""
     told = _Told(screen)
     drive = Drive(links, profile, pose, library_program(dirs), told, take_over, now, sleep,
-                  LINE if take_over else STDIN, speaker)
+                  LINE if take_over else STDIN, speaker, guard.plan if guard else None)
     drive.run(_Commands(next_line, drive))
     return EXIT_ERROR if told.errors and not take_over else EXIT_OK
 
@@ -198,6 +211,7 @@ def run(args: argparse.Namespace) -> int:
     """Read steps from the terminal (or a pipe) and do them on the hand."""
     profile = load_profile(args.profile or "rhand")
     speaker = sounds.speaker(args.audio, PROG, profile) if args.audio else None
+    guard = guard_for(profile, args.allow_contact, PROG)
     with hand.opened(PROG, profile, args.port, args.blind) as on:
         lines: queue.Queue = queue.Queue()
         interactive = sys.stdin.isatty()
@@ -208,7 +222,8 @@ def run(args: argparse.Namespace) -> int:
                          daemon=True).start()
         try:
             return repl(on.links, profile, on.pose, waiting_on(lines), take_over=interactive,
-                        dirs=library_dirs(args.lib), screen=screen, speaker=speaker)
+                        dirs=library_dirs(args.lib), screen=screen, speaker=speaker,
+                        guard=guard)
         finally:
             if speaker is not None:
                 speaker.close()
@@ -224,5 +239,6 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    "(the default output), a device's name or number; without it the mouth "
                    "moves in silence (needs: pip install 'inmoov-dsl[voice]')")
     add_blind(p)
+    add_allow_contact(p)
     add_lib(p)
     p.set_defaults(func=run)

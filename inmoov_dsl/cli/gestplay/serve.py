@@ -16,7 +16,7 @@ from ...live.drive import Drive, library_program
 from ...profiles.profile import load_profile
 from ...wire.player import Link
 from .. import hand
-from ..common import EXIT_OK, add_blind, add_lib, add_ports
+from ..common import EXIT_OK, add_allow_contact, add_blind, add_lib, add_ports, guard_for
 from ..options import http_address, shown_address
 from . import sounds
 
@@ -47,8 +47,9 @@ def run(args: argparse.Namespace) -> int:
                        for p, k in zip(ports, kinds, strict=True)]
         watcher = links.Watcher(ports, profile, service.requests.put)
         speaker = sounds.speaker(args.audio, PROG, profile)
+        service.collisions = guard_for(profile, args.allow_contact, PROG)
         service.drive = Drive(on.links, profile, on.pose, program, service.told,
-                              speaker=speaker)
+                              speaker=speaker, guard=service.collisions.plan)
         service.make_view = lambda: _view(profile, service.drive.mirror.held())
         server = http.Server(service, guard.Guard(host, port, token), host, port)
         try:
@@ -145,5 +146,6 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--token-file", metavar="FILE", help="read the token from FILE")
     sounds.add_argument(p)
     add_blind(p)
+    add_allow_contact(p)
     add_lib(p)
     p.set_defaults(func=run)

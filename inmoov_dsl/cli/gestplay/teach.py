@@ -6,15 +6,30 @@ from __future__ import annotations
 import argparse
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from ...compiling.compiler import compile_program
+from ...compiling.compiler import compile_program, plan_checks
+from ...errors import GestError
 from ...language.load import load
 from ...live.teach import HELP, Teach
 from ...profiles.profile import load_profile
 from ...wire.player import Link, play
 from .. import hand
-from ..common import EXIT_OK, add_blind, add_ports, gesture_name, report, send_value, status_line
+from ..common import (
+    EXIT_OK,
+    add_allow_contact,
+    add_blind,
+    add_ports,
+    gesture_name,
+    guard_for,
+    report,
+    send_value,
+    status_line,
+)
 from ..keys import key_reader
+
+if TYPE_CHECKING:
+    from ...model.guard import Guard
 
 PROG = "gestplay teach"
 
@@ -24,12 +39,14 @@ def run(args: argparse.Namespace) -> int:
     name = gesture_name(args.name or (Path(args.output).stem if args.output else "taught"))
     output = Path(args.output or f"{name}.gest")
     profile = load_profile(args.profile or "rhand")
+    guard = guard_for(profile, args.allow_contact, PROG)
     with hand.opened(PROG, profile, args.port, args.blind) as on:
-        return teach_on(on, name, output)
+        return teach_on(on, name, output, guard)
 
 
-def teach_on(on: hand.Hand, name: str, output: Path) -> int:
-    """The keyboard loop: keys move servos, keep keyframes, play them back, save them."""
+def teach_on(on: hand.Hand, name: str, output: Path, guard: Guard | None = None) -> int:
+    """The keyboard loop: keys move servos, keep keyframes, play them back, save them.
+    ``guard``: a pose or a play-back that drives the robot into itself is refused."""
     profile, links = on.profile, on.links
     link_of = {link.board: link for link in links}
     teach = Teach(profile, [on.pose.get(s.name, s.rest) for s in profile.servos])
@@ -37,13 +54,19 @@ def teach_on(on: hand.Hand, name: str, output: Path) -> int:
         print(HELP)
         _show(teach)
         for key in keys:
+            before = list(teach.pose)
             action = teach.press(key)
+            if action == "send" and not _allowed(teach, guard, before):
+                action = None
             if action == "send":
                 servo = profile.servos[teach.selected]
                 link = link_of[servo.board]
                 send_value(link.port, servo.id, teach.pose[teach.selected], link.controller)
             elif action == "play":
-                _play_back(teach, name, links)
+                try:
+                    _play_back(teach, name, links, guard)
+                except GestError as exc:
+                    report(exc.diagnostics, PROG)
             elif action == "save":
                 output.write_text(teach.gesture(name), encoding="utf-8")
                 teach.saved = True
@@ -57,11 +80,27 @@ def teach_on(on: hand.Hand, name: str, output: Path) -> int:
     return EXIT_OK
 
 
-def _play_back(teach: Teach, name: str, links: list[Link]) -> None:
-    """Play the keyframes from the pose the hand is in; the hand ends on the last one."""
+def _allowed(teach: Teach, guard: Guard | None, before: list[int]) -> bool:
+    """Whether the servo just moved may be sent: the pose does not drive the robot into
+    itself (or contact is allowed: its warning said); else the servo is put back."""
+    if guard is None:
+        return True
+    try:
+        report(guard.pose(teach.pose, [teach.selected]), PROG)
+        return True
+    except GestError as exc:
+        report(exc.diagnostics, PROG)
+        teach.pose[:] = before
+        return False
+
+
+def _play_back(teach: Teach, name: str, links: list[Link], guard: Guard | None) -> None:
+    """Play the keyframes from the pose the hand is in; the hand ends on the last one
+    (refused, a GestError, if they drive the robot into itself)."""
     start = dict(zip((s.name for s in teach.profile.servos), teach.pose, strict=True))
-    compiled, _ = compile_program(load(f"<{name}>", teach.gesture(name)), name,
-                                  teach.profile, start)
+    with plan_checks(*([guard.check] if guard else [])):
+        compiled, _ = compile_program(load(f"<{name}>", teach.gesture(name)), name,
+                                      teach.profile, start)
     report(compiled.warnings, PROG)
     _say(f"playing {len(teach.keys)} keyframes, {compiled.duration:.2f} s")
     play(compiled, links)
@@ -86,4 +125,5 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--name", help="the gesture's name (default: the file's name, or taught)")
     p.add_argument("-p", "--profile", help="robot profile (default rhand)")
     add_blind(p)
+    add_allow_contact(p)
     p.set_defaults(func=run)
