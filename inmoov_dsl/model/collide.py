@@ -105,17 +105,20 @@ class Checker:
         found = self.sweep(np.asarray(values, dtype=float)[None])
         return sorted(found[0][1] if found else [], key=lambda c: c.distance_mm)
 
-    def sweep(self, values: np.ndarray) -> list[tuple[int, list[Contact]]]:
+    def sweep(self, values: np.ndarray, still: bool = True) -> list[tuple[int, list[Contact]]]:
         """(row, contacts) of each row of ``values`` (poses in the profile's servo order,
         one after another along a motion) where a checked pair is closer than its
         clearance. A pair whose parts no servo of the motion moves relative to each
-        other is measured in the first pose only; the others along the motion
-        (``_scan``)."""
+        other is measured in the first pose only (not at all without ``still``: its
+        distance never changes); the others along the motion (``_scan``)."""
         values = np.asarray(values, dtype=float)
         moves = (values != values[:1]).any(axis=0)
         live = self._turns[:, moves].any(axis=1)
         found: dict[int, list[Contact]] = {}
-        for rows, pairs in ((values[:1], np.flatnonzero(~live)), (values, np.flatnonzero(live))):
+        scans = [(values, np.flatnonzero(live))]
+        if still:
+            scans.append((values[:1], np.flatnonzero(~live)))
+        for rows, pairs in scans:
             for row, contacts in self._scan(rows, pairs):
                 found.setdefault(row, []).extend(contacts)
         return sorted(found.items())
@@ -132,8 +135,11 @@ class Checker:
         centres = bodies.centres_of(places)
         apart = np.linalg.norm(centres[:, a] - centres[:, b], axis=-1)
         near = apart < bodies.reach(a, b) + self.clearance_mm / 1000
-        went = travel(places, centres, bodies.radius)
-        went = went[:, a] + went[:, b]  #: how far the pair's parts have gone, together
+        if len(values) > 1:
+            went = travel(places, centres, bodies.radius)
+            went = went[:, a] + went[:, b]  #: how far the pair's parts have gone, together
+        else:
+            went = np.zeros((1, len(a)))
         budget = np.full(len(a), -np.inf)  #: how far they may go before FCL is asked
         gap = np.zeros(len(a))
         for row in np.flatnonzero(near.any(axis=1)).tolist():
@@ -194,7 +200,9 @@ def first_contacts(checker: Checker, plan: Plan) -> list[tuple[float, Contact, n
     (the time and values when it began, the contact at its deepest), sampled every servo
     frame."""
     times = np.arange(0.0, plan.duration + SERVO_FRAME, SERVO_FRAME)
-    values = np.stack([track.position(times) for track in plan.tracks], axis=1)
+    values = np.tile(np.asarray(plan.final, dtype=float), (len(times), 1))
+    for i in {i for step in plan.steps for i in step.servos}:  # the others stay put
+        values[:, i] = plan.tracks[i].position(times)
     return contacts_along(checker, times, values)
 
 
@@ -206,7 +214,7 @@ def contacts_along(checker: Checker, times: np.ndarray, values: np.ndarray
     it goes DEEPER_MM further in: a robot that starts in contact may move out of it."""
     found: dict[tuple[str, str], tuple[float, Contact, np.ndarray]] = {}
     already: dict[tuple[str, str], float] = {}
-    for row, contacts in checker.sweep(values):
+    for row, contacts in checker.sweep(values, still=False):  # a still pair: no deeper
         for contact in contacts:
             pair = (checker.part(contact.a), checker.part(contact.b))
             if row == 0:
