@@ -173,3 +173,58 @@ def test_gestc_plot_marks_when_the_robot_meets_itself(tmp_path):
     lines = [line for ax in drawn.axes for line in ax.get_lines()
              if line.get_label().startswith("the robot meets itself")]
     assert lines and all(line.get_xdata()[0] == at for line in lines)
+
+
+def repl_on_the_right_arm(script, guard):
+    """The repl on a timeline (tests/test_repl.py), the InMoov's right board virtual:
+    what it holds at the end, servo name -> value."""
+    from test_repl import ClockedPort, Timeline
+
+    from inmoov_dsl.boards.rig.core import BoardCore
+    from inmoov_dsl.cli.gestplay.repl import repl
+    from inmoov_dsl.profiles.profile import load_profile
+    from inmoov_dsl.wire.player import Link
+    from inmoov_dsl.wire.sim import VirtualBoard
+
+    profile = load_profile("inmoov")
+    timeline = Timeline(script)
+    boards = {b.name: VirtualBoard(BoardCore.from_profile(profile, b), b.baud)
+              for b in profile.boards}
+    links = [Link(b.id, ClockedPort(boards[b.name], timeline), b.name)
+             for b in profile.boards]
+    repl(links, profile, {}, timeline.next_line, True, now=timeline.now,
+         sleep=timeline.sleep, guard=guard)
+    board = boards["right"]
+    board.advance(timeline.t + 1)
+    ids = {s.id: s.name for s in profile.servos}
+    return {ids[i]: v for i, v in board.positions().items() if ids[i] in REST}
+
+
+def test_a_live_take_over_into_the_chest_is_refused_and_the_move_goes_on(capsys):
+    from inmoov_dsl.model.guard import Guard
+    from inmoov_dsl.profiles.profile import load_profile
+
+    held = repl_on_the_right_arm([(0.0, "r_rotate 125 over 1.5s"),
+                                  (0.5, "r_bicep 143 over 1s")],
+                                 Guard(load_profile("inmoov")).plan)
+    assert "<repl>:2:1: error: at " in capsys.readouterr().err
+    assert held == {**REST, "r_rotate": 125}  # the first move went on to its end
+
+
+def test_a_take_over_s_own_path_is_checked_and_a_refusal_stops_the_hand(capsys):
+    from inmoov_dsl.errors import Diagnostic, GestError
+
+    asked = []
+
+    def guard(plan, sources, allow):  # refuses any path planned from a moving hand
+        moving = any(abs(t.velocity(0.0)) > 1 for t in plan.tracks)
+        asked.append(moving)
+        if moving:
+            raise GestError(Diagnostic("error", "refused: a moving start"))
+        return ()
+
+    held = repl_on_the_right_arm([(0.0, "r_rotate 125 over 1.5s"),
+                                  (0.5, "r_bicep 60 over 1s")], guard)
+    assert asked == [False, False, True]  # two requests from rest, then the take-over
+    assert "refused: a moving start" in capsys.readouterr().err
+    assert 90 < held["r_rotate"] < 125 and held["r_bicep"] == 0  # stopped where it was

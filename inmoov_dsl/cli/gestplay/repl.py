@@ -16,12 +16,13 @@ import sys
 import threading
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal
 
 from ... import clock
 from ...hardware import Profile
 from ...language.library import library_dirs
 from ...live.drive import Drive, Note, library_program
+from ...live.drive import Guard as DriveGuard
 from ...live.session import LINE, STDIN
 from ...profiles.profile import load_profile
 from ...wire.player import Link
@@ -37,9 +38,6 @@ from ..common import (
     report,
 )
 from . import sounds
-
-if TYPE_CHECKING:
-    from ...model.guard import Guard
 
 PROG = "gestplay repl"
 HELP = """\
@@ -124,18 +122,18 @@ def repl(links: list[Link], profile: Profile, pose: dict[str, int],
          next_line: Callable[[float], Line], take_over: bool = True,
          now: clock.Clock | None = None, sleep: clock.Sleep | None = None,
          dirs: list[Path] | None = None, screen: Screen | None = None,
-         speaker: Any = None, guard: Guard | None = None) -> int:
+         speaker: Any = None, guard: DriveGuard | None = None) -> int:
     """Run until the input ends and the hand is still. ``next_line(timeout)`` waits at
     most ``timeout`` s for a line (``waiting_on`` a queue). Each line takes over the
     running move (``take_over``, a person typing: errors say ``<repl>:N``), or waits for
     the steps before it (a script: errors say ``<stdin>:N``, and a line that failed
     makes the exit status 1, once every line has run). With a ``screen``, each line is
     answered before the next prompt. A ``speaker`` (``wire.audio.Speaker``) says what
-    ``say`` steps say. A ``guard`` (``model.guard.Guard``) refuses a line that would
-    drive the robot into itself."""
+    ``say`` steps say. A ``guard`` (``model.guard.Guard.plan``) refuses a line that
+    would drive the robot into itself."""
     told = _Told(screen)
     drive = Drive(links, profile, pose, library_program(dirs), told, take_over, now, sleep,
-                  LINE if take_over else STDIN, speaker, guard.plan if guard else None)
+                  LINE if take_over else STDIN, speaker, guard)
     drive.run(_Commands(next_line, drive))
     return EXIT_ERROR if told.errors and not take_over else EXIT_OK
 
@@ -223,7 +221,7 @@ def run(args: argparse.Namespace) -> int:
         try:
             return repl(on.links, profile, on.pose, waiting_on(lines), take_over=interactive,
                         dirs=library_dirs(args.lib), screen=screen, speaker=speaker,
-                        guard=guard)
+                        guard=guard.plan)
         finally:
             if speaker is not None:
                 speaker.close()
