@@ -177,6 +177,8 @@ def checker_for(profile: Profile) -> Checker | None:
     joint the model lacks), no two parts of the robot that can meet (a hand alone:
     only its own fingers and forearm) or no python-fcl."""
     key = (profile.name, profile.sha256)
+    if key not in _CHECKERS and not would_check(profile):
+        _CHECKERS[key] = None  # not built at all: a hand's gestures pay nothing
     if key not in _CHECKERS:
         try:
             checker = Checker(profile)
@@ -186,6 +188,17 @@ def checker_for(profile: Profile) -> Checker | None:
         sides = {name.split("_")[0] for pair in checker.pairs for name in pair}
         _CHECKERS[key] = checker if len(sides) > 1 else None
     return _CHECKERS[key]
+
+
+def would_check(profile: Profile) -> bool:
+    """Whether the profile's robot has parts that can meet (python-fcl or not): its
+    model's parts are on more than one side (a hand alone is on one)."""
+    try:
+        chain = Chain(profile)
+    except GestError:
+        return False
+    return len({link.split("_")[0] for link, shape in zip(chain.links, chain.shapes,
+                                                           strict=True) if shape}) > 1
 
 
 def part(link: str) -> str:

@@ -22,7 +22,7 @@ from ..compiling.plan import Plan, PlannedStep, Planner
 from ..errors import Diagnostic, GestError, Pos, SourceMap
 from ..hardware import Profile
 from ..protocol import SERVO_FRAME
-from .collide import Checker, Contact, checker_for, contacts_along, first_contacts
+from .collide import Checker, Contact, checker_for, contacts_along, first_contacts, would_check
 from .shapes import INSTALL, need_fcl
 
 MODEL = "gestc urdf shows the model"
@@ -80,19 +80,6 @@ def marks(plan: Plan) -> list[tuple[float, str]]:
         return []
     return [(t, contact_message(checker, t, c, row, ()))
             for t, c, row in first_contacts(checker, plan)]
-
-
-def would_check(profile: Profile) -> bool:
-    """Whether the profile's robot has parts that can meet (python-fcl or not): its
-    model's parts are on more than one side (a hand alone is on one)."""
-    from .kinematics import Chain
-
-    try:
-        chain = Chain(profile)
-    except GestError:
-        return False
-    return len({link.split("_")[0] for link, shape in zip(chain.links, chain.shapes,
-                                                           strict=True) if shape}) > 1
 
 
 def unchecked(profile: Profile) -> Diagnostic | None:
