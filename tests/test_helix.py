@@ -1,7 +1,9 @@
 """Helix's configuration, editors/helix/languages.toml (docs/editors.md): TOML that gives
 the gest language to the project's file type, `.gest`, and starts the language server
 the project installs, `gestc lsp`, as Neovim's (editors/neovim/gest.lua) and VS Code's
-(editors/vscode) configurations start it. Helix itself is not run: it is not in Debian 12.
+(editors/vscode) configurations start it; the preview is the same command in the three
+editors, and the docs tell how each opens it. Helix itself is not run: it is not in
+Debian 12.
 """
 
 from __future__ import annotations
@@ -101,3 +103,24 @@ def test_the_docs_point_to_the_file():
     assert "editors/helix/languages.toml" in section
     assert "~/.config/helix/languages.toml" in section
     assert "[language-server" not in re.sub(r"`[^`\n]*`", "", section)
+
+
+def test_every_editor_asks_for_the_same_preview():
+    """VS Code and Neovim send the server's command gest.preview, not opened by the
+    server, and the cursor as gest/cursor; the docs tell how the three editors open the
+    preview (Helix: the same command, by its name), in a subsection of their own."""
+    extension = (ROOT / "editors" / "vscode" / "extension.js").read_text(encoding="utf-8")
+    lua = NEOVIM.read_text(encoding="utf-8")
+    for client in (extension, lua):
+        assert re.search(r'"gest\.preview"', client)
+        assert re.search(r'"gest/cursor"', client)
+        assert re.search(r"\{ ?open ?[:=] ?false ?\}", client)
+    assert "nvim_create_user_command(\"GestPreview\"" in lua
+    text = DOCS.read_text(encoding="utf-8")
+    start = text.index("### Opening the preview from an editor")
+    section = text[start:text.index("\n## ", start)]
+    for words in ("Gest: Open Preview to the Side", "`:GestPreview`",
+                  "`:lsp-workspace-command gest.preview`", "`gest/cursor`",
+                  "`window/showDocument`"):
+        assert words in section
+    assert "gest.preview" in HELIX.read_text(encoding="utf-8")

@@ -5,7 +5,10 @@ from the lexer's tokens; `npm ci` and the packager (vsce) print no warning, and 
 carries what VS Code needs and nothing else: one JavaScript file that esbuild bundles
 (the client and the language client library, no node_modules), which loads in Node with
 nothing beside it but VS Code's own module; the client starts the configured command and
-tells it the robot.
+tells it the robot. The preview (Gest: Open Preview to the Side): the server's page asked
+for and shown in a panel beside, one per document, the cursor told, a click on the page
+shown in the document's column; in a stand-in for VS Code (tests/vscode_host.js), and the
+packaged bundle with its real language client against a stand-in server.
 
 The tests that run node skip without node and npm, except under CI=true, where that
 fails."""
@@ -23,6 +26,7 @@ from pathlib import Path
 
 import pytest
 from lark import Lark, Token
+from test_neovim import received, stand_in_server
 from toolchain import need
 
 from inmoov_dsl.language.indent import GestIndenter
@@ -31,6 +35,7 @@ from inmoov_dsl.language.syntax import KEYWORDS
 ROOT = Path(__file__).resolve().parent.parent
 EXTENSION = ROOT / "editors" / "vscode"
 BUNDLE = "dist/extension.js"  #: what esbuild writes and the manifest's main names
+PREVIEW = "gest.openPreviewToSide"  #: the command that opens the preview beside
 GRAMMAR = EXTENSION / "syntaxes" / "gest.tmLanguage.json"
 LIBRARY = sorted((ROOT / "gestures").glob("*.gest"))
 
@@ -310,6 +315,18 @@ def test_the_extension_packages(packaged):
     assert settings["gest.robot"]["default"] == ""
     assert "onLanguage:gest" in manifest["activationEvents"]
     assert manifest["main"] == f"./{BUNDLE}"
+    # the preview's command: in the palette and the editor's title bar of gest files, on
+    # a key, as Markdown's "Open Preview to the Side" is
+    command, = manifest["contributes"]["commands"]
+    assert command == {"command": PREVIEW, "title": "Open Preview to the Side",
+                       "category": "Gest", "icon": "$(open-preview)"}
+    menus = manifest["contributes"]["menus"]
+    assert menus["editor/title"] == [{"command": PREVIEW, "when": "editorLangId == gest",
+                                      "group": "navigation"}]
+    assert menus["commandPalette"] == [{"command": PREVIEW, "when": "editorLangId == gest"}]
+    key, = manifest["contributes"]["keybindings"]
+    assert key == {"command": PREVIEW, "key": "ctrl+k v", "mac": "cmd+k v",
+                   "when": "editorLangId == gest"}
 
 
 #: Node: load the bundle (argv[2]) as VS Code does, with a stand-in for the vscode module
@@ -332,13 +349,20 @@ function anything() {
     });
 }
 
-const vscode = new Proxy({
-    workspace: {
+/** ``members``, and more of anything() for the names it does not have. */
+function namespace(members) {
+    return new Proxy(members, {
+        get: (target, key) => (key in target ? target[key] : (target[key] = anything())),
+    });
+}
+
+const vscode = namespace({
+    workspace: namespace({
         getConfiguration: () => ({ get: (key) => settings[key] }),
         onDidChangeConfiguration: () => ({ dispose() {} }),
-    },
-    window: { showErrorMessage: (message) => errors.push(message) },
-}, { get: (target, key) => (key in target ? target[key] : (target[key] = anything())) });
+    }),
+    window: namespace({ showErrorMessage: (message) => errors.push(message) }),
+});
 
 const load = Module._load;
 Module._load = function (request, parent, ...rest) {
@@ -384,16 +408,21 @@ def test_the_bundle_loads_alone(packaged, tmp_path):
     assert b"inmoov-dsl[lsp]" in code  # the extension's own text, bundled
 
 
+def host(settings: dict, scenario: str = "settings") -> dict:
+    """What extension.js asked of the stand-in for VS Code (tests/vscode_host.js) in
+    ``scenario``, activated with ``settings``."""
+    need("node", packages="nodejs npm")
+    done = _run(["node", ROOT / "tests" / "vscode_host.js", EXTENSION / "extension.js",
+                 json.dumps(settings), scenario], ROOT, timeout=180)
+    assert done.returncode == 0, done.stdout + done.stderr
+    return json.loads(done.stdout)
+
+
 def test_the_client_starts_the_command_and_tells_it_the_robot():
     """extension.js in a stand-in for VS Code (tests/vscode_host.js): the configured
     command on stdio as it is (no --stdio added), the robot at start and on change, and a
     new command restarts the server."""
-    need("node", packages="nodejs npm")
-    settings = {"gest.server.command": ["gestc", "lsp"], "gest.robot": "inmoov"}
-    done = _run(["node", ROOT / "tests" / "vscode_host.js", EXTENSION / "extension.js",
-                 json.dumps(settings)], ROOT, timeout=60)
-    assert done.returncode == 0, done.stdout + done.stderr
-    seen = json.loads(done.stdout)
+    seen = host({"gest.server.command": ["gestc", "lsp"], "gest.robot": "inmoov"})
     assert seen["errors"] == []
     first, second = seen["clients"]
     assert first["serverOptions"] == {"command": "gestc", "args": ["lsp"]}
@@ -406,3 +435,174 @@ def test_the_client_starts_the_command_and_tells_it_the_robot():
     assert second["serverOptions"] == {"command": "/opt/venv/bin/gestc", "args": ["lsp"]}
     assert second["clientOptions"]["initializationOptions"] == {"robot": "rhand-maestro"}
     assert second["started"] and second["stopped"]
+
+
+#: what VS Code's ViewColumn.Beside is
+BESIDE = -2
+#: the page the stand-in's server answers gest.preview with, by the client's number
+PAGE = "http://127.0.0.1:{}/preview"
+HAND, OTHER, BROKEN, README = (f"file:///work/{name}" for name in (
+    "hand.gest", "other%20hand.gest", "broken.gest", "README.md"))
+
+
+def asked(uri: str) -> dict:
+    """The request for ``uri``'s page, as the contract has it."""
+    return {"method": "workspace/executeCommand",
+            "params": {"command": "gest.preview", "arguments": [uri, {"open": False}]}}
+
+
+def cursor(uri: str, line: int, character: int) -> dict:
+    return {"method": "gest/cursor", "params": {"textDocument": {"uri": uri},
+                                                "position": {"line": line,
+                                                             "character": character}}}
+
+
+def framed(html: str) -> tuple[dict[str, list[str]], list[str]]:
+    """The Content-Security-Policy of a webview's page (directive -> sources) and the
+    addresses of its frames."""
+    policy, = re.findall(r'<meta http-equiv="Content-Security-Policy" content="([^"]*)">',
+                         html)
+    directives = {name: sources for name, *sources in
+                  (part.split() for part in policy.split(";") if part.strip())}
+    return directives, re.findall(r'<iframe src="([^"]*)"', html)
+
+
+@pytest.fixture(scope="module")
+def previewed() -> dict:
+    """The stand-in's preview scenario: previews opened, shown again, closed, refused;
+    cursors moved; clicks on the page; the server's command changed."""
+    return host({"gest.server.command": ["gestc", "lsp"], "gest.robot": ""}, "preview")
+
+
+def test_the_preview_opens_beside_on_the_servers_page(previewed):
+    """Gest: Open Preview to the Side asks the server for the document's page
+    (gest.preview, not opened by the server) and shows it in a panel beside the editor,
+    in an iframe that the page's policy lets in, and nothing else; the cursor is told."""
+    assert previewed["commands"] == [PREVIEW]
+    client = previewed["clients"][0]
+    opened = previewed["steps"]["opened"]
+    assert client["requests"][:opened["requests"]] == [asked(HAND)]
+    assert client["notifications"][:opened["notifications"]] == [cursor(HAND, 2, 4)]
+    assert opened["panels"] == 1
+    panel = previewed["panels"][0]
+    assert panel["viewType"] == "gest.previewPanel"
+    assert panel["title"] == "Preview: hand.gest"
+    assert panel["showOptions"] == {"viewColumn": BESIDE, "preserveFocus": True}
+    assert panel["options"]["enableScripts"] is True  # the page's own scripts, in its frame
+    policy, frames = framed(panel["htmls"][0])
+    assert frames == [PAGE.format(8000)]
+    assert policy["default-src"] == ["'none'"]
+    assert policy["frame-src"] == ["http://127.0.0.1:*"]
+    style, = policy.pop("style-src")
+    assert re.fullmatch(r"'nonce-[A-Za-z0-9+/]+={0,2}'", style)
+    assert set(policy) == {"default-src", "frame-src"}  # no script, nothing remote
+    assert "<script" not in panel["htmls"][0]
+
+
+def test_the_cursor_is_told_for_gest_files_once_it_stops(previewed):
+    """gest/cursor for the cursor of a gest file as it moves (its last place always;
+    maybe not the places it only went through) and for the editor that becomes the active
+    one; never for another language's file."""
+    notifications = previewed["clients"][0]["notifications"]
+    moved = previewed["steps"]["moved"]["notifications"]
+    again = previewed["steps"]["again"]["notifications"]
+    assert all(n["method"] == "gest/cursor" for n in notifications)
+    assert not [n for n in notifications if n["params"]["textDocument"]["uri"] == README]
+    while_moving = notifications[again:moved]
+    assert while_moving[-1] == cursor(HAND, 5, 1)
+    assert {(p["line"], p["character"]) for n in while_moving
+            for p in [n["params"]["position"]]} <= {(3, 0), (4, 2), (5, 1)}
+    assert cursor(OTHER, 9, 3) in notifications[moved:]
+
+
+def test_a_click_on_the_page_shows_the_step_in_the_editor_not_over_the_preview(previewed):
+    """window/showDocument (a click on a step of the page) goes to the column that shows
+    the document, or, from the preview, to its document's column; a page for the browser,
+    or a document neither shows, is the language client's own (next)."""
+    selection = {"start": {"line": 1, "character": 4}, "end": {"line": 1, "character": 9}}
+    assert previewed["shown"] == [
+        {"uri": HAND, "options": {"viewColumn": 1, "preserveFocus": False,
+                                  "selection": {"converted": selection}}},
+        {"uri": "file:///work/third.gest",
+         "options": {"viewColumn": 1, "preserveFocus": True,
+                     "selection": {"converted": selection}}}]
+    assert previewed["next"] == [
+        {"uri": "http://127.0.0.1:8000/", "external": True},
+        {"uri": "file:///work/third.gest", "selection": selection}]
+    assert previewed["clicks"] == [{"success": True}] * 4
+
+
+def test_a_preview_per_document_closed_cleanly(previewed):
+    """Shown again while open (asked again: the page may have moved), made again once
+    closed; another document has its own; a document the server has no page for, or a
+    file that is no gesture file, is told and gets none; all closed with the extension."""
+    again, reopened, refused = (previewed["steps"][s] for s in ("again", "reopened",
+                                                                 "refused"))
+    first, second, third = previewed["panels"]
+    assert again["panels"] == 1 and again["requests"] == 2
+    assert first["reveals"] == [{"column": 2, "preserveFocus": True}]
+    assert first["htmls"][1:] == []  # the same page: not loaded again
+    assert reopened["panels"] == 2 and second["title"] == "Preview: hand.gest"
+    assert third["title"] == "Preview: other hand.gest"
+    assert framed(third["htmls"][0])[1] == [PAGE.format(8000)]
+    client = previewed["clients"][0]
+    assert client["requests"][reopened["requests"]:] == [asked(OTHER), asked(BROKEN)]
+    assert refused["panels"] == 3
+    assert previewed["errors"] == ["Gest: no preview (no page for you).",
+                                   "Gest: the preview is of a .gest file: open one first."]
+    assert all(panel["disposed"] for panel in previewed["panels"])
+
+
+def test_a_new_server_gives_the_open_previews_its_page(previewed):
+    """The server's command changed: the open previews ask the new server for their
+    pages and show them."""
+    _, second, third = previewed["panels"]
+    restarted = previewed["clients"][1]
+    assert sorted(r["params"]["arguments"][0] for r in restarted["requests"]) == [
+        HAND, OTHER]
+    assert all(r == asked(r["params"]["arguments"][0]) for r in restarted["requests"])
+    for panel in (second, third):
+        assert framed(panel["htmls"][-1])[1] == [PAGE.format(8001)]
+
+
+def test_the_packaged_extension_previews_through_the_language_client(packaged, tmp_path):
+    """The .vsix's dist/extension.js, with the language client bundled in it, in the
+    stand-in for VS Code, talking to a stand-in server (tests/test_neovim.py's) over
+    stdio: the preview asked with the document's URI and {open: false} and shown beside
+    on the page answered, the cursor told as it moves, and a click on the page
+    (window/showDocument) shown in the document's column with its selection, answered
+    {success: true}."""
+    _, path = packaged
+    with zipfile.ZipFile(path) as vsix:
+        bundle = tmp_path / "extension.js"
+        bundle.write_bytes(vsix.read(f"extension/{BUNDLE}"))
+    command, log = stand_in_server(tmp_path, port=8766)
+    gesture = tmp_path / "hand.gest"
+    gesture.write_text("a: index 90\nb: index 0 over 0.5s\nc: thumb 9\n", encoding="utf-8")
+    done = _run(["node", ROOT / "tests" / "vscode_host.js", bundle,
+                 json.dumps({"gest.server.command": command, "gest.robot": ""}), "live",
+                 log, gesture], tmp_path, timeout=180)
+    assert done.returncode == 0, done.stdout + done.stderr
+    seen = json.loads(done.stdout)
+    assert seen["errors"] == []
+    uri = gesture.as_uri()
+    messages = received(log)
+    methods = [m.get("method") for m in messages]
+    assert methods[:3] == ["initialize", "initialized", "textDocument/didOpen"]
+    assert methods[-2:] == ["shutdown", "exit"]
+    assert [m["params"] for m in messages if m.get("method") == "workspace/executeCommand"
+            and m["params"]["command"] == "gest.preview"] == [
+        {"command": "gest.preview", "arguments": [uri, {"open": False}]}]
+    panel, = seen["panels"]
+    assert panel["title"] == "Preview: hand.gest"
+    assert panel["showOptions"] == {"viewColumn": BESIDE, "preserveFocus": True}
+    assert framed(panel["htmls"][0])[1] == ["http://127.0.0.1:8766/preview"]
+    cursors = [m for m in messages if m.get("method") == "gest/cursor"]
+    assert cursors[0] == {"jsonrpc": "2.0", **cursor(uri, 0, 0)}  # as the preview opened
+    assert {"jsonrpc": "2.0", **cursor(uri, 1, 3)} in cursors[1:]
+    selection = {"start": {"line": 2, "character": 1}, "end": {"line": 2, "character": 4}}
+    assert seen["shown"] == [{"uri": uri, "options": {"viewColumn": 1, "preserveFocus": False,
+                                                      "selection": selection}}]
+    assert [m.get("result") for m in messages if m.get("id") == "click-1"] == [
+        {"success": True}]
+    assert panel["disposed"]
