@@ -11,7 +11,8 @@ from dataclasses import dataclass
 from ..compiling.stretch import STRETCH_HINT
 from ..errors import Diagnostic
 from .analysis import Analysis
-from .timing import step_times
+from .lines import place, rows
+from .timing import StepTime, step_times
 
 MEANT = re.compile(r"did you mean '([^']+)'\?")
 USE_LINE = re.compile(r'add the line  (use "[^"]+")  to this file')
@@ -32,18 +33,27 @@ class Fix:
     preferred: bool = True
 
 
-def fixes(found: Analysis, line: int) -> list[Fix]:
-    """Every fix for the diagnostics of this file on ``line`` (0-based)."""
+def fixes(found: Analysis, first: int, last: int | None = None) -> list[Fix]:
+    """Every fix for the diagnostics of this file on the lines ``first`` to ``last``
+    (0-based, protocol lines; ``last`` None: ``first`` alone). It costs the
+    diagnostics, not the range (a range may end anywhere)."""
+    last = first if last is None else last
     out: list[Fix] = []
+    times: dict[int, StepTime] | None = None
     for d in found.diagnostics:
-        if d.pos is None or d.pos.file != found.path or d.pos.line - 1 != line:
+        if d.pos is None or d.pos.file != found.path:
             continue
-        out += _fixes(found, d)
+        line, column = place(found.text, d.pos.line, d.pos.column)
+        if not first <= line <= last:
+            continue
+        if d.hint == STRETCH_HINT and times is None:
+            times = step_times(found)
+        out += _fixes(found, d, line, column, times or {})
     return out
 
 
-def _fixes(found: Analysis, d: Diagnostic) -> list[Fix]:
-    line, column = d.pos.line - 1, d.pos.column - 1
+def _fixes(found: Analysis, d: Diagnostic, line: int, column: int,
+           times: dict[int, StepTime]) -> list[Fix]:
     hint = d.hint or ""
     if meant := MEANT.search(hint):
         return [Fix(f"Change to '{meant[1]}'", line, column, column + d.pos.width,
@@ -52,7 +62,7 @@ def _fixes(found: Analysis, d: Diagnostic) -> list[Fix]:
         at = after_header(found.text)
         return [Fix(f"Add '{use[1]}'", at, 0, 0, use[1] + "\n", d)]
     if hint == STRETCH_HINT:
-        step = step_times(found).get(line)
+        step = times.get(line)
         if step is not None:
             needed = math.ceil(step.longest * 100 - 1e-6) / 100
             return [Fix(f"Ask for {needed:g} s, the time the limits need", line, column,
@@ -64,7 +74,7 @@ def after_header(text: str) -> int:
     """The line after the file's robot and ``use`` lines (and the comments above and
     among them): where a new ``use`` line goes."""
     at = 0
-    for k, row in enumerate(text.split("\n")):
+    for k, row in enumerate(rows(text)):
         if ROBOT_OR_USE.match(row):
             at = k + 1
         elif row.strip() and not row.lstrip().startswith("#"):

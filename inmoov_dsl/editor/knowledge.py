@@ -19,6 +19,7 @@ from ..language.load import GEST_SUFFIX
 from ..profiles.profile import builtin_profiles
 from ..voice.hearing import WAV_SUFFIX
 from .analysis import Analysis
+from .lines import rows
 from .text import TIMING, Place, code, place, string_at, word_at
 from .timing import label, step_times
 
@@ -31,7 +32,7 @@ def hover(found: Analysis, line: int, column: int) -> str | None:
     """What is at ``line``, ``column`` (0-based), in words (Markdown): a name (a servo, a
     group, a pose, a gesture), a ``use`` path, a ``say``, or the step of that line
     (when it plays, and whether it was stretched); None when nothing is known."""
-    lines = found.text.split("\n")
+    lines = rows(found.text)
     if not 0 <= line < len(lines) or found.program is None:
         return None
     said = _string(found, lines[line], column)
@@ -126,7 +127,7 @@ def completions(found: Analysis, line: int, column: int,
     on a robot with a voice, ``left`` and ``right`` on one with two sides); after
     a value the timing keywords, after a duration's number the units; at the start of a
     top-level line its keywords; after ``robot`` the profiles."""
-    lines = found.text.split("\n")
+    lines = rows(found.text)
     row = lines[line] if 0 <= line < len(lines) else ""
     inside = string_at(row, column)
     if inside is not None:
@@ -250,7 +251,7 @@ def references(text: str, word: str) -> list[tuple[int, int, int]]:
     """(line, column, width), 0-based, of every place in ``text`` that writes the name
     ``word`` (comments and strings left out)."""
     pattern = re.compile(rf"(?<![A-Za-z0-9_]){re.escape(word)}(?![A-Za-z0-9_])")
-    return [(k, m.start(), len(word)) for k, row in enumerate(text.split("\n"))
+    return [(k, m.start(), len(word)) for k, row in enumerate(rows(text))
             if word in row for m in pattern.finditer(code(row))]
 
 

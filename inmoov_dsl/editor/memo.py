@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import bisect
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from ..compiling.checking import Checked, check_gesture, checkable
@@ -16,6 +17,7 @@ from ..errors import Diagnostic, Pos
 from ..hardware import Profile
 from ..language.incremental import BlockParser, copied, defines, spans
 from ..language.program import Program
+from .lines import compiler_rows
 from .text import WORD, code
 
 Key = tuple  #: what a gesture's check depends on
@@ -40,11 +42,13 @@ class Memo:
         """``parse.parse``, remembering blocks."""
         return self.blocks.parse(text, file)
 
-    def check(self, program: Program, profile: Profile, path: str
-              ) -> list[tuple[str, Checked]]:
+    def check(self, program: Program, profile: Profile, path: str,
+              step: Callable[[], None] | None = None) -> list[tuple[str, Checked]]:
         """``check_gesture`` of every gesture of the file at ``path`` that can be
-        checked (``checkable``), each again only when what it depends on changed."""
-        lines = program.texts[path].split("\n")
+        checked (``checkable``), each again only when what it depends on changed.
+        ``step`` is called before each gesture: what it raises stops the check, and
+        the gestures checked so far are kept for the next."""
+        lines = list(compiler_rows(program.texts[path]))
         found = spans(lines)
         starts = [s for s, _ in found]
         here = {n: p.line - 1 for n, p in program.names().items() if p.file == path}
@@ -55,27 +59,40 @@ class Memo:
         kept: dict[Key, _Kept] = {}
         out = []
         graph = _Graph(found, lines, block_of, head)
-        for gesture in checkable(program):
-            deps = graph.depends(block_of[gesture])
-            key = (gesture, profile.name, profile.sha256, others,
-                   tuple("\n".join(lines[found[k][0]:found[k][1]]) for k in deps))
-            now = tuple(found[k][0] for k in deps)
-            was = self.checks.get(key) or kept.get(key)
-            if was is not None and was.names not in (None, names):
-                was = None
-            if was is None:
-                checked = check_gesture(program, gesture, profile)
-                sizes = tuple(found[k][1] - found[k][0] for k in deps)
-                if not _within(checked, path, now, sizes):
-                    out.append((gesture, checked))  # a place outside its blocks: not kept
-                    continue
-                was = _Kept(checked, now, sizes, names if checked.errors else None)
-            elif was.starts != now:
-                was = dataclasses.replace(was, checked=_moved(was, now, path), starts=now)
-            kept[key] = was
-            out.append((gesture, was.checked))
+        try:
+            for gesture in checkable(program):
+                if step is not None:
+                    step()
+                deps = graph.depends(block_of[gesture])
+                key = (gesture, profile.name, profile.sha256, others,
+                       tuple("\n".join(lines[found[k][0]:found[k][1]]) for k in deps))
+                checked = self._checked(key, kept, program, gesture, profile, path, names,
+                                        tuple(found[k][0] for k in deps),
+                                        tuple(found[k][1] - found[k][0] for k in deps))
+                out.append((gesture, checked))
+        except BaseException:
+            self.checks.update(kept)  # cut short: what was checked is kept all the same
+            raise
         self.checks = kept
         return out
+
+    def _checked(self, key: Key, kept: dict[Key, _Kept], program: Program, gesture: str,
+                 profile: Profile, path: str, names: frozenset[str],
+                 now: tuple[int, ...], sizes: tuple[int, ...]) -> Checked:
+        """The check of ``gesture`` (its blocks at ``now``, of ``sizes`` lines): kept
+        (moved with its blocks), or made and kept in ``kept``."""
+        was = self.checks.get(key) or kept.get(key)
+        if was is not None and was.names not in (None, names):
+            was = None
+        if was is None:
+            checked = check_gesture(program, gesture, profile)
+            if not _within(checked, path, now, sizes):
+                return checked  # a place outside its blocks: not kept
+            was = _Kept(checked, now, sizes, names if checked.errors else None)
+        elif was.starts != now:
+            was = dataclasses.replace(was, checked=_moved(was, now, path), starts=now)
+        kept[key] = was
+        return was.checked
 
 
 class _Graph:

@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from ..language.syntax import KEYWORDS
+from .lines import rows
 
 NAME = r"[A-Za-z_][A-Za-z0-9_]*"  #: the grammar's NAME
 PROFILE = r"[A-Za-z_][A-Za-z0-9_-]*"  #: ``robot rhand-maestro``: the grammar's ROBOT_NAME
@@ -25,7 +27,7 @@ def code(line: str) -> str:
 def word_at(text: str, line: int, column: int) -> str | None:
     """The name at 0-based ``line`` and ``column`` of ``text`` (not in a comment or a
     string), or None."""
-    lines = text.split("\n")
+    lines = rows(text)
     if not 0 <= line < len(lines):
         return None
     for match in WORD.finditer(code(lines[line])):
@@ -83,7 +85,7 @@ def place(text: str, line: int, column: int) -> Place:
     """What may be typed at 0-based ``line`` and ``column`` of ``text``, from the code
     before the cursor (its line and the lines it continues with a backslash): see
     ``Place``. In a comment or a string: ``nothing``."""
-    lines = text.split("\n")
+    lines = rows(text)
     if not 0 <= line < len(lines):
         return Place("nothing", max(column, 0))
     row = lines[line]
@@ -113,7 +115,7 @@ def place(text: str, line: int, column: int) -> Place:
         code(row).strip() for row in lines[:top])))
 
 
-def _continued(lines: list[str], line: int) -> tuple[str, int]:
+def _continued(lines: Sequence[str], line: int) -> tuple[str, int]:
     """The lines that ``line`` continues (each ending in a backslash), joined, each
     backslash a space; and the first of them (``line`` when none)."""
     head = ""
@@ -124,7 +126,7 @@ def _continued(lines: list[str], line: int) -> tuple[str, int]:
     return head, k + 1
 
 
-def _defining(lines: list[str], line: int) -> str:
+def _defining(lines: Sequence[str], line: int) -> str:
     """The name of the gesture whose block ``line`` is in ("" when none)."""
     for row in reversed(lines[:line]):
         if row[:1] not in (" ", "\t", "") and code(row).strip():

@@ -11,6 +11,7 @@ from ..language import syntax as ast
 from ..language.parse import blocks
 from ..language.program import Program
 from .analysis import Analysis
+from .lines import compiler_rows, place, rows
 from .text import code
 
 
@@ -32,10 +33,11 @@ class StepTime:
 
 
 def step_times(found: Analysis) -> dict[int, StepTime]:
-    """0-based line -> the step that starts on it, for each step of the file's gestures
-    (each gesture's own steps and calls, as its own plan times them)."""
-    lines = found.text.split("\n")
-    ends = {first: end for first, end in blocks(lines)}
+    """0-based protocol line -> the step that starts on it, for each step of the file's
+    gestures (each gesture's own steps and calls, as its own plan times them)."""
+    text = found.text
+    ends = {first: end for first, end in blocks(list(compiler_rows(text)))}
+    lines = rows(text)
     out: dict[int, StepTime] = {}
     for gesture, plan in found.plans.items():
         node = found.program.gestures[gesture] if found.program else None
@@ -44,15 +46,15 @@ def step_times(found: Analysis) -> dict[int, StepTime]:
         first = node.name.pos.line - 1
         mine = [s for s in plan.steps if _inside(s, found.path, first, ends.get(first))]
         for step in mine:
-            line = step.pos.line - 1
+            line, column = place(text, step.pos.line, step.pos.column)
             if line in out and out[line].gesture == gesture:
                 out[line] = _again(out[line], step)
                 continue
             end = len(code(lines[line]).rstrip()) if line < len(lines) else 0
-            out[line] = StepTime(gesture, line, step.pos.column - 1, end, step.start,
+            out[line] = StepTime(gesture, line, column, end, step.start,
                                  step.end - step.start, step.asked, step.stretched, 1,
                                  step.end - step.start)
-        for call in _calls(found.program, node.steps, plan, gesture):
+        for call in _calls(found.program, node.steps, plan, gesture, text):
             end = len(code(lines[call.line]).rstrip()) if call.line < len(lines) else 0
             seen = out.get(call.line)
             out[call.line] = _again(seen, call) if seen and seen.gesture == gesture else \
@@ -73,13 +75,13 @@ def _again(seen: StepTime, step: PlannedStep | StepTime) -> StepTime:
                     seen.times + 1, max(seen.longest, length))
 
 
-def _calls(program: Program, steps: tuple[ast.Step, ...], plan: Plan, gesture: str
-           ) -> list[StepTime]:
+def _calls(program: Program, steps: tuple[ast.Step, ...], plan: Plan, gesture: str,
+           text: str) -> list[StepTime]:
     """Each time a step of ``steps`` (a gesture's, in order) calls another gesture: from
     its first planned step's start to its last's end (``line`` and ``column`` where the
-    call is written). The plan has one step per step of the expansion, a call's as many
-    as its gesture expands to; none when the count does not come out (not a plan of
-    these steps)."""
+    call is written in ``text``, the protocol's). The plan has one step per step of the
+    expansion, a call's as many as its gesture expands to; none when the count does not
+    come out (not a plan of these steps)."""
     found: list[StepTime] = []
     sizes: dict[str, int] = {}
 
@@ -93,9 +95,9 @@ def _calls(program: Program, steps: tuple[ast.Step, ...], plan: Plan, gesture: s
             n = 1 if callee is None else _size(program, callee, sizes)
             if callee is not None and n and k + n <= len(plan.steps):
                 first, last = plan.steps[k], plan.steps[k + n - 1]
-                found.append(StepTime(gesture, step.pos.line - 1, step.pos.column - 1, 0,
-                                      first.start, last.end - first.start, None, False, 1,
-                                      last.end - first.start))
+                found.append(StepTime(gesture, *place(text, step.pos.line, step.pos.column),
+                                      0, first.start, last.end - first.start, None, False,
+                                      1, last.end - first.start))
             k += n
         return k
 

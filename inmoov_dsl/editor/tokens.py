@@ -11,6 +11,7 @@ from ..compiling.names import Gesture, Group, Pose, Servo
 from ..language.syntax import KEYWORDS
 from .analysis import Analysis
 from .knowledge import UNITS
+from .lines import rows
 from .text import NUMBER, PROFILE, STRING
 
 #: the token types, in the order the editor is told them (the legend)
@@ -31,7 +32,7 @@ def tokens(found: Analysis) -> list[tuple[int, int, int, str, tuple[str, ...]]]:
     defined_here = set() if program is None else {
         n for n, p in program.names().items() if p.file == found.path}
     out = []
-    for k, row in enumerate(found.text.split("\n")):
+    for k, row in enumerate(rows(found.text)):
         defines = DEFINES.match(row)
         robot = row.lstrip().startswith("robot")
         for m in TOKEN.finditer(row):

@@ -68,7 +68,7 @@ class _Node:
 def format_source(text: str, file: str = "<string>") -> str:
     """``text`` in the canonical layout; raises GestError if it does not parse."""
     module = parse(text, file)
-    lines = text.splitlines()
+    lines = [row.rstrip("\r") for row in text.split("\n")]  # as the parser counts
     nodes = [_item(item) for item in module.items]
     tail = _attach(nodes, _comments(lines), lines)
     out = _Printer(lines)

@@ -10,8 +10,9 @@ import re
 from functools import cache
 from typing import NamedTuple
 
-from ..errors import GestError, Pos
+from ..errors import Diagnostic, GestError, Pos
 from . import syntax as ast
+from .indent import STYLE_LINE
 from .parse import alone, attempt, attempt_block, blocks, every_error, in_order, prepared
 from .parse_errors import SyntaxProblem
 from .tree import module_of
@@ -56,7 +57,7 @@ class BlockParser:
             key = (file, "\n".join(lines[start:end]))
             was = self.seen.get(key) or kept.get(key)
             if was is None:
-                was = (start, attempt_block(lines, start, end, file))
+                was = (start, _alone(lines, start, end, file))
             elif was[0] != start:
                 was = (start, shifted(was[1], start - was[0]))
             kept[key] = was
@@ -86,6 +87,18 @@ class BlockParser:
         except SyntaxProblem:
             module, broken = _without_robots(file, items), broken | {"*"}
         return Partial(module, every_error(first, list(each)), broken, flawed)
+
+
+def _alone(lines: list[str], start: int, end: int, file: str) -> Parsed:
+    """The block of ``lines`` from ``start`` to ``end`` parsed (``attempt_block``) as if
+    it were on the text's second line (the first when it is), then moved to its place:
+    the lexer sees what it sees at ``start``, one line end before it, and a block costs
+    its own length, not its place's (``start`` line ends before it, read each time,
+    made a long file's parse quadratic)."""
+    if start == 0:
+        return attempt_block(lines, 0, end, file)
+    near = ["", *lines[start:end + 1]]  # the line after it too: an error's may be there
+    return shifted(attempt_block(near, 1, end - start + 1, file), start - 1)
 
 
 def _without_robots(file: str, items: tuple[ast.Item, ...]) -> ast.Module:
@@ -123,6 +136,9 @@ def shifted(parsed: Parsed, lines: int) -> Parsed:
 def _moved(node, lines: int):
     if type(node) is Pos:
         return copied(node, line=node.line + lines)
+    if type(node) is Diagnostic and STYLE_LINE.search(node.message):  # names a line
+        return copied(node, pos=_moved(node.pos, lines), message=STYLE_LINE.sub(
+            lambda m: f"{m[1]}{int(m[2]) + lines}{m[3]}", node.message))
     if isinstance(node, tuple):
         return tuple([_moved(n, lines) for n in node])
     fields = _fields(type(node))

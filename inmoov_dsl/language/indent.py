@@ -3,6 +3,7 @@ indentation), which also refuses mixed indentation and keywords where a name is.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterator
 
 from lark import Token
@@ -10,6 +11,9 @@ from lark.indenter import Indenter
 
 from .parse_errors import Span, SyntaxProblem, keyword_problem
 from .syntax import KEYWORDS
+
+#: the line a message about mixed indentation names (moved with the text it is about)
+STYLE_LINE = re.compile(r"(, line )(\d+)( with (?:spaces|tabs))")
 
 
 class GestIndenter(Indenter):

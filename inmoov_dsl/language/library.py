@@ -105,7 +105,7 @@ def scan(dirs: Sequence[Path] | None = None) -> Library:
         except (OSError, UnicodeDecodeError) as exc:
             broken[path] = GestError(Diagnostic("error", f"cannot read {path}: {exc}"))
             continue
-        lines = text.splitlines()
+        lines = [row.rstrip("\r") for row in text.split("\n")]  # as the parser counts
         for item in module.items:
             if not isinstance(item, ast.GestureDef):
                 continue
