@@ -1,4 +1,6 @@
-"""gestc preview: an animated drawing of the hand doing the gesture (Pillow)."""
+"""gestc preview: an animated drawing of the hand doing the gesture (Pillow); with
+``--live``, a page on this computer that follows the file as it is saved: the robot in
+3-D, the gesture's timeline, its steps (``model.livepage``)."""
 
 from __future__ import annotations
 
@@ -6,11 +8,16 @@ import argparse
 import sys
 
 from ..common import EXIT_OK
+from ..options import http_address
 from .target import add_arguments, compile_target, output_path
 
 
 def run(args: argparse.Namespace) -> int:
-    """Write the GIF."""
+    """Write the GIF, or serve the live page."""
+    if args.live:
+        from .preview_live import live
+
+        return live(args)
     from ...model.preview import write_gif
 
     compiled, plan = compile_target(args)
@@ -23,7 +30,22 @@ def run(args: argparse.Namespace) -> int:
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestc preview GESTURE``."""
     p = sub.add_parser("preview", help="an animated drawing of the hand doing the gesture "
-                       "(needs Pillow)")
+                       "(needs Pillow); --live: a page that follows the file as it changes "
+                       "(needs the web extra)")
     add_arguments(p)
     p.add_argument("-o", "--output", help="the GIF to write (default GESTURE.gif)")
+    live = p.add_argument_group("the live page (--live)")
+    live.add_argument("--live", action="store_true",
+                      help="serve a page on 127.0.0.1 that shows FILE's gesture (--gesture, "
+                      "else its first) as the file is saved: the robot in 3-D, the "
+                      "timeline, the steps; Ctrl-C stops")
+    live.add_argument("--http", type=http_address, default=("127.0.0.1", 0),
+                      metavar="PORT", help="the page's port (default 0: any free one); "
+                      "127.0.0.1 only")
+    live.add_argument("--no-open", action="store_true",
+                      help="do not open the page in a browser (print its address only)")
+    live.add_argument("--serve", metavar="URL",
+                      help="a running gestplay serve (http://127.0.0.1:8180): the page's "
+                      "'Play on the robot' button plays the gesture there")
+    live.add_argument("--token", help="the token that gestplay serve asks for")
     p.set_defaults(func=run)
