@@ -13,7 +13,9 @@ from __future__ import annotations
 
 import asyncio
 import functools
+import os
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any, TypeVar
 
 from lsprotocol import types as lsp
@@ -25,6 +27,8 @@ from ..errors import GestError
 from ..profiles.profile import load_profile
 from .analysis import Analysis
 from .memo import Memo
+from .preview_feed import Preview
+from .preview_play import Player
 from .protocol import GestProtocol
 from .replies import diagnostics
 from .store import Document, Documents
@@ -47,6 +51,8 @@ class GestServer(LanguageServer):
         self.waiting: dict[str, list[tuple[bool, asyncio.Future]]] = {}
         self.worker = Worker(self._arrived)
         self.loop: asyncio.AbstractEventLoop | None = None
+        #: the live preview page, made when an editor asks (``gest.preview``)
+        self.preview = Preview(self.worker.call, self._pick)
 
     def configure(self, settings: Any) -> None:
         """Take ``{"robot": ..., "library": [...]}`` (or the same under ``gest``)."""
@@ -66,6 +72,9 @@ class GestServer(LanguageServer):
             self.robot = DEFAULT
         self.library = [d for d in library if isinstance(d, str)] if isinstance(
             library, list) else []
+        serve, token = settings.get("serve"), settings.get("token")
+        self.preview.play_on(Player(serve, token if isinstance(token, str) else None)
+                             if isinstance(serve, str) and serve else None)
 
     def analyse(self, doc: Document) -> None:
         """Analyse ``doc`` as it is now (its older version's analysis stops)."""
@@ -134,6 +143,17 @@ class GestServer(LanguageServer):
             doc = self.documents.get(job.uri)
             self.text_document_publish_diagnostics(lsp.PublishDiagnosticsParams(
                 uri=job.uri, diagnostics=told, version=doc.version if doc else None))
+            self.preview.analysed(job.uri, found)
+
+    def _pick(self, path: str, line: int, character: int) -> None:
+        """A step clicked on the preview page (its thread): the editor shows it."""
+        if self.loop is None:
+            return
+        at = lsp.Position(line, character)
+        params = lsp.ShowDocumentParams(uri=Path(os.path.abspath(path)).as_uri(),
+                                        take_focus=True, selection=lsp.Range(at, at))
+        self.loop.call_soon_threadsafe(
+            lambda: asyncio.ensure_future(self.window_show_document_async(params)))
 
     def report_server_error(self, error: Exception, source: Any) -> None:
         """An error outside a request (a notification's handler, a message that does

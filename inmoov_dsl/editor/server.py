@@ -9,9 +9,12 @@ from __future__ import annotations
 import asyncio
 import functools
 import gc
+import sys
+from typing import Any
 
 from lsprotocol import types as lsp
 
+from ..errors import GestError
 from .documents import GestServer
 from .replies import (
     actions,
@@ -28,6 +31,8 @@ from .store import document_path
 from .tokens import MODIFIERS, TYPES
 
 LEGEND = lsp.SemanticTokensLegend(list(TYPES), list(MODIFIERS))
+PREVIEW = "gest.preview"  #: the command that opens the live preview page
+CURSOR = "gest/cursor"  #: the editor's cursor, for the page (docs/editors.md)
 
 server = GestServer()
 
@@ -75,6 +80,53 @@ def did_change(ls: GestServer, params: lsp.DidChangeTextDocumentParams) -> None:
             ("its whole text taken" if doc else "no whole text in it, left"))))
     if doc is not None:
         ls.analyse(doc)
+        change = params.content_changes[-1] if params.content_changes else None
+        if isinstance(change, lsp.TextDocumentContentChangePartial):
+            ls.preview.edited(doc.uri, change.range.start.line, change.range.start.character)
+
+
+@server.feature(CURSOR)
+def on_cursor(ls: GestServer, params: Any) -> None:
+    """``gest/cursor`` (VS Code's and Neovim's, docs/editors.md): where the editor's
+    cursor is, for the preview page's step under it."""
+    try:
+        uri = params.textDocument.uri
+        line, character = int(params.position.line), int(params.position.character)
+    except (AttributeError, TypeError, ValueError):
+        return  # not a cursor: nothing to follow
+    doc = ls.documents.get(uri)
+    if doc is not None and line >= 0 and character >= 0:
+        ls.preview.moved(doc.uri, line, character)
+
+
+@server.command(PREVIEW)
+async def open_preview(ls: GestServer, *args: Any) -> dict[str, str] | None:
+    """``gest.preview [uri, {"open": bool}]``: the live preview page's address, the page
+    following the document ``uri`` (else the one last edited). Unless ``open`` is false,
+    the editor is asked to open it in a browser (``window/showDocument``, external)."""
+    uri = args[0] if args and isinstance(args[0], str) else None
+    options = args[1] if len(args) > 1 and isinstance(args[1], dict) else {}
+    doc = ls.documents.get(uri) if uri else None
+    try:
+        url = await asyncio.to_thread(ls.preview.open, doc.uri if doc else None)
+    except GestError as exc:
+        ls.window_show_message(lsp.ShowMessageParams(
+            lsp.MessageType.Error, f"{exc.first.message} ({exc.first.hint})"
+            if exc.first.hint else exc.first.message))
+        return None
+    followed = ls.documents.get(ls.preview.uri or "")
+    if followed is not None:
+        found = ls.analyses.get(followed.uri)
+        if found is not None and found.checked:
+            ls.preview.analysed(followed.uri, found)
+    if options.get("open", True):
+        try:
+            await ls.window_show_document_async(lsp.ShowDocumentParams(uri=url,
+                                                                       external=True))
+        except Exception:  # noqa: BLE001 - an editor that cannot: the message says where
+            ls.window_show_message(lsp.ShowMessageParams(
+                lsp.MessageType.Info, f"the gesture's live preview: {url}"))
+    return {"url": url}
 
 
 @server.feature(lsp.TEXT_DOCUMENT_DID_CLOSE)
@@ -173,8 +225,12 @@ GC_THRESHOLD = 50_000  #: new objects between two young collections (Python's: 7
 
 
 def main() -> None:
-    """Serve on standard input and output. An edit that moves every block of a long
-    file makes tens of thousands of small objects: collected less often, it answers in
-    about half the time (benchmarks/lsp.py)."""
+    """Serve on standard input and output; anything else that would write to standard
+    output (a library's print: viser's, the preview page's) goes to standard error,
+    where it cannot break the protocol's stream. An edit that moves every block of a
+    long file makes tens of thousands of small objects: collected less often, it
+    answers in about half the time (benchmarks/lsp.py)."""
     gc.set_threshold(GC_THRESHOLD, *gc.get_threshold()[1:])
-    server.start_io()
+    stdout = sys.stdout.buffer
+    sys.stdout = sys.stderr
+    server.start_io(sys.stdin.buffer, stdout)

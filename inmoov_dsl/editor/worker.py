@@ -21,7 +21,9 @@ from concurrent.futures import Future
 from dataclasses import dataclass
 from typing import Any
 
+from ..compiling.compiler import plan_checks
 from ..errors import Diagnostic, Pos
+from ..model import collisions
 from .analysis import Analysis, checked, loaded
 from .memo import Memo
 
@@ -101,10 +103,16 @@ class Worker:
 
     def _wake(self) -> None:
         if self._thread is None:
-            self._thread = threading.Thread(target=self._loop, name="gest-analysis",
+            self._thread = threading.Thread(target=self._checked_loop, name="gest-analysis",
                                             daemon=True)
             self._thread.start()
         self._lock.notify()
+
+    def _checked_loop(self) -> None:
+        """The thread: every plan it compiles checked as ``gestc check`` checks it, the
+        robot's parts against each other too (``model.guard``)."""
+        with plan_checks(collisions):
+            self._loop()
 
     def _loop(self) -> None:
         while True:

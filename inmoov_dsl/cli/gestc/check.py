@@ -10,8 +10,9 @@ from ...errors import GestError, decode_utf8
 from ...language.incremental import BlockParser
 from ...language.library import library_dirs
 from ...language.load import load
+from ...model import collisions
 from ..common import EXIT_ERROR, EXIT_OK, report, stdin_bytes
-from .target import PROG, add_arguments, collisions, link_keeps_up
+from .target import PROG, add_arguments, link_keeps_up
 
 STDIN = "<stdin>"  #: the name of the text read from standard input (``-``)
 

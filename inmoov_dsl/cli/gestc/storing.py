@@ -16,9 +16,9 @@ from ...hardware import Board, Profile
 from ...language.library import find_gesture, library_dirs, scan_library
 from ...language.load import load
 from ...language.program import Program
+from ...model import collisions
 from ...wire.stored import DEFAULT_IDLE_AFTER, StoredSet
 from ..common import number, report
-from .target import collisions
 
 ALL = "all"  #: ``--store all``: every library gesture that plays on the board
 

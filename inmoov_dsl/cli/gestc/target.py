@@ -9,9 +9,10 @@ from pathlib import Path
 from ...compiling.compiled import Compiled
 from ...compiling.compiler import compile_program, plan_checks
 from ...compiling.plan import Plan
-from ...errors import Diagnostic, GestError, SourceMap
+from ...errors import Diagnostic, GestError
 from ...hardware import Profile
 from ...language.program import Program
+from ...model import collisions
 from ..common import add_lib, report
 from ..target import Target, load_target
 from . import PROG  # noqa: F401 (the commands take it from here)
@@ -60,14 +61,6 @@ def compile_one(program: Program, gesture: str | None, profile: str | Profile,
     if strict:
         link_keeps_up(program, compiled, plan)
     return compiled, plan
-
-
-def collisions(plan: Plan, sources: SourceMap, strict: bool) -> tuple[Diagnostic, ...]:
-    """The self-collision check of every plan a gestc command compiles (``model.guard``,
-    imported when a plan is checked)."""
-    from ...model.guard import check_plan
-
-    return check_plan(plan, sources, strict)
 
 
 def link_keeps_up(program: Program, compiled: Compiled, plan: Plan) -> None:
