@@ -138,7 +138,7 @@ class Editor:
             if waiting is not None and not waiting.done():
                 waiting.set_result((time.perf_counter(), len(params.diagnostics)))
 
-    async def start(self, path: Path, text: str) -> None:
+    async def start(self, path: Path, text: str, preview: bool = False) -> None:
         await self.client.start_io(*SERVER)
         await self.client.initialize_async(lsp.InitializeParams(
             capabilities=lsp.ClientCapabilities()))
@@ -148,6 +148,9 @@ class Editor:
         self.client.text_document_did_open(lsp.DidOpenTextDocumentParams(
             lsp.TextDocumentItem(self.uri, "gest", 1, text)))
         await asyncio.wait_for(done, 600)
+        if preview:  # the live page fed each version too (no browser: viser's own work)
+            await self.client.workspace_execute_command_async(lsp.ExecuteCommandParams(
+                "gest.preview", [self.uri, {"open": False}]))
 
     def _expect(self, version: int) -> asyncio.Future:
         self.told[version] = asyncio.get_running_loop().create_future()
@@ -174,10 +177,10 @@ class Editor:
 
 
 async def session(name: str, path: Path, text: str, edits: int, seed: int,
-                  memory_every: int = 0) -> list[float]:
+                  memory_every: int = 0, preview: bool = False) -> list[float]:
     editor = Editor()
     t0 = time.perf_counter()
-    await editor.start(path, text)
+    await editor.start(path, text, preview)
     opened = time.perf_counter() - t0
     typist = Typist(text, random.Random(seed))
     times, told, rss = [], 0, []
@@ -203,6 +206,9 @@ async def main() -> None:
     parser.add_argument("--edits", type=int, default=1000)
     parser.add_argument("--memory-edits", type=int, default=10_000)
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--preview", action="store_true",
+                        help="the memory session with the live preview page open (fed "
+                        "every version: gest.preview)")
     args = parser.parse_args()
     largest = largest_library_file()
     await session(f"library's largest file ({largest.name})", largest,
@@ -212,8 +218,10 @@ async def main() -> None:
         big.write_text(generated(5000))
         await session("generated file", big, big.read_text(), args.edits, args.seed)
     if args.memory_edits:
-        await session(f"memory ({largest.name})", largest, largest.read_text(),
-                      args.memory_edits, args.seed + 1, memory_every=1000)
+        await session(f"memory ({largest.name}"
+                      f"{', the preview page open' if args.preview else ''})", largest,
+                      largest.read_text(), args.memory_edits, args.seed + 1,
+                      memory_every=1000, preview=args.preview)
 
 
 if __name__ == "__main__":

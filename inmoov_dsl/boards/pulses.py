@@ -13,6 +13,7 @@ then the width is linear in the value.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Sequence
 
 import numpy as np
@@ -74,5 +75,16 @@ class Widths:
 
 
 def widths(servo) -> Widths:
-    """The widths of a profile's ``servo`` (its calibration, direction and ``pulse``)."""
-    return Widths(servo.calibration, servo.reversed, getattr(servo, "pulse", None))
+    """The widths of a profile's ``servo`` (its calibration, direction and ``pulse``),
+    made once for each (a board's encoding asks for them at every compile)."""
+    pulse = getattr(servo, "pulse", None)
+    return _widths(tuple(servo.calibration), bool(servo.reversed),
+                   None if pulse is None else tuple(pulse))
+
+
+@functools.lru_cache(maxsize=1024)
+def _widths(calibration: tuple[int, ...], reversed: bool,
+            pulse: tuple[int, ...] | None) -> Widths:
+    made = Widths(calibration, reversed, pulse)
+    made.table.flags.writeable = made.exact.flags.writeable = False  # shared: read only
+    return made
