@@ -52,7 +52,7 @@ class GestServer(LanguageServer):
         self.worker = Worker(self._arrived)
         self.loop: asyncio.AbstractEventLoop | None = None
         #: the live preview page, made when an editor asks (``gest.preview``)
-        self.preview = Preview(self.worker.call, self._pick)
+        self.preview = Preview(self._pick)
 
     def configure(self, settings: Any) -> None:
         """Take ``{"robot": ..., "library": [...]}`` (or the same under ``gest``)."""

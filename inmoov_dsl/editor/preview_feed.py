@@ -5,12 +5,14 @@ cursor the editor last told (``gest/cursor``; an editor that tells none, as Heli
 the cursor where it last edited). A step clicked on the page is sent back as the place
 to put the editor's cursor (``on_pick``: the server's ``window/showDocument``).
 
-The view is made in the worker's thread (``view_of``: the plan's timeline made once and
-kept while the plan stays), the page draws it in its own: the server's loop only hands
-them on."""
+The view is made in a thread of the preview's own (``view_of``: the plan's timeline made
+once and kept while the plan stays), only for the newest analysis and cursor (one that
+a newer one overtook is skipped), so the worker's analyses never wait for it; the page
+draws it in its own: the server's loop only hands them on."""
 
 from __future__ import annotations
 
+import logging
 import threading
 from collections.abc import Callable
 from typing import Any
@@ -18,24 +20,27 @@ from typing import Any
 from ..model.timeline import Span
 from .analysis import Analysis
 
+log = logging.getLogger(__name__)
+
 #: what the server's loop is handed: (path, 0-based line, 0-based character) to show
 Pick = Callable[[str, int, int], None]
 
 
 class Preview:
-    """The page (None until asked for) and what it follows. ``run(fn)`` runs ``fn`` off
-    the loop (the worker's thread); ``pick`` is told, from the page's thread, a step
-    clicked."""
+    """The page (None until asked for) and what it follows. ``pick`` is told, from the
+    page's thread, a step clicked."""
 
-    def __init__(self, run: Callable[[Callable[[], Any]], Any], pick: Pick):
-        self.run, self.pick = run, pick
+    def __init__(self, pick: Pick):
+        self.pick = pick
         self.page = None
         self.uri: str | None = None  #: the document followed
         self.cursors: dict[str, tuple[int, int]] = {}  #: uri -> the editor's cursor
         self.edits: dict[str, tuple[int, int]] = {}  #: uri -> where it was last edited
         self.found: Analysis | None = None  #: the newest checked analysis of ``uri``
         self.player: Any = None  #: the "Play on the robot" button's (``Player``), or None
-        self._lock = threading.Lock()
+        self._wanted: tuple | None = None  #: the newest (analysis, line, character) to show
+        self._wake = threading.Condition()
+        self._thread: threading.Thread | None = None
 
     def open(self, uri: str | None) -> str:
         """The page's address, made the first time (a GestError without the web
@@ -83,17 +88,33 @@ class Preview:
             self.page = None
 
     def _show(self, found: Analysis) -> None:
-        """The view of ``found`` at the cursor, made off the loop, then shown."""
-        page, uri = self.page, self.uri
-        line, character = self.cursors.get(uri) or self.edits.get(uri) or (None, 0)
+        """Show the view of ``found`` at the cursor: made in the preview's thread, the
+        newest wanted only."""
+        line, character = self.cursors.get(self.uri) or self.edits.get(self.uri) or (None, 0)
+        with self._wake:
+            self._wanted = (found, line, character)
+            if self._thread is None:
+                self._thread = threading.Thread(target=self._run, name="gest-preview",
+                                                daemon=True)
+                self._thread.start()
+            self._wake.notify()
 
-        def make() -> None:
-            from .preview_view import view_of
+    def _run(self) -> None:
+        """The preview's thread: each newest view made and handed to the page."""
+        from .preview_view import view_of
 
-            with self._lock:  # one view at a time: each builds on the one before
+        while True:
+            with self._wake:
+                while self._wanted is None:
+                    self._wake.wait()
+                (found, line, character), self._wanted = self._wanted, None
+            page = self.page
+            if page is None:
+                continue
+            try:
                 page.show(view_of(found, line, character, previous=page.view))
-
-        self.run(make)
+            except Exception:  # noqa: BLE001 - the page shows the last view; the editor goes on
+                log.exception("the preview's view")
 
     def _picked(self, span: Span) -> None:
         """A step clicked on the page (its thread): the editor's cursor to it."""
