@@ -16,7 +16,7 @@ hold whatever the scheduler did.
 from __future__ import annotations
 
 import math
-from collections.abc import Collection
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -119,12 +119,13 @@ def values_sent(profile: Profile, streams: tuple[Stream, ...]
     return {i: (np.asarray(t), np.asarray(v)) for i, (t, v) in out.items()}
 
 
-def held_at(plan: Plan, sent: dict, times: np.ndarray) -> np.ndarray:
-    """The value each servo's board holds at each of ``times``: [time][servo]."""
-    out = np.empty((len(times), len(plan.tracks)), dtype=np.int64)
-    for i, start in enumerate(plan.start):
+def held_at(start: Sequence[int], sent: dict, times: np.ndarray) -> np.ndarray:
+    """The value each servo's board holds at each of ``times``: [time][servo], from
+    the ``start`` values (profile order) and the values ``sent`` (``values_sent``)."""
+    out = np.empty((len(times), len(start)), dtype=np.int64)
+    for i, first in enumerate(start):
         at, values = sent.get(i, (np.empty(0), np.empty(0, dtype=np.int64)))
-        series = np.concatenate(([start], values)).astype(np.int64)
+        series = np.concatenate(([first], values)).astype(np.int64)
         out[:, i] = series[np.searchsorted(at, times, side="right")]
     return out
 

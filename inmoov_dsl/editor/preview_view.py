@@ -22,6 +22,7 @@ from ..language.syntax import KEYWORDS
 from ..model.timeline import Span, View, motion
 from .analysis import Analysis
 from .text import NAME, code
+from .timing import callee, expanded_size
 
 GESTURE_LINE = re.compile(rf"({NAME})[ \t]*:")  #: a top-level line that starts a gesture
 LABEL = 60  #: characters of a step's code on its label, at most
@@ -140,23 +141,6 @@ def _sites(program: Program, steps: tuple[ast.Step, ...], sizes: dict[str, int])
             for _ in range(step.count):
                 out += _sites(program, step.body, sizes)
             continue
-        callee = _callee(program, step)
-        out += [step.pos] * (1 if callee is None else _size(program, callee, sizes))
+        called = callee(program, step)
+        out += [step.pos] * (1 if called is None else expanded_size(program, called, sizes))
     return out
-
-
-def _callee(program: Program, step: ast.Step) -> str | None:
-    """The gesture ``step`` calls (a gesture's name alone, on a side or not), or None."""
-    if not isinstance(step, ast.Move) or len(step.targets) != 1:
-        return None
-    target = step.targets[0]
-    name = target.name.text
-    return name if not target.valued and name in program.gestures else None
-
-
-def _size(program: Program, gesture: str, sizes: dict[str, int]) -> int:
-    """How many planned steps ``gesture`` plays (0 in a cycle, which does not plan)."""
-    if gesture not in sizes:
-        sizes[gesture] = 0
-        sizes[gesture] = len(_sites(program, program.gestures[gesture].steps, sizes))
-    return sizes[gesture]

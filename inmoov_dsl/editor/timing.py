@@ -91,9 +91,9 @@ def _calls(program: Program, steps: tuple[ast.Step, ...], plan: Plan, gesture: s
                 for _ in range(step.count):
                     k = walk(step.body, k)
                 continue
-            callee = _callee(program, step)
-            n = 1 if callee is None else _size(program, callee, sizes)
-            if callee is not None and n and k + n <= len(plan.steps):
+            called = callee(program, step)
+            n = 1 if called is None else expanded_size(program, called, sizes)
+            if called is not None and n and k + n <= len(plan.steps):
                 first, last = plan.steps[k], plan.steps[k + n - 1]
                 found.append(StepTime(gesture, *place(text, step.pos.line, step.pos.column),
                                       0, first.start, last.end - first.start, None, False,
@@ -101,7 +101,7 @@ def _calls(program: Program, steps: tuple[ast.Step, ...], plan: Plan, gesture: s
             k += n
         return k
 
-    if not any(_callee(program, s) for s in _flat(steps)):
+    if not any(callee(program, s) for s in _flat(steps)):
         return []
     return found if walk(steps, 0) == len(plan.steps) else []
 
@@ -112,7 +112,7 @@ def _flat(steps: tuple[ast.Step, ...]) -> list[ast.Step]:
             (_flat(s.body) if isinstance(s, ast.Repeat) else [s])]
 
 
-def _callee(program: Program, step: ast.Step) -> str | None:
+def callee(program: Program, step: ast.Step) -> str | None:
     """The gesture ``step`` calls, if it is a call: a gesture's name alone."""
     if not isinstance(step, ast.Move) or len(step.targets) != 1:
         return None
@@ -121,7 +121,7 @@ def _callee(program: Program, step: ast.Step) -> str | None:
     return name if not target.valued and name in program.gestures else None
 
 
-def _size(program: Program, gesture: str, sizes: dict[str, int]) -> int:
+def expanded_size(program: Program, gesture: str, sizes: dict[str, int]) -> int:
     """How many steps ``gesture`` expands to (its calls and repeats), each gesture
     counted once (``sizes``); 0 in a cycle (which does not plan)."""
     if gesture not in sizes:
@@ -135,8 +135,8 @@ def _count(program: Program, steps: tuple[ast.Step, ...], sizes: dict[str, int])
     for step in steps:
         if isinstance(step, ast.Repeat):
             total += step.count * _count(program, step.body, sizes)
-        elif (callee := _callee(program, step)) is not None:
-            total += _size(program, callee, sizes)
+        elif (called := callee(program, step)) is not None:
+            total += expanded_size(program, called, sizes)
         else:
             total += 1
     return total

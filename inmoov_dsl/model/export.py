@@ -26,7 +26,7 @@ def joint_states(plan: Plan, compiled: Compiled, period: float = SERVO_FRAME
     seconds from 0 to the end of the gesture, positions in radians."""
     steps = int(math.ceil(compiled.duration / period - 1e-9))
     times = np.arange(steps + 1) * period
-    held = held_at(plan, sent_values(plan, compiled), times)
+    held = held_at(plan.start, sent_values(plan, compiled), times)
     columns = [joints.position(s, held[:, i]) for i, s in enumerate(plan.profile.servos)]
     return ["time", *joints.names(plan.profile)], np.column_stack([times, *columns])
 

@@ -17,7 +17,7 @@ import numpy as np
 
 from ..compiling.actions import Action
 from ..compiling.compiled import Compiled
-from ..compiling.metrics import values_sent
+from ..compiling.metrics import held_at, values_sent
 from ..compiling.plan import Plan, PlannedStep, Planner
 from ..errors import Diagnostic, GestError, Pos, SourceMap
 from ..hardware import Profile
@@ -172,10 +172,8 @@ class Guard:
         if self.checker is None:
             return ()
         times = np.arange(0.0, compiled.duration + SERVO_FRAME, SERVO_FRAME)
-        values = np.tile(np.asarray(compiled.start, dtype=float), (len(times), 1))
-        for i, (at, sent) in values_sent(self.profile, compiled.streams).items():
-            series = np.concatenate(([compiled.start[i]], sent)).astype(float)
-            values[:, i] = series[np.searchsorted(at, times, side="right")]
+        sent = values_sent(self.profile, compiled.streams)
+        values = held_at(compiled.start, sent, times).astype(float)
         found = [Diagnostic("warning" if self.allow_contact else "error",
                             contact_message(self.checker, t, c, row, ()),
                             _at(compiled, t),

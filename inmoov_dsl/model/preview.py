@@ -136,7 +136,7 @@ def poses(plan: Plan, compiled: Compiled, period: float = SERVO_FRAME
     parts = hand_servos(plan.profile)
     count = int(math.ceil(compiled.duration / period - 1e-9)) + 1
     times = np.arange(count) * period
-    held = held_at(plan, sent_values(plan, compiled), times)
+    held = held_at(plan.start, sent_values(plan, compiled), times)
     return times, [{part: int(row[i]) for part, i in parts.items()} for row in held]
 
 
