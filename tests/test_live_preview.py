@@ -11,13 +11,10 @@ The browser tests skip without chromium or viser, except under CI=true, where th
 from __future__ import annotations
 
 import dataclasses
-import json
 import re
 import subprocess
 import sys
-import threading
 import time
-from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 
 import numpy as np
@@ -27,7 +24,6 @@ from test_web import POSIX, Lines, ivory, settled
 from inmoov_dsl.compiling.compiled import Stream
 from inmoov_dsl.editor.analysis import Analysis, analyse
 from inmoov_dsl.editor.memo import Memo
-from inmoov_dsl.editor.preview_play import Player, requests
 from inmoov_dsl.editor.preview_view import gesture_at, view_of
 from inmoov_dsl.model import livedraw, timeline
 from inmoov_dsl.model.liveclock import Clock
@@ -185,54 +181,6 @@ def test_the_clock_plays_loops_and_stops_at_the_end():
     clock.pause(21.5)
     clock.seek(0.25, 30.0)
     assert clock.time(99.0) == 0.25
-
-
-def test_what_play_on_the_robot_sends(tmp_path):
-    view = view_of(analyse(WAVE, str(tmp_path / "w.gest")), 10)  # both
-    bodies, left = requests(view)
-    assert not left and [b["when"] for b in bodies] == ["now"] + ["after"] * 8
-    lines = [b["steps"] for b in bodies]
-    # the first brings every servo the gesture names to the plan's values
-    assert lines[0] == "wrist 0, thumb 0, index 0, middle 0, ring 0, pinky 0 over 0.7s"
-    assert lines[1:3] == ["wrist 180 over 0.4s", "wrist 0 over 0.4s"]
-    assert lines[7] == "wait 0.2s"
-    # the time it was planned to take (0.5 s asked, stretched: the servos need 0.6 s)
-    assert lines[8] == "thumb 180, index 180, middle 180, ring 180, pinky 180 over 0.6s"
-    talk = ROOT / "gestures" / "talk.gest"
-    said, _ = requests(view_of(analyse(talk.read_text(), str(talk)), gesture="hello_talk"))
-    assert said[0]["steps"].startswith("rothead 90, jaw 0")  # 'a & b': both parts' servos
-
-
-def test_the_player_posts_each_step_with_the_token_and_says_a_refusal(tmp_path):
-    got = []
-
-    class Service(BaseHTTPRequestHandler):
-        def do_POST(self):  # noqa: N802 (http.server's name)
-            body = json.loads(self.rfile.read(int(self.headers["Content-Length"])))
-            got.append((self.path, self.headers.get("Authorization"), body))
-            bad = "wrist 0" in body["steps"] and len(got) > 3
-            self.send_response(422 if bad else 202)
-            self.send_header("Content-Type", "application/json")
-            self.end_headers()
-            self.wfile.write(json.dumps({"text": "no such servo"} if bad else
-                                        {"id": str(len(got))}).encode())
-
-        def log_message(self, *args):
-            pass
-
-    server = ThreadingHTTPServer(("127.0.0.1", 0), Service)
-    threading.Thread(target=server.serve_forever, daemon=True).start()
-    try:
-        url = f"http://127.0.0.1:{server.server_address[1]}"
-        view = view_of(analyse(WAVE, str(tmp_path / "w.gest")), 3)
-        said = Player(url, "s3cret-token-of-16")(view)
-        assert said == "step 5 of 7 (wrist 0 over 0.4s) was refused (422): no such servo; " \
-            "4 sent before it"
-        assert {(p, a) for p, a, _ in got} == {("/api/play", "Bearer s3cret-token-of-16")}
-        server.shutdown()
-        assert Player(url, timeout=1)(view).startswith("step 1 of 7 (wrist 0, thumb 0")
-    finally:
-        server.server_close()
 
 
 # --- the page, in a browser

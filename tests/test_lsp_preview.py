@@ -43,6 +43,18 @@ async def opened(client: LanguageClient, uri: str, text: str) -> list[lsp.Diagno
     return client.diagnostics[uri]
 
 
+async def told(client: LanguageClient, uri: str, what: str) -> lsp.Diagnostic:
+    """The diagnostic of ``uri`` whose message has ``what``, once the server tells it
+    (a contact is told after the rest of the diagnostics, when it is found)."""
+    deadline = time.monotonic() + LIMIT
+    while time.monotonic() < deadline:
+        if found := [d for d in client.diagnostics.get(uri, []) if what in d.message]:
+            (one,) = found
+            return one
+        await asyncio.sleep(0.05)
+    pytest.fail(f"the server did not tell {what!r} in {LIMIT} s")
+
+
 async def until_async(browser, expression: str, what: str):  # noqa: F811
     """``until``, letting the client's loop run (the server's messages are read)."""
     deadline = time.monotonic() + LIMIT
@@ -56,12 +68,54 @@ async def until_async(browser, expression: str, what: str):  # noqa: F811
 @pytest.mark.asyncio
 async def test_a_contact_is_a_warning_at_its_step(client: LanguageClient, tmp_path):
     uri = (tmp_path / "elbow.gest").as_uri()
-    said = await opened(client, uri, "robot inmoov\n\nelbow:\n    r_rotate 125 over 1.5s\n"
-                                     "    r_bicep 143 over 2s\n")
-    (contact,) = [d for d in said if "enters the chest" in d.message]
+    await opened(client, uri, "robot inmoov\n\nelbow:\n    r_rotate 125 over 1.5s\n"
+                              "    r_bicep 143 over 2s\n")
+    contact = await told(client, uri, "enters the chest")
     assert contact.severity == lsp.DiagnosticSeverity.Warning
     assert contact.range.start == lsp.Position(4, 4)  # the step that drives it there
     assert contact.message.startswith("at ") and "the right forearm" in contact.message
+
+
+def test_a_long_motions_contacts_are_looked_for_in_steps_and_kept(tmp_path):
+    """The server tells a text's diagnostics, then its contacts (``touched``): a long
+    motion's look is cut short within it when a newer text comes, and is not made
+    again for an edit elsewhere."""
+    pytest.importorskip("fcl", reason="the [collide] extra brings python-fcl")
+    from inmoov_dsl.editor.analysis import checked, loaded, touched
+    from inmoov_dsl.editor.memo import Memo
+
+    class Newer(Exception):
+        pass
+
+    path, memo = str(tmp_path / "long.gest"), Memo()
+    reach = ("robot inmoov\n\nreach:\n    repeat 12:\n"
+             "        r_bicep 96, r_rotate 32 over 2s\n"
+             "        r_shoulder 135, r_omoplate 151 over 3s\n"
+             "        r_shoulder 30, r_omoplate 10, r_bicep 5 over 2s\n")
+    found = checked(loaded(reach, path, memo=memo), memo)
+    assert found.plans["reach"].duration > 60
+    assert not [d for d in found.diagnostics if "enters" in d.message]  # not yet
+    asked = []
+
+    def newer_at_third() -> None:
+        asked.append(1)
+        if len(asked) == 3:
+            raise Newer
+
+    with pytest.raises(Newer):
+        touched(found, memo, newer_at_third)  # the one gesture: stopped within its plan
+    asked.clear()
+    whole = touched(found, memo, lambda: asked.append(1))
+    assert len(asked) > 40  # a long motion's (84 s) look can be stopped every second of it
+    assert [d for d in whole.diagnostics if "the right upper arm enters the chest" in d.message]
+    assert any("enters" in d.message for d in whole.plans["reach"].warnings)
+
+    asked.clear()  # a gesture added below: only its own (a second of motion) looked at
+    again = checked(loaded(reach + "\nrest:\n    r_bicep 5 over 1s\n", path, memo=memo), memo)
+    told = touched(again, memo, lambda: asked.append(1))
+    assert len(asked) <= 3 and "rest" in told.plans  # (not the 84 s of reach again)
+    assert [d.message for d in told.diagnostics if "enters" in d.message] == \
+        [d.message for d in whole.diagnostics if "enters" in d.message]
 
 
 @pytest.mark.asyncio

@@ -110,12 +110,12 @@ def moved(ws, servo: str, timeout: float = 30) -> list[dict]:
     return seen
 
 
-def still(service, timeout: float = 30) -> dict:
+def still(service, timeout: float = 30, headers=None) -> dict:
     """The pose, once no request plays and no servo moves (polled: a stop's last bytes
     reach the board in their time)."""
     deadline = time.monotonic() + timeout
     while True:
-        status, pose, _ = service.call("GET", "/api/pose")
+        status, pose, _ = service.call("GET", "/api/pose", headers=headers)
         assert status == 200
         if pose["playing"] is None and not any(s["moving"] for s in pose["servos"].values()):
             return pose
@@ -181,12 +181,15 @@ def test_the_library_and_the_openapi_document_are_served():
 
 
 # -- requests that are not right ----------------------------------------------------------
+ONE_OF = "give one of 'gesture', 'steps' and 'text'"
 BAD = [
     (b"not json", 400, "the body is not JSON"),
     (b"[1, 2]", 400, "the body is not a JSON object"),
     (b'{"gesture": "peace", "speed": 2}', 400, "unknown field 'speed'"),
-    (b'{"gesture": "peace", "steps": "index 9"}', 400, "give one of 'gesture' and 'steps'"),
-    (b"{}", 400, "give one of 'gesture' and 'steps'"),
+    (b'{"gesture": "peace", "steps": "index 9"}', 400, ONE_OF),
+    (b"{}", 400, ONE_OF),
+    (b'{"text": "w: index 9", "steps": "index 9"}', 400, ONE_OF),
+    (b'{"text": 7}', 400, "'text' must be a string"),
     (b'{"gesture": 7}', 400, "'gesture' must be a string"),
     (b'{"gesture": "peace", "when": "later"}', 400, "'when' must be one of \"now\", "
                                                    "\"after\""),
@@ -201,6 +204,11 @@ BAD = [
                                                   "pose or gesture"),
     (b'{"gesture": "peace", "side": "left"}', 422, "profile 'rhand' has no [sides]: it "
                                                   "cannot play 'peace' on the left"),
+    (b'{"text": "use \\"/etc/x.gest\\"\\nw: index 9"}', 422, "use reads a file, and "
+     "<request> names no file of this computer"),
+    (b'{"text": "a: index 9\\nb: index 8"}', 422, "the text has 2 gestures: name the one "
+                                                    "to play"),
+    (b'{"text": "a: index 9", "gesture": "peace"}', 422, "no gesture 'peace' in the text"),
 ]
 
 

@@ -3,7 +3,8 @@
 tells them, and the plan of each gesture that compiles. Every request of the server
 reads one Analysis of the text as it is now: ``loaded`` (its program and names) is
 what most read, ``checked`` (every diagnostic and plan) is what takes long on a long
-file, in steps."""
+file, in steps; ``touched`` adds the contacts of the robot's parts in each plan (the
+check ``gestc check`` makes too: costly on a long motion, so told after the rest)."""
 
 from __future__ import annotations
 
@@ -41,6 +42,7 @@ class Analysis:
     diagnostics: list[Diagnostic] = field(default_factory=list)  #: errors, then warnings
     plans: dict[str, Plan] = field(default_factory=dict)  #: the file's gestures, planned
     checked: bool = True
+    touched: bool = False  #: each plan's contacts looked for (``touched``)
 
 
 def analyse(text: str, path: str, robot: str = DEFAULT, lib: Sequence[str] = (),
@@ -50,7 +52,7 @@ def analyse(text: str, path: str, robot: str = DEFAULT, lib: Sequence[str] = (),
     folders; ``memo``: what is kept of the texts analysed before, so that an edit costs
     what it touches): ``loaded``, then ``checked``."""
     memo = Memo() if memo is None else memo
-    return checked(loaded(text, path, robot, lib, memo), memo)
+    return touched(checked(loaded(text, path, robot, lib, memo), memo), memo)
 
 
 def loaded(text: str, path: str, robot: str = DEFAULT, lib: Sequence[str] = (),
@@ -84,6 +86,22 @@ def checked(found: Analysis, memo: Memo, step: Callable[[], None] | None = None
     each = memo.check(found.program, found.profile, found.path, step)
     errors, warnings = tell(found.program, [c for _, c in each])
     return dataclasses.replace(found, diagnostics=errors + warnings, checked=True,
+                               plans={g: c.plan for g, c in each if c.plan})
+
+
+def touched(found: Analysis, memo: Memo, step: Callable[[], None] | None = None
+            ) -> Analysis:
+    """The third part of ``analyse``: ``found`` (``checked``, the last ``memo`` checked)
+    with each plan's contacts (``model.guard``) among its warnings, and its plans';
+    ``step`` as ``checked``'s, called within a long plan's check too."""
+    if found.touched or found.program is None or not found.checked:
+        return dataclasses.replace(found, touched=True)
+    from ..model import collisions
+
+    each = memo.touch(found.program, lambda plan, sources, step: collisions(
+        plan, sources, False, step), step)
+    errors, warnings = tell(found.program, [c for _, c in each])
+    return dataclasses.replace(found, diagnostics=errors + warnings, touched=True,
                                plans={g: c.plan for g, c in each if c.plan})
 
 

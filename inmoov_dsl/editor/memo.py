@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 from ..compiling.checking import Checked, check_gesture, checkable
 from ..compiling.plan import Plan
-from ..errors import Diagnostic, Pos
+from ..errors import Diagnostic, Pos, SourceMap
 from ..hardware import Profile
 from ..language.incremental import BlockParser, copied, defines, spans
 from ..language.program import Program
@@ -21,6 +21,9 @@ from .lines import compiler_rows
 from .text import WORD, code
 
 Key = tuple  #: what a gesture's check depends on
+#: a plan's further check (the robot's parts against each other): its warnings;
+#: ``step`` as ``Memo.check``'s
+PlanCheck = Callable[[Plan, SourceMap, Callable[[], None] | None], tuple[Diagnostic, ...]]
 
 
 @dataclass(frozen=True)
@@ -29,6 +32,7 @@ class _Kept:
     starts: tuple[int, ...]  #: 0-based first line of each block the key holds
     sizes: tuple[int, ...]  #: lines of each
     names: frozenset[str] | None  #: the program's names, when its errors' hints read them
+    touched: bool = False  #: ``checked`` has its plan's further check (``Memo.touch``)
 
 
 class Memo:
@@ -37,6 +41,7 @@ class Memo:
     def __init__(self) -> None:
         self.blocks = BlockParser()
         self.checks: dict[Key, _Kept] = {}
+        self.last: list[tuple[str, Key, Checked]] = []  #: the last whole check's
 
     def parse(self, text: str, file: str):
         """``parse.parse``, remembering blocks."""
@@ -57,7 +62,7 @@ class Memo:
         others = tuple(sorted((f, hash(t)) for f, t in program.texts.items() if f != path))
         names = frozenset(program.names())
         kept: dict[Key, _Kept] = {}
-        out = []
+        out, last = [], []
         graph = _Graph(found, lines, block_of, head)
         try:
             for gesture in checkable(program):
@@ -70,10 +75,34 @@ class Memo:
                                         tuple(found[k][0] for k in deps),
                                         tuple(found[k][1] - found[k][0] for k in deps))
                 out.append((gesture, checked))
+                last.append((gesture, key, checked))
         except BaseException:
             self.checks.update(kept)  # cut short: what was checked is kept all the same
             raise
-        self.checks = kept
+        self.checks, self.last = kept, last
+        return out
+
+    def touch(self, program: Program, check: PlanCheck,
+              step: Callable[[], None] | None = None) -> list[tuple[str, Checked]]:
+        """The gestures of the last whole ``check`` (of ``program``), each that has a
+        plan with ``check``'s warnings added (to its plan's too), made again only when
+        its check was. ``step`` as ``check``'s (it is handed to ``check`` too)."""
+        out = []
+        for gesture, key, checked in self.last:
+            kept = self.checks.get(key)
+            if kept is not None and kept.touched:
+                out.append((gesture, kept.checked))
+                continue
+            checked = kept.checked if kept is not None else checked
+            if checked.plan is not None:
+                if step is not None:
+                    step()
+                if found := check(checked.plan, program.sources, step):
+                    plan = copied(checked.plan, warnings=checked.plan.warnings + found)
+                    checked = Checked(checked.errors, checked.warnings + found, plan)
+            if kept is not None:
+                self.checks[key] = dataclasses.replace(kept, checked=checked, touched=True)
+            out.append((gesture, checked))
         return out
 
     def _checked(self, key: Key, kept: dict[Key, _Kept], program: Program, gesture: str,

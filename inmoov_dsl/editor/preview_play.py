@@ -1,55 +1,50 @@
-"""The preview page's "Play on the robot": a gesture's plan sent to a running
-``gestplay serve`` (docs/service.md), a ``POST /api/play`` per step.
+"""The preview page's "Play on the robot": the gesture sent to a running ``gestplay
+serve`` (docs/service.md) in one ``POST /api/play``: the text its plan was made from
+and its name (``"text"``, ``"gesture"``), which the service plans again from where the
+robot is, checks and plays as ``gestplay`` would play the file, ``through``, ``stagger``
+and ``say`` as written.
 
-The service plays one line of the language per request and reaches only the library
-and the profile, not the file being edited; so each planned step is sent as what it
-does (pure: ``requests``): the values its servos end on, ``over`` the time it was
-planned to take (``wait`` for a hold, ``say`` for spoken text), the first taking over
-from where the robot is (and bringing every servo the gesture names to the plan's
-values), the others queued after it (``"when": "after"``). Each is
-planned again by the service from rest to rest: a step that flows ``through`` its
-keyframe stops there, a ``stagger`` is not kept, a ``say`` of a file is left out.
-``Player`` is the edge: it sends them (urllib), only when the page's button is clicked.
+A request reads no file of the service's computer: the file's ``use`` lines are left
+blank (so its lines keep their numbers: a refusal points at the line it is about) and
+the files they name, but the library's, follow its text, their own ``robot`` and
+``use`` lines blank (pure: ``request``). ``Player`` is the edge: it sends it (urllib),
+only when the page's button is clicked.
 """
 
 from __future__ import annotations
 
 import json
-import math
+import os
+import re
 import urllib.error
 import urllib.request
+from pathlib import Path
 from typing import Any
 
+from ..language.library import library_dirs
 from ..model.timeline import View
 
 TIMEOUT = 5.0  #: s for the service to answer a request
+USE = re.compile(r"[ \t]*use\b")  #: a use line
+ROBOT = re.compile(r"[ \t]*robot\b")  #: a robot line
+ROBOT_FILE = re.compile(r'[ \t]*robot[ \t]+"')  #: one that names a profile's file
 
 
-def requests(view: View) -> tuple[list[dict[str, Any]], list[str]]:
-    """The bodies of the requests that play ``view``'s gesture, in order, and what
-    could not be sent (a line each)."""
-    plan, bodies, left = view.plan, [], []
-    if plan is None:
-        return [], ["the gesture does not compile"]
-    names = [s.name for s in plan.profile.servos]
-    sounds = list(plan.sounds)
-    for span in view.spans:
-        length = f"{math.ceil((span.end - span.start) * 1000 - 1e-6) / 1000:g}s"
-        if span.kind == "say":
-            speech = next((s for t, s in sounds if span.start <= t <= span.end + 1e-9), None)
-            if speech is None or speech.sound.path or '"' in speech.sound.source:
-                left.append(f"step {span.number}: a say of a file is not sent")
-                continue
-            line = f'say "{speech.sound.source}"'
-        else:  # the first brings every servo the gesture names where the plan has it
-            servos = sorted(set(span.servos) | (plan.named if not bodies else set()))
-            if span.kind == "hold" or not servos:
-                line = f"wait {length}"
-            else:
-                line = ", ".join(f"{names[i]} {round(float(plan.tracks[i].position(span.end)))}"
-                                 for i in servos) + f" over {length}"
-        bodies.append({"steps": line, "when": "after" if bodies else "now"})
-    return bodies, left
+def request(view: View) -> tuple[dict[str, Any] | None, str]:
+    """The body that plays ``view``'s gesture, or None and why it cannot be sent."""
+    program = view.program
+    if view.plan is None or program is None or view.gesture is None:
+        return None, "the gesture does not compile"
+    root = program.texts[program.root]
+    rows = ["" if USE.match(row) or ROBOT_FILE.match(row) else row  # (the service's own)
+            for row in root.split("\n")]
+    library = [os.path.realpath(d) + os.sep for d in library_dirs()]
+    for file, text in program.texts.items():
+        if file != program.root and not os.path.realpath(file).startswith(tuple(library)):
+            rows += ["", f"# {Path(file).name}"]
+            rows += ["" if USE.match(row) or ROBOT.match(row) else row
+                     for row in text.split("\n")]
+    return {"text": "\n".join(rows), "gesture": view.gesture, "when": "now"}, ""
 
 
 class Player:
@@ -63,18 +58,17 @@ class Player:
         self.hint = f"plays the gesture on gestplay serve at {self.url}"
 
     def __call__(self, view: View) -> str:
-        """Send the requests; what happened, in a line."""
-        bodies, left = requests(view)
-        ids = []
-        for k, body in enumerate(bodies):
-            status, answer = self._post(body)
-            if status != 202:
-                said = answer.get("text") or answer.get("error") or f"status {status}"
-                return (f"step {k + 1} of {len(bodies)} ({body['steps']}) was refused "
-                        f"({status}): {said}" + (f"; {k} sent before it" if k else ""))
-            ids.append(answer.get("id", "?"))
-        return " ".join([f"sent {len(bodies)} step{'s' * (len(bodies) != 1)} to {self.url}"
-                         f" (first id {ids[0]})" if ids else "nothing to send", *left])
+        """Send it; what happened, in a line."""
+        body, why = request(view)
+        if body is None:
+            return why
+        status, answer = self._post(body)
+        if status != 202:
+            said = answer.get("text") or answer.get("error") or f"status {status}"
+            return f"'{view.gesture}' was refused ({status}): {said}"
+        warned = len(answer.get("warnings") or ())
+        return (f"'{view.gesture}' sent to {self.url} (id {answer.get('id', '?')})"
+                + (f", {warned} warning{'s' * (warned != 1)}" if warned else ""))
 
     def _post(self, body: dict[str, Any]) -> tuple[int, dict[str, Any]]:
         """POST /api/play: the status and the JSON answer (a refusal's too; a service

@@ -58,7 +58,7 @@ def view_of(found: Analysis, line: int | None = None, character: int = 0,
     return View(found.path, name, plan.profile, plan,
                 previous.motion if kept else motion(plan), spans,
                 under(spans, found.path, line), diagnostics, False, own,
-                previous.contacts if kept else None)
+                previous.contacts if kept else None, found.program)
 
 
 def gesture_at(lines: Sequence[str], line: int) -> str | None:

@@ -4,7 +4,9 @@ answers whatever it is asked while a long file is analysed.
 
 One thread does it all, so that no analysis (its memo, the program's resolver) is ever
 used by two at once. A document's analysis is a ``Job``: loaded (``analysis.loaded``),
-then checked gesture by gesture (``analysis.checked``); between two gestures the thread
+then checked gesture by gesture (``analysis.checked``), then each plan's contacts looked
+for (``analysis.touched``: the editor has the rest of the diagnostics meanwhile); between
+two gestures (and within a long plan's contacts) the thread
 answers the requests waiting (``call``), stops a job whose document has a newer version
 (the gestures checked so far are kept in its memo: the next version's check starts
 from them), and lets another document's job go first once this one has had its turn."""
@@ -21,10 +23,8 @@ from concurrent.futures import Future
 from dataclasses import dataclass
 from typing import Any
 
-from ..compiling.compiler import plan_checks
 from ..errors import Diagnostic, Pos
-from ..model import collisions
-from .analysis import Analysis, checked, loaded
+from .analysis import Analysis, checked, loaded, touched
 from .memo import Memo
 
 log = logging.getLogger(__name__)
@@ -52,6 +52,7 @@ class Job:
     library: tuple[str, ...]
     memo: Memo
     loaded: Analysis | None = None
+    found: Analysis | None = None  #: checked (told), its contacts not yet looked for
     stopped: bool = False  #: a newer version came, or the document closed
     turns: int = 0  #: how many times it let another go first
 
@@ -62,7 +63,7 @@ Deliver = Callable[[Job, Analysis], None]  #: called in the thread with each res
 class Worker:
     """The thread, its jobs (one per document: its newest version) and the calls
     waiting for it. ``deliver`` gets each job's loaded analysis, then its checked one,
-    in the thread."""
+    then (when they add to it) the one with its contacts, in the thread."""
 
     def __init__(self, deliver: Deliver) -> None:
         self._deliver = deliver
@@ -103,16 +104,10 @@ class Worker:
 
     def _wake(self) -> None:
         if self._thread is None:
-            self._thread = threading.Thread(target=self._checked_loop, name="gest-analysis",
+            self._thread = threading.Thread(target=self._loop, name="gest-analysis",
                                             daemon=True)
             self._thread.start()
         self._lock.notify()
-
-    def _checked_loop(self) -> None:
-        """The thread: every plan it compiles checked as ``gestc check`` checks it, the
-        robot's parts against each other too (``model.guard``)."""
-        with plan_checks(collisions):
-            self._loop()
 
     def _loop(self) -> None:
         while True:
@@ -165,7 +160,14 @@ class Worker:
                 if job.stopped:
                     return
                 self._deliver(job, job.loaded)
-            found = checked(job.loaded, job.memo, step)
+            if job.found is None:
+                job.found = checked(job.loaded, job.memo, step)
+                if job.stopped:
+                    return
+                self._deliver(job, job.found)
+            found = touched(job.found, job.memo, step)
+            if len(found.diagnostics) == len(job.found.diagnostics):
+                return  # no contact: nothing more to tell
         except Stopped:
             return
         except _Turn:

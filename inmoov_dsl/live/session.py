@@ -22,11 +22,13 @@ from ..compiling.compiled import Stream
 from ..compiling.encode import encode
 from ..compiling.plan import MotionState, Plan, Planner
 from ..compiling.resolve import Resolver
-from ..errors import Diagnostic, GestError, Pos, SourceMap
+from ..errors import Diagnostic, GestError, Pos, SourceMap, did_you_mean
 from ..hardware import Profile
 from ..language import snippet
+from ..language.load import load_program
+from ..language.parse import parse
 from ..language.program import Program
-from ..language.syntax import GestureDef
+from ..language.syntax import GestureDef, Robot, Use
 
 LINE = "<repl>"  #: the file name diagnostics give for lines typed at a terminal
 STDIN = "<stdin>"  #: and for lines read from a pipe or a file
@@ -188,3 +190,35 @@ def line_steps(line: str, program: Program, profile: Profile, file: str = LINE,
     back = functools.partial(snippet.shift, text=line, file=file, prefix=_PREFIX,
                              line=number)
     return [replace(a, pos=back(a.pos), over_pos=back(a.over_pos)) for a in actions], sources
+
+
+def text_steps(text: str, gesture: str | None, program: Program, profile: Profile,
+               file: str, side: str | None = None) -> tuple[list[Action], SourceMap, str]:
+    """The steps of gesture ``gesture`` of ``text``, a gesture file's text under the name
+    ``file`` (its definitions over ``program``'s; ``gesture`` None: the text's only
+    one), and its name. The text reads no file: a ``use`` line, or a robot line that
+    names a file, is an error at its place."""
+    module = parse(text, file)
+    sources = SourceMap()
+    for name, source in [*program.texts.items(), (file, text)]:
+        sources.add(name, source)
+    for item in module.items:
+        if isinstance(item, Use) or isinstance(item, Robot) and item.is_file:
+            raise GestError(sources.error(
+                f"{'use' if isinstance(item, Use) else 'a robot file'} reads a file, and "
+                f"{file} names no file of this computer", item.pos,
+                "send the definitions it needs in the text; the library's are known"))
+    own = load_program(file, lambda _: text, text=text, parser=lambda *_: module)
+    name = gesture if gesture is not None else (own.own[0] if len(own.own) == 1 else None)
+    if name not in own.own:
+        raise GestError(Diagnostic(
+            "error", f"no gesture '{gesture}' in the text" if gesture is not None else
+            f"the text has {len(own.own)} gestures: name the one to play", None,
+            (did_you_mean(gesture or "", own.own) or f"its gestures: {', '.join(own.own)}")
+            if own.own else "write one: 'wave: index 90 over 0.5s'"))
+    typed = Program(file, sources, {**program.texts, file: text},
+                    {**program.gestures, **own.gestures}, {**program.poses, **own.poses},
+                    {**program.groups, **own.groups}, list(own.own),
+                    in_library=program.in_library, hear=program.hear,
+                    robots={**program.robots, **own.robots})
+    return Resolver(typed, profile).gesture(name, side), sources, name

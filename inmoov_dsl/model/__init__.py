@@ -8,6 +8,7 @@ contact: ``guard``)."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -15,10 +16,11 @@ if TYPE_CHECKING:
     from ..errors import Diagnostic, SourceMap
 
 
-def collisions(plan: Plan, sources: SourceMap, strict: bool) -> tuple[Diagnostic, ...]:
+def collisions(plan: Plan, sources: SourceMap, strict: bool,
+               step: Callable[[], None] | None = None) -> tuple[Diagnostic, ...]:
     """The self-collision check of a plan as the compiler runs it (``guard.check_plan``,
-    for ``compiler.plan_checks``), imported only when a plan is checked: a command that
-    compiles nothing pays nothing for it."""
+    for ``compiler.plan_checks``; ``step`` as its), imported only when a plan is
+    checked: a command that compiles nothing pays nothing for it."""
     from .guard import check_plan
 
-    return check_plan(plan, sources, strict)
+    return check_plan(plan, sources, strict, step)

@@ -13,7 +13,8 @@ when closer still, so the rest pose is never a contact (docs/collisions.md).
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping
+import threading
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,6 +29,12 @@ from .shapes import Bodies
 
 TOLERANCE_MM = 0.01  #: FCL's distances agree to about a micrometre; ten of them
 DEEPER_MM = 1.0  #: a contact the motion starts in counts once it is this much deeper
+CHUNK = 50  #: poses swept at once (1 s of motion, a few ms): memory stays small, a stop comes soon
+KEEP = 16  #: plans whose contacts are kept
+
+Step = Callable[[], None]
+_KEPT: dict[int, tuple] = {}  #: id(plan.tracks) -> (tracks, checker, its first contacts)
+_KEPT_LOCK = threading.Lock()
 
 
 @dataclass(frozen=True)
@@ -208,34 +215,53 @@ def part(link: str) -> str:
     return "the " + " ".join(words)
 
 
-def first_contacts(checker: Checker, plan: Plan) -> list[tuple[float, Contact, np.ndarray]]:
+def first_contacts(checker: Checker, plan: Plan, step: Step | None = None
+                   ) -> list[tuple[float, Contact, np.ndarray]]:
     """(time, contact, servo values) of each checked pair's first contact in ``plan``
     (the time and values when it began, the contact at its deepest), sampled every servo
-    frame."""
+    frame. The newest plans' are kept: the editor's check and its preview page ask for
+    the same plan's (``step``: as ``contacts_along``)."""
+    with _KEPT_LOCK:
+        kept = _KEPT.get(id(plan.tracks))
+    if kept is not None and kept[0] is plan.tracks and kept[1] is checker:
+        return list(kept[2])
     times = np.arange(0.0, plan.duration + SERVO_FRAME, SERVO_FRAME)
     values = np.tile(np.asarray(plan.final, dtype=float), (len(times), 1))
     for i in {i for step in plan.steps for i in step.servos}:  # the others stay put
         values[:, i] = plan.tracks[i].position(times)
-    return contacts_along(checker, times, values)
+    found = contacts_along(checker, times, values, step)
+    with _KEPT_LOCK:
+        _KEPT.pop(id(plan.tracks), None)
+        _KEPT[id(plan.tracks)] = (plan.tracks, checker, tuple(found))
+        while len(_KEPT) > KEEP:
+            del _KEPT[next(iter(_KEPT))]
+    return found
 
 
-def contacts_along(checker: Checker, times: np.ndarray, values: np.ndarray
-                   ) -> list[tuple[float, Contact, np.ndarray]]:
+def contacts_along(checker: Checker, times: np.ndarray, values: np.ndarray,
+                   step: Step | None = None) -> list[tuple[float, Contact, np.ndarray]]:
     """``first_contacts`` of a motion: servo ``values`` (rows, profile order) at
     ``times``; two parts as messages name them are one pair (a hand's palm and fingers
     are the hand). A pair already touching in the first pose is the motion's only where
-    it goes DEEPER_MM further in: a robot that starts in contact may move out of it."""
+    it goes DEEPER_MM further in: a robot that starts in contact may move out of it.
+    Swept CHUNK poses at a time, ``step()`` called before each (what it raises stops the
+    sweep: an editor's newer text)."""
     found: dict[tuple[str, str], tuple[float, Contact, np.ndarray]] = {}
     already: dict[tuple[str, str], float] = {}
-    for row, contacts in checker.sweep(values, still=False):  # a still pair: no deeper
-        for contact in contacts:
-            pair = (checker.part(contact.a), checker.part(contact.b))
-            if row == 0:
-                already[pair] = contact.distance_mm
-                continue
-            if pair in already and contact.distance_mm > already[pair] - DEEPER_MM:
-                continue
-            begun = found.setdefault(pair, (times[row], contact, values[row]))
-            if contact.distance_mm < begun[1].distance_mm:  # the deepest it goes
-                found[pair] = (begun[0], contact, begun[2])
+    for lo in range(0, len(values), CHUNK):
+        if step is not None:
+            step()
+        first = max(lo - 1, 0)  # and the pose before: what moved into the chunk moves
+        for row, contacts in checker.sweep(values[first:lo + CHUNK], still=False):
+            row += first  # (a still pair: no deeper)
+            for contact in contacts if row >= lo else ():  # (the pose before: seen)
+                pair = (checker.part(contact.a), checker.part(contact.b))
+                if row == 0:
+                    already[pair] = contact.distance_mm
+                    continue
+                if pair in already and contact.distance_mm > already[pair] - DEEPER_MM:
+                    continue
+                begun = found.setdefault(pair, (times[row], contact, values[row]))
+                if contact.distance_mm < begun[1].distance_mm:  # the deepest it goes
+                    found[pair] = (begun[0], contact, begun[2])
     return sorted(found.values(), key=lambda f: f[0])

@@ -22,7 +22,15 @@ from ..compiling.plan import Plan, PlannedStep, Planner
 from ..errors import Diagnostic, GestError, Pos, SourceMap
 from ..hardware import Profile
 from ..protocol import SERVO_FRAME
-from .collide import Checker, Contact, checker_for, contacts_along, first_contacts, would_check
+from .collide import (
+    Checker,
+    Contact,
+    Step,
+    checker_for,
+    contacts_along,
+    first_contacts,
+    would_check,
+)
 from .shapes import INSTALL, need_fcl
 
 MODEL = "gestc urdf shows the model"
@@ -58,17 +66,17 @@ def fix_hint(profile: Profile, servos: Sequence[int]) -> str:
 
 
 def told(plan: Plan, sources: SourceMap | None, checker: Checker, error: bool,
-         also: str = "") -> list[Diagnostic]:
+         also: str = "", step: Step | None = None) -> list[Diagnostic]:
     """Each checked pair's first contact in ``plan``, at the step moving when it began
-    (errors or warnings; ``also``: more to the hint)."""
+    (errors or warnings; ``also``: more to the hint; ``step``: ``contacts_along``'s)."""
     sources = sources or SourceMap()
     make = sources.error if error else sources.warning
     out = []
-    for t, contact, row in first_contacts(checker, plan):
-        step = moving_step(plan, t)
-        servos = step.servos if step else ()
+    for t, contact, row in first_contacts(checker, plan, step):
+        moving = moving_step(plan, t)
+        servos = moving.servos if moving else ()
         out.append(make(contact_message(checker, t, contact, row, servos),
-                        step.pos if step else None,
+                        moving.pos if moving else None,
                         fix_hint(plan.profile, servos) + (f"; {also}" if also else "")))
     return out
 
@@ -94,16 +102,18 @@ def unchecked(profile: Profile) -> Diagnostic | None:
     return None
 
 
-def check_plan(plan: Plan, sources: SourceMap, strict: bool) -> tuple[Diagnostic, ...]:
+def check_plan(plan: Plan, sources: SourceMap, strict: bool, step: Step | None = None
+               ) -> tuple[Diagnostic, ...]:
     """The compiler's check (``compiler.PlanCheck``): each contact a warning (with
     ``strict`` an error, raised). Without python-fcl, the warning that nothing was
-    checked (with ``strict``, an error: ``need_fcl``'s)."""
+    checked (with ``strict``, an error: ``need_fcl``'s). ``step``: called now and then
+    (what it raises stops the check: an editor's newer text)."""
     if (missing := unchecked(plan.profile)) is not None:
         if strict:
             need_fcl()
         return (missing,)
     checker = checker_for(plan.profile)
-    found = told(plan, sources, checker, strict) if checker else []
+    found = told(plan, sources, checker, strict, step=step) if checker else []
     if strict and found:
         raise GestError(found)
     return tuple(found)

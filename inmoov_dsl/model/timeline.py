@@ -16,6 +16,7 @@ import bisect
 import functools
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -207,6 +208,7 @@ class View:
     stale: bool = False
     gestures: tuple[str, ...] = ()  #: the file's own, in its order
     contacts: tuple[Mark, ...] | None = None
+    program: Any = None  #: the program the plan is of (its texts: what a robot is sent)
 
     @property
     def duration(self) -> float:

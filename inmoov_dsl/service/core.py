@@ -1,8 +1,9 @@
 """The service's rules without HTTP (pure): what a play request may say, the ``Order``
 it becomes for the drive loop, what the library offers, and events and poses as JSON.
 
-A request reaches only the library and the profile: steps are one line of the language
-(no ``use``, no file), a gesture is a library gesture's name. A request that does not
+A request reaches only the library and the profile: steps are one line of the language,
+a text is a gesture file's text (its definitions over the library's; no ``use``, no
+file), a gesture is a library gesture's name (or one of the text's). A request that does not
 compile is a ``GestError``, worded as the command line words it; a request that is not
 one (not JSON, an unknown field, a wrong type) is a ``BadRequest``.
 """
@@ -18,12 +19,12 @@ from ..errors import Diagnostic, GestError, Pos, did_you_mean
 from ..hardware import Profile
 from ..language.program import Program
 from ..live.orders import Order
-from ..live.session import line_steps
+from ..live.session import line_steps, text_steps
 from ..profiles.tables import SIDES
 
 MAX_BODY = 64 * 1024  #: bytes of a request's body; a larger one is refused
 MAX_LOOP = 1000  #: passes a request may ask for (``"loop": true`` plays until stopped)
-PLAY_FIELDS = ("gesture", "steps", "side", "when", "loop", "allow_contact")
+PLAY_FIELDS = ("gesture", "steps", "text", "side", "when", "loop", "allow_contact")
 REQUEST = "<request>"  #: the file a request's steps are, in diagnostics
 
 
@@ -60,10 +61,11 @@ def play_order(doc: dict[str, Any], program: Program, profile: Profile, id: str)
     if unknown:
         raise BadRequest(f"unknown field '{_cut(unknown[0])}'", did_you_mean(
             unknown[0], PLAY_FIELDS) or f"fields: {', '.join(PLAY_FIELDS)}")
-    if ("gesture" in doc) == ("steps" in doc):
-        raise BadRequest("give one of 'gesture' and 'steps'",
-                         'send {"gesture": "peace"} or {"steps": "index 90 over 0.5s"}')
-    what = "gesture" if "gesture" in doc else "steps"
+    if ("gesture" in doc or "text" in doc) == ("steps" in doc):
+        raise BadRequest("give one of 'gesture', 'steps' and 'text'", 'send {"gesture": '
+                         '"peace"} or {"steps": "index 90 over 0.5s"} (a text may come with '
+                         "the 'gesture' of it to play)")
+    what = "text" if "text" in doc else "gesture" if "gesture" in doc else "steps"
     text = _field(doc, what, str)
     side = _choice(doc, "side", (None, *SIDES))
     when = _choice(doc, "when", ("now", "after"), "now")
@@ -72,10 +74,14 @@ def play_order(doc: dict[str, Any], program: Program, profile: Profile, id: str)
     if allow is not None and not isinstance(allow, bool):
         raise BadRequest("'allow_contact' must be true or false",
                          "true plays it though the robot's parts meet (padded parts)")
-    if what == "gesture":
-        _library_gesture(text, program)
-    steps, sources = line_steps(_one_line(text), program, profile, REQUEST, 1, side)
-    name = text if what == "gesture" else "steps"
+    if what == "text":
+        gesture = _field(doc, "gesture", str) if "gesture" in doc else None
+        steps, sources, name = text_steps(text, gesture, program, profile, REQUEST, side)
+    else:
+        if what == "gesture":
+            _library_gesture(text, program)
+        steps, sources = line_steps(_one_line(text), program, profile, REQUEST, 1, side)
+        name = text if what == "gesture" else "steps"
     return Order(Steps(tuple(steps), name, sources), id, when == "after", loop, allow)
 
 

@@ -32,7 +32,7 @@ def document(version: str, max_body: int, max_loop: int) -> dict[str, Any]:
                                       "responses": {"200": _answer("the gestures",
                                                                    "Gestures")}}},
             "/api/play": {"post": {
-                "summary": "play a library gesture or steps",
+                "summary": "play a library gesture, steps, or a gesture of a text",
                 "requestBody": {"required": True, "content": {"application/json": {
                     "schema": {"$ref": "#/components/schemas/Play"}}}},
                 "responses": {"202": _answer("accepted: its id", "Accepted"),
@@ -59,8 +59,11 @@ def _schemas(max_loop: int) -> dict[str, Any]:
     text = {"type": "string"}
     return {
         "Play": {"type": "object", "additionalProperties": False, "properties": {
-            "gesture": {**text, "description": "a library gesture's name"},
+            "gesture": {**text, "description": "a library gesture's name (with text: "
+                        "which of its gestures; default: its only one)"},
             "steps": {**text, "description": "one line of .gest steps"},
+            "text": {**text, "description": "a .gest file's text: its definitions over "
+                     "the library's, no use line"},
             "side": {"enum": ["left", "right"]},
             "when": {"enum": ["now", "after"], "default": "now"},
             "loop": {"oneOf": [{"type": "boolean"},
@@ -68,7 +71,8 @@ def _schemas(max_loop: int) -> dict[str, Any]:
             "allow_contact": {"type": "boolean", "description": "play it though the "
                               "robot's parts meet (padded parts); default: the service's "
                               "--allow-contact"}},
-            "oneOf": [{"required": ["gesture"]}, {"required": ["steps"]}]},
+            "oneOf": [{"required": ["steps"]}, {"required": ["text"]},
+                      {"required": ["gesture"], "not": {"required": ["text"]}}]},
         "Accepted": {"type": "object", "properties": {"id": text, "warnings": {
             "type": "array", "items": {"type": "object"}}}},
         "BadRequest": {"type": "object", "properties": {"error": text, "hint": text}},
