@@ -118,6 +118,41 @@ def test_a_long_motions_contacts_are_looked_for_in_steps_and_kept(tmp_path):
         [d.message for d in whole.diagnostics if "enters" in d.message]
 
 
+def test_contacts_wait_for_the_text_to_stay_the_same(tmp_path):
+    """A version whose next comes before it has stayed the same for a moment (a person
+    typing) gets its diagnostics, not its contacts looked for: the newest does."""
+    pytest.importorskip("fcl", reason="the [collide] extra brings python-fcl")
+    import threading
+
+    from inmoov_dsl.editor.memo import Memo
+    from inmoov_dsl.editor.worker import Job, Worker
+
+    class Looking(Memo):  # which texts' contacts were looked for
+        def touch(self, program, check, step=None):
+            looked.append(program.texts[path][-3:-1])
+            return super().touch(program, check, step)
+
+    told, looked, checked, done = [], [], threading.Event(), threading.Event()
+    path = str(tmp_path / "elbow.gest")
+    memo = Looking()
+    text = "robot inmoov\n\nelbow:\n    r_rotate 125 over 1.5s\n    r_bicep 143 over 2s\n"
+
+    def deliver(job: Job, found) -> None:
+        told.append((job.text[-3:-1], found.checked,
+                     sum("enters the chest" in d.message for d in found.diagnostics)))
+        (checked if len(told) == 2 else done if len(told) == 5 else threading.Event()).set()
+
+    worker = Worker(deliver, still=LIMIT)  # the first waits as long as a test may
+    worker.submit(Job("u", text, path, "inmoov", (), memo))
+    assert checked.wait(LIMIT)
+    worker.still = 0  # the next is still at once
+    worker.submit(Job("u", text.replace("2s", "3s"), path, "inmoov", (), memo))
+    assert done.wait(LIMIT)
+    assert told == [("2s", False, 0), ("2s", True, 0),
+                    ("3s", False, 0), ("3s", True, 0), ("3s", True, 1)]
+    assert looked == ["3s"]  # the first's never looked for, not even begun
+
+
 @pytest.mark.asyncio
 async def test_the_page_follows_the_editor_and_a_click_shows_the_step(
         client: LanguageClient, browser, tmp_path):  # noqa: F811

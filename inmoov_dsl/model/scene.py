@@ -57,7 +57,7 @@ class Robot:
 
     def __init__(self, server: Any, profile: Profile, servos: Collection[str] | None = None,
                  command: str = "gestsim --web"):
-        _, yourdfpy, viser_urdf = need_viser(command)
+        viser, yourdfpy, viser_urdf = need_viser(command)
         from .urdf import model  # an error if a servo's joint is not in the model
 
         self.profile = profile
@@ -66,6 +66,8 @@ class Robot:
         self._names = joints.names(profile)
         self.handle = viser_urdf(server, self.urdf, root_node_name="/robot")
         self.values: list[float] | None = None  #: the pose it is in
+        self._sent: dict[int, float] = {}  #: id(joint frame) -> the angle it was sent
+        self._so3 = viser.transforms.SO3
         self.pose([s.rest for s in profile.servos])
         names = profile.names if servos is None else servos
         self._furnish(server, {self.urdf.joint_map[profile.servos[profile.index(n)].joint]
@@ -107,10 +109,49 @@ class Robot:
 
     def pose(self, values: Sequence[float]) -> None:
         """Move the model to the servos' ``values`` (profile order), unless it is there
-        (nothing is sent)."""
-        if list(values) != self.values:
-            self.values = list(values)
-            self.handle.update_cfg(self.configuration(values))
+        (nothing is sent): only the joints that turn, each from its own angle (viser's
+        ``update_cfg`` places every joint through the whole model: 8 ms for the InMoov,
+        a frame's budget while playing, against a few hundred microseconds)."""
+        if list(values) == self.values:
+            return
+        self.values = list(values)
+        configuration = self.configuration(values)
+        frames = getattr(self.handle, "_joint_frames", None)
+        joints = getattr(self.handle, "_joint_map_values", None)
+        if frames is None or joints is None or len(frames) != len(joints):
+            self.handle.update_cfg(configuration)  # (another viser: its own way)
+            return
+        at = dict(zip(self.actuated, configuration.tolist(), strict=True))
+        for joint, frame in zip(joints, frames, strict=True):
+            angle = _angle(joint, at)
+            if angle is None or self._sent.get(id(frame)) == angle:
+                continue
+            self._sent[id(frame)] = angle
+            place = _joint_transform(joint, angle)
+            frame.wxyz = self._so3.from_matrix(place[:3, :3]).wxyz
+            frame.position = place[:3, 3] * self.handle._scale
+
+
+def _angle(joint: Any, at: dict[str, float]) -> float | None:
+    """A yourdfpy joint's position (rad, m) when the actuated joints are ``at``: its
+    own, or the one it follows (mimic); None for a joint that never moves."""
+    if joint.type not in ("revolute", "continuous", "prismatic"):
+        return None
+    if joint.mimic is not None:
+        return at[joint.mimic.joint] * joint.mimic.multiplier + joint.mimic.offset
+    return at.get(joint.name, 0.0)
+
+
+def _joint_transform(joint: Any, angle: float) -> Any:
+    """The child link's place in its parent's frame, the joint at ``angle`` (as yourdfpy
+    computes it)."""
+    import numpy as np
+    from trimesh import transformations
+
+    origin = np.eye(4) if joint.origin is None else joint.origin
+    if joint.type == "prismatic":
+        return origin @ transformations.translation_matrix(angle * np.asarray(joint.axis))
+    return origin @ transformations.rotation_matrix(angle, joint.axis)
 
 
 def robot_for(server: Any, current: Robot | None, profile: Profile, command: str
