@@ -4,7 +4,7 @@ the library's largest file and on a generated 5,000-line file.
 
 Target: an edit on the page within 100 ms (p99).
 
-    python benchmarks/preview.py [--edits 200] [--play 5]
+    python benchmarks/preview.py [--edits 200] [--play 5] [--memory-edits 10000]
 
 The editor is pygls's client (as benchmarks/lsp.py's), the server ``gestc lsp`` on a
 pipe, the page the one its ``gest.preview`` command serves, read by headless chromium
@@ -16,8 +16,10 @@ Its time runs from the moment the change is written to the pipe to the moment th
 page's DOM has the new step, timed by a MutationObserver in chromium, on the same clock
 (the computer's, in ms); the diagnostics' arrival, on the same clock, is the analysis
 the page waits for. The frame rate is the number of times the page's time changes in a
-second while it plays at 1x (its button), counted in the page. The figures are a
-shared machine's: compare the two files of one run, not runs of different days.
+second while it plays at 1x (its button), counted in the page. Last, the server's
+memory (VmRSS) over many edits of the library's largest file with the page open
+(benchmarks/lsp.py's typist, every version fed to the page). The figures are a shared
+machine's: compare the two files of one run, not runs of different days.
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import functools
+import json
 import os
 import re
 import signal
@@ -36,6 +39,7 @@ from pathlib import Path
 
 from common import ROOT
 from lsp import Editor, generated, largest_library_file
+from lsp import session as typed
 from lsprotocol import types as lsp
 
 sys.path.insert(0, str(ROOT / "tests"))
@@ -56,11 +60,31 @@ OBSERVE = """(() => {
                              attributes: true});
   return true; })()"""
 NUMBER = re.compile(r"(?<=[A-Za-z_] )\d+")  #: a step's first value
+#: when the page's first step came to show %s (the page's clock, ms): a promise, kept
+#: by a MutationObserver (no polling: the page is left to its own work meanwhile)
+SHOWN = """new Promise(resolve => {
+  const want = %s, check = () => { const l = window.__gl.labels;
+    if (l.length && l[l.length - 1][1].includes(want)) { resolve(l[l.length - 1][0]);
+                                                         return true; }
+    return false; };
+  if (!check()) { const o = new MutationObserver(() => { if (check()) o.disconnect(); });
+    o.observe(document.body, {subtree: true, childList: true, characterData: true,
+                              attributes: true}); } })"""
 
 
 def js(browser, expression: str):
     return browser.call("Runtime.evaluate", expression=expression,
                         returnByValue=True)["result"].get("value")
+
+
+async def shown(browser, want: str) -> float:
+    """When the page showed ``want`` as its first step (ms, the computer's clock), read
+    in a thread of its own (the client's loop runs meanwhile)."""
+    def call() -> float:
+        return browser.call("Runtime.evaluate", expression=SHOWN % json.dumps(want),
+                            awaitPromise=True, returnByValue=True)["result"]["value"]
+
+    return await asyncio.wait_for(asyncio.get_running_loop().run_in_executor(None, call), 60)
 
 
 async def wait(browser, expression: str, timeout: float = 120.0):
@@ -116,11 +140,9 @@ async def session(browser, name: str, path: Path, text: str, edits: int, hide_3d
             text=str(new))
         sent = time.time() * 1000
         times["told"].append((await editor.edit(change))[0] * 1000)
-        want = lines[k].strip()[:20]
-        seen = await wait(browser, f"(l => l.length && l[l.length - 1][1].includes({want!r})"
-                                   f" && l[l.length - 1][0])(window.__gl.labels)", 30)
+        seen = await shown(browser, lines[k].strip()[:20])
         times["page"].append(seen - sent)
-    shown = await frame_rate(browser, play)
+    rate = await frame_rate(browser, play)
     await editor.stop()
     print(f"{name}: {text.count(chr(10)):,} lines, gesture '{gesture}'; {edits} edits, ms "
           "from the edit (p50 / p99 / worst):")
@@ -129,7 +151,7 @@ async def session(browser, name: str, path: Path, text: str, edits: int, hide_3d
                        ("page", "in chromium's page (the DOM changed)")):
         q = statistics.quantiles(times[what], n=100)
         print(f"  {said}: {q[49]:.1f} / {q[98]:.1f} / {max(times[what]):.1f}")
-    print(f"  playing at 1x, looping: {shown:.1f} frames a second shown in chromium")
+    print(f"  playing at 1x, looping: {rate:.1f} frames a second shown in chromium")
     return times["page"]
 
 
@@ -158,6 +180,8 @@ async def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--edits", type=int, default=200)
     parser.add_argument("--play", type=float, default=5.0, help="s of playing per file")
+    parser.add_argument("--memory-edits", type=int, default=10_000,
+                        help="edits of the memory session (0: none)")
     args = parser.parse_args()
     signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # the browser closed still
     import test_web
@@ -182,6 +206,10 @@ async def main() -> None:
                                   args.edits, hide, args.play)
                 finally:
                     browser.close()
+    if args.memory_edits:
+        largest = largest_library_file()
+        await typed(f"memory ({largest.name}, the preview page open)", largest,
+                    largest.read_text(), args.memory_edits, 2, memory_every=1000, preview=True)
 
 
 if __name__ == "__main__":

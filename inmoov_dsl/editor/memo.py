@@ -42,6 +42,7 @@ class Memo:
         self.blocks = BlockParser()
         self.checks: dict[Key, _Kept] = {}
         self.last: list[tuple[str, Key, Checked]] = []  #: the last whole check's
+        self.words: dict[str, frozenset[str]] = {}  #: a block's text -> the words it writes
 
     def parse(self, text: str, file: str):
         """``parse.parse``, remembering blocks."""
@@ -63,7 +64,7 @@ class Memo:
         names = frozenset(program.names())
         kept: dict[Key, _Kept] = {}
         out, last = [], []
-        graph = _Graph(found, lines, block_of, head)
+        graph = _Graph(found, lines, block_of, head, self.words)
         try:
             for gesture in checkable(program):
                 if step is not None:
@@ -78,8 +79,9 @@ class Memo:
                 last.append((gesture, key, checked))
         except BaseException:
             self.checks.update(kept)  # cut short: what was checked is kept all the same
+            self.words.update(graph.words)
             raise
-        self.checks, self.last = kept, last
+        self.checks, self.last, self.words = kept, last, graph.words
         return out
 
     def touch(self, program: Program, check: PlanCheck,
@@ -129,15 +131,23 @@ class _Graph:
     read once."""
 
     def __init__(self, found: list[tuple[int, int]], lines: list[str],
-                 block_of: dict[str, int], head: list[int]):
+                 block_of: dict[str, int], head: list[int],
+                 known: dict[str, frozenset[str]]):
         self.found, self.lines, self.block_of, self.head = found, lines, block_of, head
         self.named: dict[int, set[int]] = {}
+        self.known = known  #: a block's text -> its words, from the texts before
+        self.words: dict[str, frozenset[str]] = {}  #: this text's blocks' (read or known)
 
     def names(self, block: int) -> set[int]:
         """The blocks the words of ``block`` name."""
         if block not in self.named:
             start, end = self.found[block]
-            words = {w for row in self.lines[start:end] for w in WORD.findall(code(row))}
+            text = "\n".join(self.lines[start:end])
+            words = self.known.get(text)
+            if words is None:
+                words = frozenset(w for row in self.lines[start:end]
+                                  for w in WORD.findall(code(row)))
+            self.words[text] = words
             self.named[block] = {self.block_of[w] for w in words if w in self.block_of}
         return self.named[block]
 

@@ -58,7 +58,7 @@ class Program:
         """The names the definition of ``name`` writes (none for a name it does not
         define)."""
         node = self.gestures.get(name) or self.poses.get(name) or self.groups.get(name)
-        return set(_names(node))
+        return set(_written(node)) if node is not None else set()
 
     def unplayable(self) -> frozenset[str]:
         """The flawed names and their users (``users``): what cannot be planned."""
@@ -106,6 +106,16 @@ def _last_line(node: object) -> int:
         return max((_last_line(getattr(node, f.name)) for f in dataclasses.fields(node)),
                    default=0)
     return 0
+
+
+def _written(node: object) -> tuple[str, ...]:
+    """``_names`` of a definition, kept on the node: a block is parsed into one node for
+    as long as its text stays the same (``incremental``), so an edit elsewhere in a long
+    file walks none of the others again."""
+    names = node.__dict__.get("_written")
+    if names is None:
+        names = node.__dict__["_written"] = tuple(_names(node))  # (frozen: its own)
+    return names
 
 
 def _names(node: object) -> list[str]:
