@@ -59,6 +59,7 @@ OBSERVE = """(() => {
   }).observe(document.body, {subtree: true, childList: true, characterData: true,
                              attributes: true});
   return true; })()"""
+SETTLE = 5.0  #: s the page is left to draw the robot before the first edit
 NUMBER = re.compile(r"(?<=[A-Za-z_] )\d+")  #: a step's first value
 #: when the page's first step came to show %s (the page's clock, ms): a promise, kept
 #: by a MutationObserver (no polling: the page is left to its own work meanwhile)
@@ -126,6 +127,7 @@ async def session(browser, name: str, path: Path, text: str, edits: int, hide_3d
                         f"b.textContent.includes({wanted!r}))")
     if hide_3d:
         js(browser, HIDE_3D)
+    await asyncio.sleep(SETTLE)  # the robot's meshes loaded and drawn: edits, not a start
     js(browser, OBSERVE)
     value = int(NUMBER.search(lines[k])[0])
     times: dict[str, list[float]] = {"told": [], "page": []}
