@@ -108,6 +108,35 @@ def test_without_viser_gestsim_web_says_how_to_get_it(monkeypatch, capsys):
         "  hint: pip install 'inmoov-dsl[web]'\n"))
 
 
+def test_the_model_is_posed_where_viser_s_own_update_puts_it():
+    """``Robot.pose`` sends only the joints that turn, each from its angle: every joint
+    frame ends where viser's ``update_cfg`` (the whole model through yourdfpy) puts it,
+    the fingers' mimic joints too, pose after pose of the InMoov."""
+    need_viser()
+    import numpy as np
+    import viser
+
+    from inmoov_dsl.model.scene import Robot, start_server, stop_server
+    from inmoov_dsl.profiles.profile import load_profile
+
+    server = start_server(viser, 0)
+    try:
+        profile = load_profile("inmoov")
+        robot, rng = Robot(server, profile), np.random.default_rng(7)
+        for _ in range(12):
+            values = [float(rng.uniform(s.lo, s.hi)) if rng.random() < 0.4 else s.rest
+                      for s in profile.servos]
+            robot.pose(values)
+            sent = [(np.array(f.wxyz), np.array(f.position)) for f in robot.handle._joint_frames]
+            robot.handle.update_cfg(robot.configuration(values))
+            for (wxyz, at), frame in zip(sent, robot.handle._joint_frames, strict=True):
+                same = wxyz if np.dot(wxyz, frame.wxyz) >= 0 else -wxyz  # (q and -q)
+                assert np.allclose(same, frame.wxyz, atol=1e-9)
+                assert np.allclose(at, frame.position, atol=1e-9)
+    finally:
+        stop_server(server)
+
+
 def test_web_with_a_glove_is_an_error(capsys):
     assert gestsim.main(["--web", "--glove", "fist"]) == 1
     assert "--web shows a board's pose" in capsys.readouterr().err

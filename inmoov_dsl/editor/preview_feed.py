@@ -12,6 +12,7 @@ draws it in its own: the server's loop only hands them on."""
 
 from __future__ import annotations
 
+import gc
 import logging
 import threading
 from collections.abc import Callable
@@ -51,6 +52,8 @@ class Preview:
             self.page = LivePage(0)
             self.page.on_pick = self._picked
             self.page.on_play = self.player
+            gc.collect()  # what the page brought (viser, the model's meshes: 150,000
+            gc.freeze()  # objects) lives as long as the server: never scanned again
         if uri is not None and uri != self.uri:
             self.uri, self.found = uri, None
         return self.page.url

@@ -213,7 +213,8 @@ def text_steps(text: str, gesture: str | None, program: Program, profile: Profil
     if name not in own.own:
         raise GestError(Diagnostic(
             "error", f"no gesture '{gesture}' in the text" if gesture is not None else
-            f"the text has {len(own.own)} gestures: name the one to play", None,
+            f"the text has {len(own.own)} gestures: name the one to play" if own.own else
+            "the text defines no gesture", None,
             (did_you_mean(gesture or "", own.own) or f"its gestures: {', '.join(own.own)}")
             if own.own else "write one: 'wave: index 90 over 0.5s'"))
     typed = Program(file, sources, {**program.texts, file: text},
