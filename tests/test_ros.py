@@ -481,6 +481,23 @@ def test_roslaunch_brings_up_the_node_and_robot_state_publisher(ros_python, ros_
     assert tf["tf"]
 
 
+def test_the_launch_file_s_allow_contact_is_the_node_s(ros_python):
+    """``allow_contact:=true`` starts the node with --allow-contact (roslaunch itself
+    says the command line it would run); by default, and with false, it refuses."""
+    env = {**os.environ, "ROS_PACKAGE_PATH": str(ROOT / "ros")}
+
+    def node(*args: str) -> list[str]:
+        done = subprocess.run(["roslaunch", "--args", "/inmoov_hand", "inmoov_dsl",
+                               "display.launch", "port:=sim://", *args], env=env,
+                              capture_output=True, text=True, timeout=WAIT)
+        assert done.returncode == 0, done.stderr
+        return done.stdout.split()
+
+    assert "--allow-contact" in node("profile:=inmoov", "allow_contact:=true")
+    assert "--allow-contact" not in node("profile:=inmoov")
+    assert "--allow-contact" not in node("allow_contact:=false")
+
+
 def test_the_node_says_where_its_ros_package_is(capsys):
     from inmoov_dsl.ros.__main__ import main
 
