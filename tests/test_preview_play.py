@@ -6,7 +6,7 @@ token shown, a refusal and a service that is not there each said in a line."""
 
 from __future__ import annotations
 
-from test_service import serving, still, values
+from test_service import serving, still, until, values
 
 from inmoov_dsl.editor.analysis import analyse
 from inmoov_dsl.editor.preview_play import Player, request
@@ -55,9 +55,15 @@ def test_what_play_on_the_robot_sends(tmp_path):
 def test_the_player_plays_the_gesture_on_a_running_service(tmp_path):
     view = wave_view(tmp_path)
     final = {view.profile.servos[i].name: v for i, v in enumerate(view.plan.final)}
-    with serving("--token", TOKEN) as service:
+    with serving("--token", TOKEN) as service, service.events(BEARER) as ws:
         said = Player(service.url, TOKEN)(view)
         assert said.startswith(f"'wave' sent to {service.url} (id "), said
+        told = until(ws, "done", said.split("(id ")[1].rstrip(")"), 60)
+        events = [e["event"] for e in told if e["event"] != "pose"]
+        assert (events[0], set(events[1:-1]), events[-1]) == ("started", {"warning"}, "done")
+        warned = {(d["line"], d["source"], d["message"].split(":")[0]) for e in told
+                  if e["event"] == "warning" for d in e["diagnostics"]}
+        assert (10, "    index 90 over 0.3s", "move stretched") in warned  # the file's line
         assert values(still(service, 60, BEARER)) == final  # the whole gesture: its end
         refused = Player(service.url)(view)  # no token
         assert refused.startswith("'wave' was refused (401): "), refused
