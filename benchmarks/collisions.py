@@ -17,7 +17,6 @@ Needs the collide extra (python-fcl), and the web extra for the trimesh count; ~
 from __future__ import annotations
 
 import argparse
-import io
 import statistics
 import sys
 import time
@@ -27,15 +26,14 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "tests"))  # trimesh_reference: the tests' other library
 
 from inmoov_dsl.compiling.compiler import compile_program  # noqa: E402
 from inmoov_dsl.compiling.plan import Planner  # noqa: E402
 from inmoov_dsl.language.load import load  # noqa: E402
 from inmoov_dsl.live.session import line_steps  # noqa: E402
-from inmoov_dsl.model import joints  # noqa: E402
 from inmoov_dsl.model.collide import Checker, checker_for, first_contacts  # noqa: E402
 from inmoov_dsl.model.guard import Guard  # noqa: E402
-from inmoov_dsl.model.urdf import model  # noqa: E402
 from inmoov_dsl.profiles.profile import load_profile  # noqa: E402
 
 ARM = ("r_bicep", "r_rotate", "r_shoulder", "r_omoplate")
@@ -116,29 +114,13 @@ def shares(checker: Checker, count: int) -> None:
     print(f"random right-arm poses ({count:,}): {near:.1%} within the clearance, "
           f"{into:.1%} with parts inside each other (this check)")
     try:
-        import trimesh
-        import yourdfpy
+        from trimesh_reference import Reference
+
+        reference = Reference(checker.profile)
     except ImportError:
         print("  (trimesh's count needs the web extra: yourdfpy, trimesh)")
         return
-    profile = checker.profile
-    robot = yourdfpy.URDF.load(io.StringIO(model(profile)), build_scene_graph=False,
-                               build_collision_scene_graph=True, load_meshes=False,
-                               load_collision_meshes=True)
-    scene = robot.collision_scene
-    link = {n: scene.graph.transforms.parents[n] for n in scene.graph.nodes_geometry}
-    manager = trimesh.collision.CollisionManager()
-    for node, name in link.items():
-        manager.add_object(name, scene.geometry[scene.graph[node][1]])
-    checked = set(checker.pairs) | {p[::-1] for p in checker.pairs}
-    hits = 0
-    for v in values:
-        robot.update_cfg(dict(zip(joints.names(profile), joints.positions(profile, v),
-                                  strict=True)))
-        for node, name in link.items():
-            manager.set_transform(name, scene.graph[node][0])
-        _, pairs = manager.in_collision_internal(return_names=True)
-        hits += any(p in checked for p in pairs)
+    hits = sum(bool(reference.overlapping(v, checker.pairs)) for v in values)
     print(f"  trimesh on the URDF's meshed collision shapes: {hits / count:.1%} with parts "
           "inside each other")
 

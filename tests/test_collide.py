@@ -5,7 +5,6 @@ geometry, read by another library, agrees."""
 
 from __future__ import annotations
 
-import io
 import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -14,7 +13,6 @@ import numpy as np
 import pytest
 
 from inmoov_dsl.errors import GestError
-from inmoov_dsl.model import joints
 from inmoov_dsl.model.allowed import Allowed, allowed_pairs, digest, dumps, joined, load, path_for
 from inmoov_dsl.model.collide import Checker, Contact
 from inmoov_dsl.model.kinematics import Chain
@@ -156,27 +154,13 @@ def test_another_library_reading_the_urdf_agrees(inmoov):
     """yourdfpy places the URDF's collision shapes (meshed by trimesh) and trimesh's
     collision manager says which overlap; away from touching (a polygon is not quite a
     cylinder) it agrees with the check on every checked pair, pose after pose."""
-    yourdfpy = pytest.importorskip("yourdfpy", reason="the [web] extra brings yourdfpy")
-    trimesh = pytest.importorskip("trimesh", reason="yourdfpy brings trimesh")
-    profile = inmoov.profile
-    robot = yourdfpy.URDF.load(io.StringIO(model(profile)), build_scene_graph=False,
-                               build_collision_scene_graph=True, load_meshes=False,
-                               load_collision_meshes=True)
-    scene = robot.collision_scene
-    link = {node: scene.graph.transforms.parents[node] for node in scene.graph.nodes_geometry}
-    manager = trimesh.collision.CollisionManager()
-    for node, name in link.items():
-        manager.add_object(name, scene.geometry[scene.graph[node][1]])
-    checked, seen = set(inmoov.pairs), 0
-    for pose in random_poses(profile, 2000, 13):
+    pytest.importorskip("yourdfpy", reason="the [web] extra brings yourdfpy")
+    from trimesh_reference import Reference
+
+    reference, checked, seen = Reference(inmoov.profile), set(inmoov.pairs), 0
+    for pose in random_poses(inmoov.profile, 2000, 13):
         values = inmoov.chain.values(pose)
-        robot.update_cfg(dict(zip(joints.names(profile), joints.positions(profile, values),
-                                  strict=True)))
-        for node, name in link.items():
-            manager.set_transform(name, scene.graph[node][0])
-        _, overlapping = manager.in_collision_internal(return_names=True)
-        theirs = {pair for pair in overlapping if pair in checked or pair[::-1] in checked}
-        theirs = {pair if pair in checked else pair[::-1] for pair in theirs}
+        theirs = reference.overlapping(values, checked)
         gaps = {(c.a, c.b): c.distance_mm for c in inmoov.contacts_of(values)}
         ours = {pair for pair, gap in gaps.items() if gap < -1.0}
         unsure = {pair for pair, gap in gaps.items() if -1.0 <= gap < 1.0}
