@@ -185,7 +185,6 @@ class Worker:
         if not job.stopped:
             self._deliver(job, found)
 
-
     def _until_still(self, job: Job, step: Callable[[], None]) -> None:
         """Wait ``still`` s (answering the calls that come), unless a newer version of
         the document comes first (``step`` raises): while a person types, the costly
