@@ -153,6 +153,32 @@ def test_contacts_wait_for_the_text_to_stay_the_same(tmp_path):
     assert looked == ["3s"]  # the first's never looked for, not even begun
 
 
+def test_another_document_s_diagnostics_do_not_wait_for_the_contacts(tmp_path):
+    """While a document waits to be still before its contacts are looked for, another
+    document opened meanwhile is checked and told at once."""
+    pytest.importorskip("fcl", reason="the [collide] extra brings python-fcl")
+    import threading
+
+    from inmoov_dsl.editor.memo import Memo
+    from inmoov_dsl.editor.worker import Job, Worker
+
+    told, first, other = [], threading.Event(), threading.Event()
+    elbow = "robot inmoov\n\nelbow:\n    r_rotate 125 over 1.5s\n    r_bicep 143 over 2s\n"
+
+    def deliver(job: Job, found) -> None:
+        told.append((job.uri, found.checked, len(found.diagnostics)))
+        if found.checked:
+            (first if job.uri == "a" else other).set()
+
+    worker = Worker(deliver, still=LIMIT)  # the first waits as long as a test may
+    worker.submit(Job("a", elbow, str(tmp_path / "a.gest"), "inmoov", (), Memo()))
+    assert first.wait(LIMIT)
+    worker.submit(Job("b", "s: indx 9\n", str(tmp_path / "b.gest"), "rhand", (), Memo()))
+    assert other.wait(LIMIT)  # not after the first one's wait
+    worker.stop("a")
+    assert told == [("a", False, 0), ("a", True, 0), ("b", False, 0), ("b", True, 1)]
+
+
 @pytest.mark.asyncio
 async def test_the_page_follows_the_editor_and_a_click_shows_the_step(
         client: LanguageClient, browser, tmp_path):  # noqa: F811

@@ -54,6 +54,7 @@ class Job:
     memo: Memo
     loaded: Analysis | None = None
     found: Analysis | None = None  #: checked (told), its contacts not yet looked for
+    still_until: float | None = None  #: when its contacts may be looked for (monotonic)
     stopped: bool = False  #: a newer version came, or the document closed
     turns: int = 0  #: how many times it let another go first
 
@@ -86,6 +87,7 @@ class Worker:
         """Analyse the document ``uri`` no more (it closed)."""
         with self._lock:
             self._stop(uri)
+            self._lock.notify()  # (a job waiting for its text to stay the same ends)
 
     def call(self, fn: Callable[[], Any]) -> Future:
         """``fn()`` run in the thread as soon as it is between two steps: its result
@@ -186,17 +188,21 @@ class Worker:
             self._deliver(job, found)
 
     def _until_still(self, job: Job, step: Callable[[], None]) -> None:
-        """Wait ``still`` s (answering the calls that come), unless a newer version of
-        the document comes first (``step`` raises): while a person types, the costly
-        check of the robot's parts waits and the page and the diagnostics have the
-        thread."""
-        deadline = time.monotonic() + self.still
+        """Wait until ``still`` s after the job was checked (answering the calls that
+        come), unless a newer version of the document comes first (``step`` raises):
+        while a person types, the costly check of the robot's parts waits and the page
+        and the diagnostics have the thread. A document waiting for its diagnostics
+        goes first meanwhile (the job goes back in line)."""
+        if job.still_until is None:
+            job.still_until = time.monotonic() + self.still
         while True:
             step()
-            left = deadline - time.monotonic()
-            if left <= 0:
-                return
             with self._lock:
+                if any(other.found is None for other in self._jobs.values()):
+                    raise _Turn
+                left = job.still_until - time.monotonic()
+                if left <= 0:
+                    return
                 if not self._calls and not job.stopped:
                     self._lock.wait(left)
 
