@@ -6,6 +6,8 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
 
+from lsp_client import client  # noqa: E402, F401 (pytest-lsp's client on gestc lsp, as VS Code starts it)
+
 from inmoov_dsl import load_profile  # noqa: E402
 from inmoov_dsl.profiles.profile import parse_profile  # noqa: E402
 

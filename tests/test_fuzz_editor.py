@@ -9,13 +9,11 @@ diagnostics are those of the same text opened whole; and the protocol's lines
 
 import asyncio
 import random
-import sys
 
 import pytest
-import pytest_lsp
 from lsprotocol import types as lsp
 from mutate import mutate, seeds, within
-from pytest_lsp import ClientServerConfig, LanguageClient, client_capabilities
+from pytest_lsp import LanguageClient
 
 from inmoov_dsl.editor.actions import fixes
 from inmoov_dsl.editor.analysis import analyse
@@ -69,15 +67,6 @@ def test_every_question_on_mutants_has_an_answer(library, tmp_path):
     assert not problems, "\n".join(problems[:5])
 
 
-SERVER = [sys.executable, "-m", "inmoov_dsl.cli.gestc", "lsp"]
-
-
-@pytest_lsp.fixture(config=ClientServerConfig(server_command=SERVER))
-async def client(lsp_client: LanguageClient):
-    await lsp_client.initialize_session(lsp.InitializeParams(
-        capabilities=client_capabilities("visual-studio-code")))
-    yield
-    await lsp_client.shutdown_session()
 
 
 @pytest.mark.asyncio

@@ -6,15 +6,13 @@ answer is awaited with a time limit (``soon``): a broken request fails, never ha
 
 import asyncio
 import functools
-import sys
 from pathlib import Path
 
 import pytest
 import pytest_lsp
+from lsp_client import SERVER
 from lsprotocol import types as lsp
 from pytest_lsp import ClientServerConfig, LanguageClient, client_capabilities
-
-SERVER = [sys.executable, "-m", "inmoov_dsl.cli.gestc", "lsp"]
 
 
 @pytest_lsp.fixture(config=ClientServerConfig(server_command=SERVER),

@@ -9,30 +9,19 @@ into itself is a warning at its step."""
 from __future__ import annotations
 
 import asyncio
-import sys
 import time
 
 import pytest
-import pytest_lsp
 from lsprotocol import types as lsp
-from pytest_lsp import ClientServerConfig, LanguageClient, client_capabilities
+from pytest_lsp import LanguageClient
 from test_live_preview import STEPS, browser, js, steps_on, until  # noqa: F401 (fixture)
 
-SERVER = [sys.executable, "-m", "inmoov_dsl.cli.gestc", "lsp"]
 LIMIT = 120.0  #: s for any answer or page change, which a loaded machine meets
 WAVE = """wave:
     fingers 0 over 0.7s
     wrist 180 over 0.4s
     wrist 0 over 0.4s
 """
-
-
-@pytest_lsp.fixture(config=ClientServerConfig(server_command=SERVER))
-async def client(lsp_client: LanguageClient):
-    await lsp_client.initialize_session(lsp.InitializeParams(
-        capabilities=client_capabilities("visual-studio-code")))
-    yield
-    await lsp_client.shutdown_session()
 
 
 async def opened(client: LanguageClient, uri: str, text: str) -> list[lsp.Diagnostic]:

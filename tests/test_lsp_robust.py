@@ -10,16 +10,15 @@ the user, and the order answers come in; no time figure."""
 
 import asyncio
 import re
-import sys
 from pathlib import Path
 
 import pytest
 import pytest_lsp
+from lsp_client import SERVER
 from lsprotocol import types as lsp
 from pygls.exceptions import JsonRpcException
 from pytest_lsp import ClientServerConfig, LanguageClient, client_capabilities
 
-SERVER = [sys.executable, "-m", "inmoov_dsl.cli.gestc", "lsp"]
 LIMIT = 60.0  #: s for any answer, which a loaded machine meets (most take milliseconds)
 LIBRARY = Path(__file__).parent.parent / "gestures"
 TOP = 2_147_483_647  #: the largest line (and column) the protocol has
