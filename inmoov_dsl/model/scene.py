@@ -14,10 +14,10 @@ from typing import Any
 
 from ..errors import Diagnostic, GestError
 from ..hardware import Profile
-from . import joints
+from . import gate, joints
+from .gate import HOST
 
 INSTALL = "pip install 'inmoov-dsl[web]'"
-HOST = "127.0.0.1"  #: this computer only: a page is a view, not a service
 
 
 def need_viser(command: str = "gestsim --web") -> tuple[Any, Any, Any]:
@@ -38,7 +38,9 @@ def need_viser(command: str = "gestsim --web") -> tuple[Any, Any, Any]:
 def start_server(viser: Any, port: int) -> Any:
     """viser's server on HOST:``port`` (0: any free one; a busy one: the next free),
     printing nothing (a command's standard output is its own), its "share" button
-    hidden (sharing goes through viser's servers, on the internet)."""
+    hidden (sharing goes through viser's servers, on the internet), and no request
+    answered that another web site sends (``gate``)."""
+    gate.install()
     with contextlib.redirect_stdout(io.StringIO()):
         server = viser.ViserServer(host=HOST, port=port, verbose=False)
     server.gui.configure_theme(show_share_button=False)

@@ -12,26 +12,11 @@
 from __future__ import annotations
 
 import hmac
-import ipaddress
 from collections.abc import Mapping
 
-LOOPBACK_NAMES = ("localhost",)
+from ..access import foreign_host, foreign_origin, is_loopback, own_hosts
 
-
-def is_loopback(host: str) -> bool:
-    """Is ``host`` (an address or ``localhost``) on this computer only?"""
-    if host in LOOPBACK_NAMES:
-        return True
-    try:
-        return ipaddress.ip_address(host.strip("[]")).is_loopback
-    except ValueError:
-        return False
-
-
-def own_hosts(host: str, port: int) -> set[str]:
-    """The ``Host`` values a loopback service at ``host``:``port`` answers to."""
-    names = {host, "localhost", "127.0.0.1", "[::1]"} if is_loopback(host) else {host}
-    return {f"{n}:{port}" for n in names} | ({*names} if port == 80 else set())
+__all__ = ["Guard", "is_loopback"]
 
 
 class Guard:
@@ -48,16 +33,14 @@ class Guard:
     def refuse(self, method: str, headers: Mapping[str, str], query: Mapping[str, str]
                ) -> tuple[int, str] | None:
         """(HTTP status, why) when the request may not be answered, else None."""
-        host = headers.get("Host", "")
-        origin = headers.get("Origin")
         if method == "OPTIONS":
             return 403, "no cross-origin requests: the service answers its own page only"
-        if origin is not None and origin != f"http://{host}":
-            return 403, f"a request from another site ({origin}) is refused"
+        why = foreign_origin(headers)
+        if why:
+            return 403, why
         if self.token is None:
-            if host not in self.hosts:
-                return 403, f"unknown Host '{host}': use http://127.0.0.1 or localhost"
-            return None
+            why = foreign_host(headers, self.hosts)
+            return (403, why) if why else None
         given = headers.get("Authorization", "")
         given = given[7:] if given.startswith("Bearer ") else query.get("token", "")
         if not hmac.compare_digest(given.encode(), self.token.encode()):
