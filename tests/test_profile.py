@@ -343,10 +343,11 @@ TOP_ERRORS = {
                                      "a profile needs at least one [[board]]", "3:1", "board"),
     "servo not a table": ('servo = 3\n[[board]]\nid = 181\n', "[servo.NAME] tables expected",
                           "1:1", "servo"),
-    "groups not a table": ('groups = 3\n' + HAND.replace("[groups]\npair", "[more]\npair"),
+    "groups not a table": ('groups = 3\n' + HAND.replace('[groups]\npair = ["a", "b"]\n', ""),
                            "[groups] must map a group name to a list of servo names", "1:1",
                            "groups"),
-    "gloves not tables": ('glove = [1]\n' + HAND.replace("[[glove]]", "[what]"),
+    "gloves not tables": ('glove = [1]\n' + HAND[:HAND.index("[[glove]]")]
+                          + HAND[HAND.index("[groups]"):],
                           "[[glove]] tables expected", "1:1", "glove"),
 }
 
@@ -361,7 +362,8 @@ BOARD_ERRORS = {
                    "[[board]]"),
     "duplicate id": (changed("\n[servo.a]", '\n[[board]]\nid = 181\nservos = []\n[servo.a]'),
                      "board 181 is declared twice", "11:1", "id"),
-    "not a table": (HAND.replace("[[board]]\n", "board = [5]\n[what]\n"),
+    "not a table": (HAND[:HAND.index("[[board]]")] + "board = [5]\n"
+                    + HAND[HAND.index("\n[servo.a]"):],
                     "board 1: expected a [[board]] table, got 5", "4:10", "5"),
     "baud of the wrong type": (changed("baud = 9600", "baud = 1.5"),
                                "board 181: 'baud' must be a whole number in 1..2,000,000, "
@@ -469,7 +471,8 @@ GLOVE_ERRORS = {
     "name of the wrong type": (changed("board = 181", "board = 181\nname = false"),
                                "glove 182: 'name' must be a string, got False", "30:1",
                                "name"),
-    "sensors not a list": (changed("sensors = [", "sensors = 1\nx = ["),
+    "sensors not a list": (HAND[:HAND.index("sensors = [")] + "sensors = 1"
+                           + HAND[HAND.index("\n\n[groups]"):],
                            "glove 182: 'sensors' must be a list of { servo = ..., pin = ..., "
                            "calibration = [low, high] }", "33:1", "sensors"),
     "no sensor": (HAND.replace(HAND[HAND.index("sensors = ["):HAND.index("\n\n[groups]")],
@@ -535,6 +538,95 @@ def test_all_the_errors_are_reported_each_at_its_key():
     assert [(d.pos.line, d.pos.column, d.message.split(":")[0])
             for d in info.value.diagnostics] == [
         (7, 1, "board 181"), (19, 1, "servo 'a'"), (31, 1, "glove 182")]
+
+
+
+# A misspelt key is an error at it with the key meant, never a silent default (fuzzed
+# profiles): the text, the message, where, the text under the caret, the hint
+UNKNOWN_KEYS = {
+    "a servo's": (changed("reversed = false", "revresed = false"),
+                  "servo 'a': unknown key 'revresed'", "18:1", "revresed",
+                  "did you mean 'reversed'?"),
+    "a table's name": (HAND + "[colision]\nclearance_mm = 0\n", "unknown table 'colision'",
+                       "40:1", "[colision]", "did you mean 'collision'?"),
+    "a table's plural": (HAND + "[collisions]\nclearance_mm = 0\n",
+                         "unknown table 'collisions'", "40:1", "[collisions]",
+                         "did you mean 'collision'?"),
+    "at the top": ("foo = 1\n" + HAND, "unknown key 'foo'", "1:1", "foo",
+                   "a profile holds: name, description, board, servo, groups, sides, glove, "
+                   "voice, collision"),
+    "an array of tables": (HAND + "[[servos]]\nid = 3\n", "unknown table 'servos'", "40:1",
+                           "[[servos]]", "did you mean 'servo'?"),
+    "in [collision]": (HAND + "[collision]\nclearance = 5\n",
+                       "[collision]: unknown key 'clearance'", "41:1", "clearance",
+                       "did you mean 'clearance_mm'?"),
+    "a board's": (changed("baud = 9600", "buad = 9600"), "board 181: unknown key 'buad'",
+                  "7:1", "buad", "did you mean 'baud'?"),
+    "a board's with no id": (changed("id = 181\n", "buad = 9600\n"),
+                             "board 1: unknown key 'buad'", "5:1", "buad",
+                             "did you mean 'baud'?"),
+    "another kind's": (changed('name = "right"', 'model = "mini12"'),
+                       "board 181: unknown key 'model'", "6:1", "model",
+                       "only a board of kind maestro takes 'model'; this one's kind is rig"),
+    "its kind's": (changed('name = "right"', 'kind = "maestro"\nmodle = "mini12"'),
+                   "board 181: unknown key 'modle'", "7:1", "modle", "did you mean 'model'?"),
+    "a glove's": (changed("deadband = 2", "deadbnad = 2"), "glove 182: unknown key 'deadbnad'",
+                  "31:1", "deadbnad", "did you mean 'deadband'?"),
+    "a sensor's": (changed("pin = 14", "pni = 14"), "glove 182, sensor 1: unknown key 'pni'",
+                   "34:20", "pni", "did you mean 'pin'?"),
+    "in [voice]": (HAND + '[voice]\nmouth = "a"\nclsoed = 0\n',
+                   "[voice]: unknown key 'clsoed'", "42:1", "clsoed", "did you mean 'closed'?"),
+    "in [sides]": (HAND + '[sides]\nright = ["a"]\nleft = ["b"]\nlfet = []\n',
+                   "[sides]: unknown key 'lfet'", "43:1", "lfet", "did you mean 'left'?"),
+    "with nothing close": (changed("reversed = false", "colour = 3"),
+                           "servo 'a': unknown key 'colour'", "18:1", "colour",
+                           "the keys it takes: id, range, rest, pin, reversed, max_velocity, "
+                           "max_acceleration, max_jerk, calibration, joint, pulse"),
+}
+
+
+@pytest.mark.parametrize(("text", "message", "where", "under", "hint"), UNKNOWN_KEYS.values(),
+                         ids=UNKNOWN_KEYS)
+def test_an_unknown_key_is_an_error_at_it_with_the_key_meant(text, message, where, under,
+                                                             hint):
+    assert first_error_at(text, message, where, under).hint == hint
+
+
+def test_every_key_a_table_reads_is_one_it_takes():
+    """The keys of every table, each written once: the profile that has them all loads
+    (pulse and a kind's own keys included)."""
+    text = changed("pin = 2", "pin = 2\njoint = \"j\"\npulse = [1000, 2000]") \
+        .replace('name = "right"', 'kind = "rig"\narduino = "uno"', 1) \
+        + '[sides]\nright = ["a"]\nleft = ["b"]\n[voice]\nmouth = "a"\nclosed = 0\n' \
+        'open = 90\nvoice = "en"\nspeed = 150\npitch = 40\n[collision]\nclearance_mm = 5\n'
+    profile = parse_profile(text, "all.toml")
+    assert profile.servos[0].pulse == (1000, 2000) and profile.voice.pitch == 40
+    assert profile.clearance_mm == 5 and profile.sides["left"] == ("b",)
+
+
+def test_gestc_check_refuses_a_profile_with_a_misspelt_key(tmp_path, capsys):
+    """The fuzzer's four profiles: each loaded with exit 0 before; now each is an error
+    at its key, with the key meant."""
+    from pathlib import Path
+
+    from inmoov_dsl.cli import gestc
+
+    rhand = Path(load_profile("rhand").path).read_text(encoding="utf-8")
+    gesture = tmp_path / "curl.gest"
+    gesture.write_text("curl: index 90\n")
+    bad = {"revresed": rhand.replace("reversed = true", "revresed = true", 1),
+           "colision": rhand + "\n[colision]\nclearance_mm = 0\n",
+           "collisions": rhand + "\n[collisions]\nclearance_mm = 0\n",
+           "foo": "foo = 1\n" + rhand}
+    for key, text in bad.items():
+        path = tmp_path / f"{key}.toml"
+        path.write_text(text)
+        assert gestc.main(["check", "--profile", str(path), str(gesture)]) == 1, key
+        err = capsys.readouterr().err
+        line = next(n for n, row in enumerate(text.split("\n"), 1)
+                    if row.startswith((key, f"[{key}]")))
+        assert f"{path}:{line}:1: error: " in err and "unknown " in err, err
+        assert ("hint: did you mean" in err) == (key != "foo"), err
 
 
 # TOML's other ways of writing the same tables: the key is found in each

@@ -58,6 +58,11 @@ class KindTable:
     noun: str  #: what a servo's place is called on it: "pin" or "channel"
     place: PlaceRule
 
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The keys its ``[[board]]`` may hold besides every board's."""
+        return tuple(key.key for key in self.keys)
+
 
 def channels(kind: str, count: Callable[[Options], int]
              ) -> PlaceRule:

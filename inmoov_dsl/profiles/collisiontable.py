@@ -5,7 +5,6 @@ from __future__ import annotations
 
 from typing import Any
 
-from ..errors import did_you_mean
 from ..hardware import CLEARANCE_MM
 from . import fields as check
 from .keys import Report
@@ -20,16 +19,15 @@ def collision(report: Report, data: Any) -> float:
     if not isinstance(data, dict):
         report.error(("collision",), "[collision] must be a table: clearance_mm = 10")
         return CLEARANCE_MM
-    for key in data:
-        if key not in KEYS:
-            report.error(("collision", key), f"[collision]: unknown key '{check.cut(key)}'",
-                         did_you_mean(key, KEYS) or "its key is clearance_mm")
-    value = data.get("clearance_mm", CLEARANCE_MM)
+    fields = check.Fields(report, ("collision",), data, KEYS, "[collision]")
+    return fields.get("clearance_mm", clearance, CLEARANCE_MM)
+
+
+def clearance(key: str, value: Any) -> float:
+    """Millimetres, 0..MAX_CLEARANCE_MM."""
     if isinstance(value, bool) or not isinstance(value, int | float) or not (
             0 <= value <= MAX_CLEARANCE_MM):
-        report.error(("collision", "clearance_mm"), "[collision]: 'clearance_mm' must be a "
-                     f"number of millimetres in 0..{MAX_CLEARANCE_MM:.0f}, got "
-                     f"{check.shown(value)}", "clearance_mm = 10 (0: only parts that overlap "
-                     "touch)")
-        return CLEARANCE_MM
+        raise check.Problem(f"'{key}' must be a number of millimetres in "
+                            f"0..{MAX_CLEARANCE_MM:.0f}, got {check.shown(value)}",
+                            "clearance_mm = 10 (0: only parts that overlap touch)")
     return float(value)

@@ -1,15 +1,18 @@
 """The checks of a profile's values, one per kind of field (as packaging's metadata
 validators): each takes the key and its value, returns the value as the profile keeps
-it, or raises a ``Problem`` saying what the key takes. ``tables.Fields`` reads one TOML
-table through them and reports each problem at its key."""
+it, or raises a ``Problem`` saying what the key takes. ``Fields`` reads one TOML table
+through them, reports each problem at its key, and is the one rule of unknown keys:
+every key a table does not take is an error at that key, with a did-you-mean."""
 
 from __future__ import annotations
 
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Collection, Mapping
 from typing import Any, TypeVar
 
 from .. import protocol
+from ..errors import did_you_mean
+from .keys import Key, Report
 
 T = TypeVar("T")
 
@@ -147,3 +150,38 @@ def text(key: str, value: Any) -> str:
     if not isinstance(value, str):
         raise Problem(f"'{key}' must be a string, got {shown(value)}")
     return value
+
+
+class Fields:
+    """One TOML table being read: its values (``data``), its key path (``at``), the
+    keys it takes (``keys``) and the name its errors begin with (``where``: ``servo
+    'index'``; none at the top level). Every key of ``data`` not in ``keys`` is an error
+    at that key, at once; ``elsewhere``: a hint for a key another kind of the table
+    takes. ``unknown``: those keys."""
+
+    def __init__(self, report: Report, at: Key, data: Any, keys: Collection[str],
+                 where: str = "", elsewhere: Mapping[str, str] | None = None):
+        self.report, self.at, self.data, self.keys, self.where = report, at, data, keys, where
+        self.unknown = [k for k in data if k not in keys] if isinstance(data, dict) else []
+        takes = f"{'the keys it takes' if where else 'a profile holds'}: {', '.join(keys)}"
+        for key in self.unknown:
+            value = data[key]
+            table = isinstance(value, dict) or bool(value) and isinstance(value, list) and all(
+                isinstance(v, dict) for v in value)
+            self.fail(f"unknown {'table' if table else 'key'} '{cut(key)}'", (key,),
+                      did_you_mean(key, keys) or (elsewhere or {}).get(key) or takes)
+
+    def get(self, key: str, check: Check[T], default: Any = None, fallback: Any = None
+            ) -> T:
+        """``check`` of the value of ``key`` (``default`` when it is not there); on a
+        Problem, an error at the key, and ``fallback`` (or ``default``)."""
+        try:
+            return check(key, self.data.get(key, default))
+        except Problem as problem:
+            self.fail(problem.message, (key,), problem.hint)
+            return default if fallback is None else fallback
+
+    def fail(self, message: str, key: Key = (), hint: str | None = None) -> None:
+        """An error about this table, at ``key`` under it (the table itself for ``()``)."""
+        self.report.error((*self.at, *key), f"{self.where}: {message}" if self.where
+                          else message, hint)

@@ -32,6 +32,22 @@ def choice(choices: tuple[str, ...]) -> Check[int]:
     return check_choice
 
 
+def keys(common: tuple[str, ...], named: Any) -> tuple[tuple[str, ...], dict[str, str]]:
+    """The keys a ``[[board]]`` of the kind ``named`` takes: ``common`` (every board's)
+    and its kind's (every kind's when ``named`` is none: that error alone); and a hint
+    for each key only other kinds take."""
+    table = TABLES.get(named) if isinstance(named, str) else None
+    taken = (*common, *dict.fromkeys(k for t in ([table] if table else TABLES.values())
+                                     for k in t.names))
+    others: dict[str, list[str]] = {}
+    for other in TABLES.values():
+        for key in other.names:
+            if key not in taken:
+                others.setdefault(key, []).append(other.kind)
+    return taken, {key: f"only a board of kind {' or '.join(of)} takes '{key}'; this one's "
+                   f"kind is {named}" for key, of in others.items()}
+
+
 def options(fields, table: KindTable) -> Options:
     """The keys of ``table``'s kind the board table ``fields`` holds, as options."""
     found = []

@@ -9,7 +9,6 @@ by ``fields``."""
 from __future__ import annotations
 
 from collections.abc import Collection, Mapping
-from dataclasses import dataclass
 from typing import Any
 
 from .. import protocol
@@ -19,44 +18,26 @@ from ..hardware import Board, Glove, Sensor, Servo
 from ..language.syntax import KEYWORDS
 from . import fields as check
 from . import kinds
-from .fields import NAME_RE, Check, Problem, T, cut, is_whole, shown
+from .fields import NAME_RE, Check, Fields, Problem, cut, is_whole, shown
 from .keys import Key, Report
 
 BOARD_IDS = (protocol.FIRST_BOARD_ID, protocol.LAST_BOARD_ID)  #: a board's or glove's ID
 FULL = (0, protocol.MAX_VALUE)
 SENSOR = "{ servo = ..., pin = ..., calibration = [low, high] }"
-
-
-@dataclass
-class Fields:
-    """One TOML table being read: its values, its key path, and the name its errors
-    begin with (``servo 'index'``; none at the top level)."""
-
-    report: Report
-    at: Key
-    data: dict[str, Any]
-    where: str = ""
-
-    def get(self, key: str, check: Check[T], default: Any = None, fallback: Any = None
-            ) -> T:
-        """``check`` of the value of ``key`` (``default`` when it is not there); on a
-        Problem, an error at the key, and ``fallback`` (or ``default``)."""
-        try:
-            return check(key, self.data.get(key, default))
-        except Problem as problem:
-            self.fail(problem.message, (key,), problem.hint)
-            return default if fallback is None else fallback
-
-    def fail(self, message: str, key: Key = (), hint: str | None = None) -> None:
-        """An error about this table, at ``key`` under it (the table itself for ``()``)."""
-        self.report.error((*self.at, *key), f"{self.where}: {message}" if self.where
-                          else message, hint)
+#: the keys each table takes (a board's kind adds its own: ``boards.TABLES``)
+TOP = ("name", "description", "board", "servo", "groups", "sides", "glove", "voice",
+       "collision")
+BOARD = ("id", "name", "kind", "baud", "servos")
+SERVO = ("id", "range", "rest", "pin", "reversed", "max_velocity", "max_acceleration",
+         "max_jerk", "calibration", "joint", "pulse")
+GLOVE = ("id", "board", "name", "baud", "command_pins", "deadband", "frame_ms", "sensors")
+SENSOR_KEYS = ("servo", "pin", "calibration", "reversed")
 
 
 def top(report: Report, data: dict[str, Any], stem: str) -> tuple[str, str]:
     """The profile's own ``name`` (``stem``, the file's name, when it has none) and
     ``description``."""
-    fields = Fields(report, (), data)
+    fields = Fields(report, (), data, TOP)
     return fields.get("name", check.text, stem), fields.get("description", check.text, "")
 
 
@@ -101,13 +82,15 @@ def board(report: Report, k: int, data: Any, taken: Collection[int],
         return None
     bid = data.get("id")
     low, high = BOARD_IDS
-    if not is_whole(bid) or not low <= bid <= high:
+    usable = is_whole(bid) and low <= bid <= high
+    keys, elsewhere = kinds.keys(BOARD, data.get("kind", DEFAULT_KIND))
+    fields = Fields(report, at, data, keys, f"board {bid if usable else k + 1}", elsewhere)
+    if not usable:
         report.error((*at, "id"), f"board id must be a whole number in {low}..{high}, "
                      f"got {shown(bid)}")
         return None
     if bid in taken:
         report.error((*at, "id"), f"board {bid} is declared twice")
-    fields = Fields(report, at, data, f"board {bid}")
     what = fields.get("kind", kinds.kind, DEFAULT_KIND, fallback="")  # "": that error alone
     table = TABLES.get(what)
     speed = fields.get("baud", check.baud, table.baud if table else protocol.DEFAULT_BAUD)
@@ -135,7 +118,7 @@ def servo(report: Report, name: str, data: Any, board_id: int, ids: Mapping[int,
         report.error(("servo", name), f"servo '{cut(name)}': expected a [servo.{cut(name)}] "
                      f"table, got {shown(data)}")
         return None
-    fields = Fields(report, ("servo", name), data, f"servo '{cut(name)}'")
+    fields = Fields(report, ("servo", name), data, SERVO, f"servo '{cut(name)}'")
     if not NAME_RE.match(name) or name in KEYWORDS:
         fields.fail("a servo name must be a word (letters, digits, _) and not a keyword of "
                     "the language")
@@ -190,6 +173,8 @@ SIDES = ("right", "left")
 def sides(report: Report, data: Any, servos: tuple[str, ...]) -> dict[str, tuple[str, ...]]:
     """``[sides]``: ``right`` and ``left``, lists of servos of the same length, the k-th
     of each the mirror image of the other's; no servo on both sides or twice."""
+    if isinstance(data, dict) and Fields(report, ("sides",), data, SIDES, "[sides]").unknown:
+        return {}
     if not isinstance(data, dict) or set(data) != set(SIDES):
         report.error(("sides",), "[sides] must have 'right' and 'left': lists of servos, "
                      "each the mirror image of the other's at the same place")
@@ -223,11 +208,12 @@ def glove(report: Report, k: int, data: dict[str, Any], boards: Mapping[int, Boa
     at: Key = ("glove", k)
     gid = data.get("id")
     low, high = BOARD_IDS
-    if not is_whole(gid) or not low <= gid <= high or gid in taken:
+    usable = is_whole(gid) and low <= gid <= high and gid not in taken
+    fields = Fields(report, at, data, GLOVE, f"glove {gid if usable else k + 1}")
+    if not usable:
         report.error((*at, "id"), f"glove id must be a board ID in {low}..{high} that no "
                      f"other board has, got {shown(gid)}")
         return None
-    fields = Fields(report, at, data, f"glove {gid}")
     target = fields.get("board", _board_of(boards))
     if target is None:
         return None
@@ -263,7 +249,8 @@ def sensor(report: Report, glove_at: Key, n: int, data: Any, board: Board, where
            ) -> Sensor | None:
     """The ``n``th sensor of the glove at ``glove_at`` (named ``where`` in errors),
     reading for a servo of ``board``; None when it cannot be built."""
-    fields = Fields(report, (*glove_at, "sensors", n), data, f"{where}, sensor {n + 1}")
+    fields = Fields(report, (*glove_at, "sensors", n), data, SENSOR_KEYS,
+                    f"{where}, sensor {n + 1}")
     if not isinstance(data, dict):
         fields.fail(f"expected {SENSOR}")
         return None

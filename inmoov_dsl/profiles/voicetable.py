@@ -16,6 +16,7 @@ from .keys import Report
 
 VOICE_NAME = re.compile(r"[A-Za-z0-9_+-]{1,40}\Z")  #: an espeak-ng voice: en, en-us, de...
 DEFAULTS = Voice("", 0, 0)
+KEYS = ("mouth", "closed", "open", "voice", "speed", "pitch")
 
 
 def voice(report: Report, data: Any, servos: Sequence[Servo]) -> Voice | None:
@@ -24,14 +25,7 @@ def voice(report: Report, data: Any, servos: Sequence[Servo]) -> Voice | None:
     if not isinstance(data, dict):
         report.error(("voice",), "[voice] must be a table: mouth, closed, open")
         return None
-
-    def get(key: str, rule: check.Check, default: Any) -> Any:
-        try:
-            return rule(key, data.get(key, default))
-        except check.Problem as problem:
-            report.error(("voice", key), f"[voice]: {problem.message}", problem.hint)
-            return default
-
+    get = check.Fields(report, ("voice",), data, KEYS, "[voice]").get
     by_name = {s.name: s for s in servos}
     mouth = get("mouth", check.text, "")
     if mouth not in by_name:
