@@ -115,3 +115,56 @@ async def test_the_language_servers_page_refuses_another_web_site(
         lsp.ExecuteCommandParams("gest.preview", [uri, {"open": False}])), LIMIT)
     await asyncio.get_running_loop().run_in_executor(None, assert_guarded, answer["url"])
     assert client.shown_documents == []  # nothing a foreign page could click
+
+
+def garbage(url: str, seed: int, connections: int = 20, each: int = 20) -> None:
+    """Seeded garbage from the page's own origin: random bytes, text, and messages of
+    viser's types with wrong fields, ``each`` on each of ``connections``."""
+    import random
+
+    import msgspec
+    import viser
+    from websockets.exceptions import ConnectionClosed
+    from websockets.sync.client import connect
+
+    rng, port = random.Random(seed), url.split(":")[2].strip("/")
+    kinds = ["GuiUpdateMessage", "ViewerCameraMessage", "ScenePointerMessage", "Nope"]
+    for _ in range(connections):
+        with connect(f"ws://127.0.0.1:{port}/", subprotocols=[f"viser-v{viser.__version__}"],
+                     additional_headers={"Origin": f"http://127.0.0.1:{port}"},
+                     open_timeout=LIMIT) as ws:
+            for n in range(each):
+                pick = rng.random()
+                sent = (rng.randbytes(rng.randrange(1, 50)) if pick < 0.3 else
+                        f"text {n}" if pick < 0.4 else
+                        msgspec.msgpack.encode({"type": rng.choice(kinds), "id": "x",
+                                                "updates": {"value": rng.random()}})
+                        if pick < 0.8 else msgspec.msgpack.encode([rng.random(), None]))
+                try:
+                    ws.send(sent)
+                except ConnectionClosed:  # the page dropped it: the next connection
+                    break
+
+
+@POSIX
+def test_garbage_on_the_pages_websocket_is_a_line_each_not_a_traceback(tmp_path):
+    need_viser()
+    path = tmp_path / "w.gest"
+    path.write_text(WAVE, encoding="utf-8")
+    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestc", "preview", "--live",
+                             str(path), "--no-open"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE)
+    try:
+        url = Lines(proc.stderr).until(r"at (http://127\.0\.0\.1:\d+/)", LIMIT)
+        garbage(url, seed=49)
+        port = url.split(":")[2].strip("/")
+        status, got = handshake(url, f"http://127.0.0.1:{port}")  # still the whole page
+        assert status == 101 and b"wrist 180" in got
+    finally:
+        proc.terminate()
+        _, err = proc.communicate(timeout=30)
+    said = err.decode().splitlines()
+    assert "Traceback" not in err.decode()
+    dropped = [line for line in said if line.startswith("the page dropped a connection")]
+    others = [line for line in said if not line.startswith("the page ")]
+    assert dropped and others == ["gestc: stopped by SIGTERM"]

@@ -13,6 +13,7 @@ Nothing else in the process sees a change.
 from __future__ import annotations
 
 import http
+import logging
 import sys
 from typing import Any
 
@@ -55,6 +56,39 @@ def _guarded(process_request: Any) -> Any:
     return check
 
 
+class _OneLine(logging.Handler):
+    """What viser's and websockets' own code says of a connection it could not read
+    (garbage sent to the page): a line on standard error, not a traceback (through
+    ``gestc lsp`` it lands in the editor's log)."""
+
+    def emit(self, record: logging.LogRecord) -> None:
+        exc = record.exc_info[1] if record.exc_info else None
+        what = ("dropped a connection that sent what it cannot read" if exc is not None
+                else record.getMessage())
+        print(one_line(what, exc), file=sys.stderr)
+
+
+def one_line(what: str, exc: BaseException | None) -> str:
+    """The line said of a page's connection that failed (``what``, and ``exc``)."""
+    why = f" ({type(exc).__name__}: {exc})" if exc is not None else ""
+    text = f"the page {what}{why}".replace("\n", " ")
+    return text if len(text) <= 200 else text[:200] + "...)"
+
+
+def quiet(server: Any) -> None:
+    """A failure in ``server``'s own event loop (a message it could not handle) told
+    in a line, as websockets' are."""
+    loop = getattr(getattr(server, "_websock_server", None), "_background_event_loop", None)
+    if loop is None:
+        return
+
+    def told(_loop: Any, context: dict[str, Any]) -> None:
+        what = context.get("message") or "could not handle a message"
+        print(one_line(f"said: {what}", context.get("exception")), file=sys.stderr)
+
+    loop.call_soon_threadsafe(loop.set_exception_handler, told)
+
+
 def install() -> None:
     """Put the check on every viser server started from now on (once a process)."""
     try:
@@ -73,5 +107,8 @@ def install() -> None:
     def guarded_serve(*args: Any, process_request: Any = None, **kwargs: Any) -> Any:
         return serve(*args, process_request=_guarded(process_request), **kwargs)
 
+    said = logging.getLogger("websockets")
+    said.addHandler(_OneLine(logging.WARNING))
+    said.propagate = False
     server = _Overlay(real.asyncio.server, serve=guarded_serve)
     _infra.websockets = _Overlay(real, asyncio=_Overlay(real.asyncio, server=server))

@@ -43,6 +43,7 @@ def start_server(viser: Any, port: int) -> Any:
     gate.install()
     with contextlib.redirect_stdout(io.StringIO()):
         server = viser.ViserServer(host=HOST, port=port, verbose=False)
+    gate.quiet(server)
     server.gui.configure_theme(show_share_button=False)
     return server
 
