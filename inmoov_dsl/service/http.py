@@ -79,11 +79,19 @@ def _guarded(guard: Guard):
 
 
 async def _body(request: web.Request) -> dict[str, Any]:
-    """A request's JSON object (an empty body is ``{}``)."""
+    """A request's JSON object (an empty body is ``{}``): all of it, however many
+    segments it comes in, and never more than MAX_BODY + 1 bytes of it read."""
     size = request.content_length
     if size is not None and size > core.MAX_BODY:
         raise core.BadRequest(f"the body is larger than {core.MAX_BODY:,} bytes")
-    body = await request.content.read(core.MAX_BODY + 1)
+    body = bytearray()
+    while len(body) <= core.MAX_BODY:  # to its end (its Content-Length, or the last chunk)
+        part = await request.content.read(core.MAX_BODY + 1 - len(body))
+        if not part:
+            break
+        body += part
+    if len(body) > core.MAX_BODY:
+        raise core.BadRequest(f"the body is larger than {core.MAX_BODY:,} bytes")
     if not body.strip():
         return {}
     if request.content_type != "application/json":
