@@ -46,6 +46,22 @@ def test_the_wheel_carries_grammar_profiles_and_library(wheel):
     assert "[pygments.lexers]\ngest = inmoov_dsl.editor.lexer:GestLexer\n" in text
 
 
+def test_the_default_install_checks_collisions(wheel):
+    """``pip install .`` brings python-fcl wherever PyPI has its wheel: a player that
+    drives the whole InMoov checks it for contacts without an extra."""
+    from packaging.markers import Marker
+
+    metadata = next(n for n in zipfile.ZipFile(wheel).namelist() if n.endswith("METADATA"))
+    text = zipfile.ZipFile(wheel).read(metadata).decode()
+    (line,) = [x for x in text.splitlines() if x.startswith("Requires-Dist: python-fcl")
+               and "extra ==" not in x]
+    marker = Marker(line.partition(";")[2])
+    for machine, system in (("x86_64", "linux"), ("AMD64", "win32"), ("arm64", "darwin"),
+                            ("x86_64", "darwin")):
+        assert marker.evaluate({"platform_machine": machine, "sys_platform": system})
+    assert not marker.evaluate({"platform_machine": "aarch64", "sys_platform": "linux"})
+
+
 def test_the_installed_layout_compiles_the_library(wheel, tmp_path):
     site = tmp_path / "site"
     zipfile.ZipFile(wheel).extractall(site)

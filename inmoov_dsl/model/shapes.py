@@ -1,5 +1,5 @@
 """The model's parts as a collision library's objects: how far apart two of them are,
-through python-fcl (an optional extra: ``collide``).
+through python-fcl (in the default install wherever PyPI has its wheel).
 
 Why FCL (python-fcl) and not coal/pinocchio: FCL's primitives are the URDF's own (box,
 cylinder, sphere: no mesh is made of them), it gives the distance between two shapes and
@@ -22,7 +22,9 @@ from ..errors import Diagnostic, GestError
 from .kinematics import Chain
 from .urdf_parts import Shape
 
-INSTALL = "pip install 'inmoov-dsl[collide]'"
+#: how to get it where the default install had no wheel for it (Linux on ARM)
+INSTALL = ("pip install python-fcl (on Linux ARM it builds from source: "
+           "apt-get install libfcl-dev first)")
 
 
 def need_fcl() -> Any:
