@@ -98,7 +98,8 @@ def test_check_reports_every_file(capsys, tmp_path):
     code, out, _ = run(capsys, "check", COUNT)
     assert code == 0 and out == f"{COUNT}: ok (1 gesture)\n"
     assert err.splitlines() == [f"{bad}:1:4: error: unknown servo or group 'indx'",
-                                "    a: indx 90", "       ^~~~", "  hint: did you mean 'index'?"]
+                                "    a: indx 90", "       ^~~~", "  hint: did you mean 'index'?",
+                                f"{bad}: 1 error"]  # the file's count, after its report
 
 
 def test_show_tables_steps_and_link(capsys):

@@ -89,7 +89,7 @@ def test_check_tells_a_place_once_whichever_gestures_play_it(capsys, tmp_path):
     w = tmp_path / "w.gest"
     w.write_text(SLOW)
     code, out, err = run(capsys, "check", str(w))
-    assert code == 0 and out == f"{w}: ok (2 gestures)\n"
+    assert code == 0 and out == f"{w}: ok (2 gestures, 2 warnings)\n"
     assert warning_places(err) == [f"{w}:2:20", f"{w}:3:18"]
     assert "move stretched: needs 0.52 s, asked 0.01 s" in err
 
