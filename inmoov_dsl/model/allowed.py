@@ -15,15 +15,18 @@ hand, the head, the body. ``allowed_pairs`` makes them; ``save`` and ``load`` ke
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import os
-from dataclasses import dataclass
+import tempfile
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from ..hardware import Profile
+from ..resources import private_cache_dir, private_file, read_regular
 from .kinematics import Chain
 from .shapes import Bodies
 from .urdf import body
@@ -32,6 +35,10 @@ SAMPLES = 10_000  #: random poses the "always" pairs are found in (MoveIt's defa
 SEED = 43
 SUFFIX = ".collisions.json"
 PALM = "_palm"  #: a hand's root link: it and the fingers below it are one hand
+REASONS = ("adjacent", "rigid", "hand", "always")
+CACHE = "collisions"  #: the folder of the private cache the pairs made are kept in
+MOST = 1_000_000  #: bytes of a kept file read; a larger one is not ours
+KEPT = 32  #: models whose pairs the cache keeps, the newest
 
 Pair = tuple[str, str]
 
@@ -140,24 +147,85 @@ def save(allowed: Allowed, path: str | os.PathLike) -> None:
 
 
 def load(path: str | os.PathLike) -> Allowed:
-    """The allowed pairs kept in ``path``."""
-    data = json.loads(Path(path).read_text(encoding="utf-8"))
-    pairs = {(a, b): why for a, b, why in data["allowed"]}
-    return Allowed(data["profile"], data["model"], float(data["clearance_mm"]),
+    """The allowed pairs kept in ``path``; a ValueError (or OSError) when it holds none."""
+    text = read_regular(path, MOST)
+    if len(text) > MOST:
+        raise ValueError(f"larger than {MOST:,} bytes")
+    data = json.loads(text.decode("utf-8"))
+    pairs = {}
+    for entry in data["allowed"]:
+        if not (isinstance(entry, list) and len(entry) == 3 and all(
+                isinstance(x, str) for x in entry) and entry[2] in REASONS):
+            raise ValueError(f"not an allowed pair: {entry!r:.60}")
+        pairs[(entry[0], entry[1])] = entry[2]
+    return Allowed(str(data["profile"]), str(data["model"]), float(data["clearance_mm"]),
                    int(data["samples"]), int(data["seed"]), pairs)
 
 
 def allowed_for(profile: Profile) -> Allowed:
     """The profile's allowed pairs: its file's when it was made from this model at the
-    profile's clearance, else made now (a second or so): a file that cannot be read is
-    made again too."""
-    path = path_for(profile)
-    if path is not None and path.is_file():
-        try:
-            kept = load(path)
-        except (OSError, ValueError, KeyError, TypeError):
-            kept = None
-        if (kept is not None and kept.model == digest(profile)
-                and kept.clearance_mm == profile.clearance_mm):
-            return kept
-    return allowed_pairs(profile)
+    profile's clearance, else the ones the user's cache keeps for this model, else made
+    now (seconds) and kept there. A file that cannot be read, or was made from another
+    model, is passed over: the pairs are made again."""
+    model = digest(profile)
+    cached = cache_path(model, profile.clearance_mm)
+    for path, private in ((path_for(profile), False), (cached, True)):
+        if path is not None and (kept := _kept(path, model, profile.clearance_mm, private)):
+            if private:  # the newest used: the last the cache lets go (_prune)
+                with contextlib.suppress(OSError):
+                    os.utime(path)
+            return replace(kept, profile=profile.name)
+    made = allowed_pairs(profile)
+    if cached is not None:
+        _keep(made, cached)
+    return made
+
+
+def cache_path(model: str, clearance_mm: float) -> Path | None:
+    """Where the user's private cache keeps the pairs made from ``model`` (a ``digest``)
+    at ``clearance_mm``; None when there is no private cache."""
+    folder = private_cache_dir()
+    if folder is None:
+        return None
+    how = hashlib.sha256(repr((clearance_mm, SAMPLES, SEED)).encode()).hexdigest()[:8]
+    return folder / CACHE / f"{model}-{how}{SUFFIX}"
+
+
+def _kept(path: Path, model: str, clearance_mm: float, private: bool) -> Allowed | None:
+    """The pairs ``path`` keeps, if it was made from ``model`` at ``clearance_mm`` (and,
+    when ``private``, it is this user's file that no one else can write); None for
+    anything else: missing, unreadable, corrupt, another model's or user's."""
+    try:
+        if not path.is_file() or private and not private_file(path):
+            return None
+        kept = load(path)
+    except (OSError, ValueError, KeyError, TypeError, OverflowError, RecursionError):
+        return None
+    return kept if kept.model == model and kept.clearance_mm == clearance_mm else None
+
+
+def _keep(allowed: Allowed, path: Path) -> None:
+    """Write ``allowed`` to ``path`` whole or not at all (another process may be reading
+    it, or writing it too); a cache that cannot be written is left as it is."""
+    try:
+        path.parent.mkdir(mode=0o700, exist_ok=True)
+        fd, temporary = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
+    except OSError:
+        return
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as f:
+            f.write(dumps(allowed))
+        os.replace(temporary, path)
+    except OSError:
+        with contextlib.suppress(OSError):
+            os.unlink(temporary)
+    _prune(path.parent)
+
+
+def _prune(folder: Path) -> None:
+    """The KEPT newest files of the cache's ``folder`` kept, the older ones removed (a
+    profile edited often makes a model a change)."""
+    with contextlib.suppress(OSError):
+        files = sorted(folder.glob("*" + SUFFIX), key=lambda f: f.stat().st_mtime_ns)
+        for old in files[:-KEPT]:
+            old.unlink()
