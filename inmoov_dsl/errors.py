@@ -97,13 +97,17 @@ class Errors:
 
     def __init__(self) -> None:
         self.found: list[Diagnostic] = []
+        self._told: set[Diagnostic] = set()  # found's, looked up at once
 
     def __enter__(self) -> Errors:
         return self
 
     def __exit__(self, kind, exc, tb) -> bool:
         if isinstance(exc, GestError):
-            self.found += [d for d in exc.diagnostics if d not in self.found]
+            for d in exc.diagnostics:
+                if d not in self._told:
+                    self._told.add(d)
+                    self.found.append(d)
             return True
         return False
 
@@ -150,7 +154,13 @@ def counted(n: int, noun: str) -> str:
 
 
 def did_you_mean(name: str, known: Iterable[str]) -> str | None:
-    """A 'did you mean' hint for a misspelt name, or None when nothing is close.
+    """A 'did you mean' hint for a misspelt name, or None when nothing is close."""
+    meant = closest(name, known)
+    return f"did you mean '{meant}'?" if meant is not None else None
+
+
+def closest(name: str, known: Iterable[str]) -> str | None:
+    """The known name closest to a misspelt ``name``, or None when nothing is close.
     Names longer than MAX_SUGGESTED are not compared (difflib is quadratic in length)."""
     if len(name) > MAX_SUGGESTED:
         return None
@@ -158,7 +168,7 @@ def did_you_mean(name: str, known: Iterable[str]) -> str | None:
     import difflib  # here: only a mistake needs it (start-up time)
 
     close = difflib.get_close_matches(name, candidates, n=1, cutoff=0.6)
-    return f"did you mean '{close[0]}'?" if close else None
+    return close[0] if close else None
 
 
 def decode_utf8(data: bytes, file: str) -> str:

@@ -7,7 +7,7 @@ import functools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from ..errors import Diagnostic, GestError, did_you_mean
+from ..errors import Diagnostic, GestError, closest, did_you_mean
 from ..hardware import Profile
 from ..language import syntax as ast
 from ..language.program import Program
@@ -70,17 +70,25 @@ class NameTable:
 
     def hint(self, name: str) -> str | None:
         """A hint for an unknown ``name``: the built-in profile that has it, the library
-        file that defines it (a file's names come in with ``use``), or the closest name.
-        Every command that resolves a name words it here."""
+        file that defines it (a file's names come in with ``use``), or the closest name,
+        the library's gestures' too. Every command that resolves a name words it here."""
         others = [p for p in self.elsewhere(name) if p != self.profile.name]
         if others:
             return (f"'{name}' is in profile '{others[0]}': a file for that robot starts "
                     f"with the line  robot {others[0]}")
-        found = self.in_library(name) if self.in_library else None
-        if found is not None:
+        library = self.in_library.entries() if self.in_library is not None else {}
+        if name in library:
+            found = library[name].path.name
             return (f"'{name}' is a library gesture, defined in {found}: add the line  "
                     f"use \"{found}\"  to this file")
-        return did_you_mean(name, self._table)
+        meant = closest(name, [*self._table, *library])
+        if meant is None:
+            return None
+        if meant in self._table:
+            return f"did you mean '{meant}'?"
+        found = library[meant].path.name
+        return (f"did you mean '{meant}'? It is a library gesture, defined in {found}: "
+                f"add the line  use \"{found}\"  to this file")
 
 
 def _table(program: Program, profile: Profile) -> dict[str, Entity]:

@@ -14,7 +14,8 @@ from ..boards import TABLES
 from ..compiling.compiler import compile_program
 from ..compiling.names import Gesture, Group, Pose, Servo
 from ..errors import GestError, Pos
-from ..language.library import Entry, library_dirs, library_files, scan
+from ..language.catalog import scanned
+from ..language.library import Entry, library_dirs
 from ..language.load import GEST_SUFFIX
 from ..profiles.profile import builtin_profiles
 from ..voice.hearing import WAV_SUFFIX
@@ -204,25 +205,9 @@ def _scope(found: Analysis) -> dict[str, Servo | Group | Pose | Gesture]:
 
 
 def _library(dirs: tuple[str, ...]) -> list[tuple[str, Entry]]:
-    """The library's gestures along ``dirs``, read again only when one of its files
-    changed (a completion asks at every key)."""
-    files = library_files([Path(d) for d in dirs])
-    stamp = (dirs, tuple((str(f), *_stat(f)) for f in files))
-    if _LIBRARY.get("stamp") != stamp:
-        _LIBRARY.update(stamp=stamp, entries=list(scan([Path(d) for d in dirs]).entries
-                                                   .items()))
-    return _LIBRARY["entries"]
-
-
-_LIBRARY: dict = {}  #: the last library read, and the files' times and sizes it was read at
-
-
-def _stat(path: Path) -> tuple[int, int]:
-    try:
-        st = path.stat()
-    except OSError:
-        return (0, 0)
-    return (st.st_mtime_ns, st.st_size)
+    """The library's gestures along ``dirs`` (``catalog.scanned``: read again only when
+    one of its files changed; a completion asks at every key)."""
+    return list(scanned(dirs).entries.items())
 
 
 def _files(path: str, suffix: str, lib: Sequence[str]) -> list[str]:

@@ -6,7 +6,6 @@ what a ``use`` may open is decided here (docs/security.md).
 
 from __future__ import annotations
 
-import functools
 import os
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -16,7 +15,8 @@ from ..errors import Diagnostic, GestError, Pos, SourceMap, decode_utf8
 from ..resources import read_regular
 from ..voice.hearing import Hearing
 from . import syntax as ast
-from .library import library_dirs, scan
+from .catalog import Catalog
+from .library import library_dirs
 from .parse import MAX_SOURCE, parse
 from .program import Program
 
@@ -72,20 +72,12 @@ def load_program(path: str, read: Reader, search: Sequence[str] = (),
     ``first_wins`` (a library along its search path): then a name already defined by
     another file is shadowed, and only one file defining it twice is an error.
     """
-    program = Program(path, in_library=functools.partial(in_library, tuple(search)),
-                      hear=Hearing(search))
+    program = Program(path, in_library=Catalog(tuple(search)), hear=Hearing(search))
     loader = _Loader(program, read, search, first_wins, parser, partly)
     loader.visit(path, read(path) if text is None else text, True)
     if loader.errors:
         raise GestError(loader.errors)
     return loader.program
-
-
-def in_library(search: Sequence[str], name: str) -> str | None:
-    """The file of the library along ``search`` that defines ``name`` (its file name, as
-    a ``use`` line gives it), or None."""
-    entry = scan([Path(d) for d in search]).entries.get(name) if search else None
-    return entry.path.name if entry is not None else None
 
 
 class _Loader:

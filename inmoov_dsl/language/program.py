@@ -10,6 +10,7 @@ from typing import Any
 
 from ..errors import Diagnostic, Pos, SourceMap
 from . import syntax as ast
+from .catalog import Catalog
 from .library import comments_above
 
 
@@ -26,10 +27,10 @@ class Program:
     own: list[str] = field(default_factory=list)  #: gestures defined in the root file
     #: file -> its robot line (files without one are not here)
     robots: dict[str, ast.Robot] = field(default_factory=dict)
-    #: the library file (its name) that defines a gesture, pose or group, or None; the
-    #: loader knows the search path (``load.in_library``), and an error's hint asks
-    in_library: Callable[[str], str | None] | None = field(default=None, repr=False,
-                                                           compare=False)
+    #: the library along the search path the loader knows (``catalog.Catalog``): the
+    #: file (its name) that defines a gesture, or None; every gesture's name. An
+    #: unknown name's hint asks it
+    in_library: Catalog | None = field(default=None, repr=False, compare=False)
     #: the sound of ``say "text"`` in a file (``voice.hearing.Hearing``): the loader
     #: knows where files are; (text, file, voice, speed, pitch) -> sound
     hear: Callable[..., Any] | None = field(default=None, repr=False, compare=False)

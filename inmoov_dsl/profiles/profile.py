@@ -36,16 +36,29 @@ def builtin_profiles() -> list[str]:
 
 
 def profiles_with(name: str) -> list[str]:
-    """The built-in profiles that have a servo or a group called ``name``."""
-    found = []
+    """The built-in profiles that have a servo or a group called ``name`` (each read
+    again only when its file's size or time changes: every unknown name asks)."""
+    found, folder = [], str(profiles_dir())
     for builtin in builtin_profiles():
+        path = os.path.join(folder, f"{builtin}.toml")
         try:
-            profile = load_profile(builtin)
-        except GestError:
+            st = os.stat(path)
+        except OSError:
             continue
-        if name in profile.names or name in profile.groups:
+        if name in _names_in(path, st.st_size, st.st_mtime_ns, st.st_ctime_ns):
             found.append(builtin)
     return found
+
+
+@functools.lru_cache(maxsize=64)
+def _names_in(path: str, *stamp: int) -> frozenset[str]:
+    """The servos' and groups' names of the profile at ``path`` (none if it is wrong),
+    as it was when its file had ``stamp``."""
+    try:
+        profile = load_profile(path)
+    except GestError:
+        return frozenset()
+    return frozenset((*profile.names, *profile.groups))
 
 
 def profile_arg(profile: Profile) -> str:
