@@ -3,11 +3,18 @@ whose check is long (while the service goes on answering, and stops on SIGTERM),
 request's sounds, and the limit of a gesture's length on every path. Clients the project
 did not write: a raw socket, curl, http.client and the websockets library."""
 
+import contextlib
 import json
+import signal
 import socket
+import subprocess
+import sys
+import threading
 import time
 
-from test_service import serving
+import pytest
+from test_service import Service, need_service_libraries, serving, until
+from test_web import Lines
 
 STEPS = b'{"steps": "index 90 over 0.5s"}'
 
@@ -64,3 +71,148 @@ def test_a_body_in_several_segments_is_read_whole_and_a_large_one_is_not_read():
         assert answer.startswith(b"HTTP/1.1 400 "), answer[:200]
         assert b"the body is larger than 65,536 bytes" in answer
         assert service.call("GET", "/api/pose")[0] == 200
+
+
+# -- long checks ----------------------------------------------------------------------------
+#: gestplay serve with two slow steps put in (what a test cannot send in 64 KB in a known
+#: time): a text that names ``held`` is compiled only once a line comes on standard
+#: input; one whose gesture is ``endless`` is checked for ever (Python at work, as a
+#: long check is). Each says on standard error when it begins.
+SLOW = """
+import sys
+from inmoov_dsl.service import core, hub
+
+compile_order, check = core.play_order, hub.Service.check
+
+def play_order(doc, *args):
+    if "held" in str(doc.get("text")):
+        print("test: compiling held", file=sys.stderr, flush=True)
+        sys.stdin.readline()
+    return compile_order(doc, *args)
+
+def endless(self, order):
+    if order.what.name == "endless":
+        print("test: checking endless", file=sys.stderr, flush=True)
+        while True:
+            sum(range(10_000))
+    return check(self, order)
+
+core.play_order, hub.Service.check = play_order, endless
+from inmoov_dsl.cli import gestplay
+sys.exit(gestplay.main(sys.argv[1:]))
+"""
+
+
+@contextlib.contextmanager
+def slow_serving(tmp_path):
+    """``gestplay serve --port sim://`` with SLOW's steps: the service and its log."""
+    need_service_libraries()
+    script = tmp_path / "slow_serve.py"
+    script.write_text(SLOW)
+    proc = subprocess.Popen([sys.executable, str(script), "serve", "--port", "sim://?boot=0",
+                             "--http", "127.0.0.1:0"], stdin=subprocess.PIPE,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    try:
+        log = Lines(proc.stderr)
+        url = log.until(r"(http://\S+)/ drives", 60)
+        host, _, number = url[len("http://"):].rpartition(":")
+        yield Service(proc, host, int(number)), log
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        proc.communicate(timeout=10)
+
+
+def in_background(service: Service, body: dict) -> tuple[threading.Thread, dict]:
+    """POST ``body`` to /api/play from a thread: the thread, and the answer once it
+    has come (``status``, ``answer``)."""
+    got: dict = {}
+
+    def post() -> None:
+        with contextlib.suppress(OSError):  # the service may end before it answers
+            got["status"], got["answer"], _ = service.call("POST", "/api/play", body)
+
+    thread = threading.Thread(target=post, daemon=True)
+    thread.start()
+    return thread, got
+
+
+def test_the_service_answers_while_a_request_is_compiled(tmp_path):
+    """A request's compile work is off the event loop: while one is being compiled
+    (held until the test lets it go), the pose is answered, and another request is
+    checked, played and told on the events socket."""
+    with slow_serving(tmp_path) as (service, log), service.events() as ws:
+        thread, got = in_background(service, {"text": "held: index 90 over 0.5s"})
+        log.until(r"(compiling held)", 30)
+        status, pose, _ = service.call("GET", "/api/pose")
+        assert status == 200 and "index" in pose["servos"]
+        status, a, _ = service.call("POST", "/api/play", {"steps": "middle 90 over 0.3s"})
+        assert status == 202
+        until(ws, "done", a["id"])
+        assert not got  # the held request is still being compiled
+        service.proc.stdin.write(b"go\n")
+        service.proc.stdin.flush()
+        thread.join(30)
+        assert got["status"] == 202
+        until(ws, "done", got["answer"]["id"])
+
+
+def test_sigterm_ends_the_service_while_a_check_runs(tmp_path):
+    """SIGTERM during a check that would never end: the service stops it, tells its
+    client that it stops (503), sends CANCEL and ends, as it does when idle."""
+    with slow_serving(tmp_path) as (service, log):
+        thread, got = in_background(service, {"text": "endless: index 90 over 0.5s"})
+        log.until(r"(checking endless)", 30)
+        service.proc.send_signal(signal.SIGTERM)
+        try:
+            service.proc.wait(timeout=20)  # ends within a few seconds
+        except subprocess.TimeoutExpired:
+            pytest.fail("gestplay serve had not ended 20 s after SIGTERM")
+        err = service.proc.stderr.read().decode()
+        thread.join(30)
+    assert service.proc.returncode == 143, err
+    assert "stopped by SIGTERM: CANCEL sent" in err and "Traceback" not in err
+    assert got.get("status") in (None, 503)  # told, or the connection closed
+    if got:
+        assert got["answer"]["error"] == "the service stops: the request was not checked"
+
+
+# -- the checks' work, in-process -------------------------------------------------------------
+def test_a_check_over_its_budget_is_stopped_and_so_are_all_as_the_service_stops():
+    pytest.importorskip("aiohttp")
+    import asyncio
+
+    from inmoov_dsl.service.work import TooLong, Work
+
+    began = threading.Event()
+    ended: list[threading.Thread] = []
+
+    def endless() -> None:
+        ended.append(threading.current_thread())
+        began.set()
+        while True:
+            sum(range(10_000))
+
+    async def over_budget() -> None:
+        with pytest.raises(TooLong) as stopped:
+            await Work(budget=0.2).run(endless)
+        assert not stopped.value.stopping
+
+    async def service_stops() -> None:
+        work = Work()
+        began.clear()
+        checking = asyncio.ensure_future(work.run(endless))
+        await asyncio.get_running_loop().run_in_executor(None, began.wait)
+        work.stop()
+        with pytest.raises(TooLong) as stopped:
+            await checking
+        assert stopped.value.stopping
+        with pytest.raises(TooLong):  # nothing more is checked
+            await work.run(lambda: 1)
+        assert await Work().run(lambda x: x + 1, 1) == 2
+
+    asyncio.run(over_budget())
+    asyncio.run(service_stops())
+    for thread in ended:  # each check's thread has ended (not left running)
+        thread.join(10)
+        assert not thread.is_alive()

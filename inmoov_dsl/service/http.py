@@ -1,32 +1,30 @@
 """The service's HTTP edge (aiohttp, the optional extra ``serve``): the routes, the
 guard on every request, the events WebSocket and the page.
 
-The server runs in a thread of its own with its own event loop; the drive loop keeps
-the main thread (where Ctrl-C and SIGTERM arrive, and CANCEL goes out as the command
-line's always does). Requests reach the loop through ``Service``'s queue; what the loop
-tells comes back as events to every WebSocket.
+The server runs in a thread of its own with its own event loop (``server.Server``);
+the drive loop keeps the main thread (where Ctrl-C and SIGTERM arrive, and CANCEL goes
+out as the command line's always does). A request's compile work runs in a check's
+thread (``work``), never on the event loop. Requests reach the drive loop through
+``Service``'s queue; what the loop tells comes back as events to every WebSocket.
 """
 
 from __future__ import annotations
 
 import asyncio
-import dataclasses
 import json
-import logging
 import sys
-import threading
 import uuid
 from importlib import metadata, resources
 from typing import Any
 
 from aiohttp import WSCloseCode, WSMsgType, web
 
-from ..errors import GestError
+from ..errors import Diagnostic, GestError
 from ..live.orders import Control
-from . import core, openapi
+from . import core, openapi, work
 from .guard import Guard
-from .hub import QUEUE, Service
-from .log import one_line
+from .hub import QUEUE, Lost, Service
+from .work import TooLong
 
 TICKER = web.AppKey("ticker", asyncio.Task)  #: the pose events' clock
 SOCKETS = web.AppKey("sockets", set)  #: the open events sockets, closed as it stops
@@ -101,23 +99,31 @@ async def _body(request: web.Request) -> dict[str, Any]:
 
 
 async def _play(request: web.Request, service: Service) -> web.Response:
+    """A play request: read on the loop, compiled and checked in a check's thread
+    (``Work``: the loop goes on answering meanwhile), queued for the drive loop."""
     try:
         doc = await _body(request)
-        order = core.play_order(doc, service.program, service.profile, _new_id())
+        order, warnings = await service.work.run(service.prepare, doc, _new_id())
     except core.BadRequest as exc:
         return _json(exc.json(), 400)
-    except GestError as exc:
+    except GestError as exc:  # it does not compile, or drives the robot into itself
         return _json(core.problem(exc), 422)
-    needed = core.boards_of(order.what.actions, service.profile) & service.lost
-    if needed:
-        return _lost(needed)
-    try:  # planned and checked off the event loop: a few milliseconds
-        warnings = await asyncio.get_running_loop().run_in_executor(None, service.check, order)
-    except GestError as exc:  # it would drive the robot into itself: nothing moves
-        return _json(core.problem(exc), 422)
-    service.requests.put(dataclasses.replace(order, checked=True))
+    except Lost as exc:
+        return _lost(exc.boards)
+    except TooLong as exc:
+        return _too_long(exc)
+    service.requests.put(order)
     said = {"warnings": [core.diagnostic(d) for d in warnings]} if warnings else {}
     return _json({"id": order.id, **said}, 202)
+
+
+def _too_long(exc: TooLong) -> web.Response:
+    """A check that was stopped: the service stops (503), or it took its budget (422)."""
+    if exc.stopping:
+        return _json({"error": "the service stops: the request was not checked"}, 503)
+    return _json(core.problem(GestError(Diagnostic(
+        "error", f"checking the request took more than {work.BUDGET:g} s: it was stopped",
+        hint="send less in one request: a shorter text, fewer sounds"))), 422)
 
 
 async def _control(request: web.Request, service: Service, kind: str) -> web.Response:
@@ -139,8 +145,10 @@ def _lost(boards: set[int]) -> web.Response:
 
 
 async def _view(service: Service) -> web.Response:
-    loop = asyncio.get_running_loop()  # making the view takes a moment: not on the loop
-    return _json({"url": await loop.run_in_executor(None, service.view_url)})
+    try:  # making the view takes a moment: not on the loop
+        return _json({"url": await service.work.run(service.view_url)})
+    except TooLong as exc:
+        return _too_long(exc)
 
 
 async def _pose(request: web.Request, service: Service) -> web.Response:
@@ -239,59 +247,3 @@ async def _tick(service: Service) -> None:
 
 def _new_id() -> str:
     return uuid.uuid4().hex[:12]
-
-
-class Server:
-    """The HTTP server in its own thread."""
-
-    def __init__(self, service: Service, guard: Guard, host: str, port: int):
-        self.service, self.guard, self.host, self.port = service, guard, host, port
-        self.ready = threading.Event()
-        self.error: BaseException | None = None
-        self.thread = threading.Thread(target=self._run, name="gestplay-serve", daemon=True)
-
-    def start(self) -> int:
-        """Listen; the port it listens on (``port`` 0: a free one). OSError if it cannot."""
-        self.thread.start()
-        self.ready.wait()
-        if self.error is not None:
-            raise self.error
-        return self.port
-
-    def _run(self) -> None:
-        loop = asyncio.new_event_loop()
-        self.service.loop = loop
-        try:
-            loop.run_until_complete(self._serve())
-        except BaseException as exc:  # noqa: BLE001 (handed to the thread that started it)
-            self.error = exc
-            self.ready.set()
-        finally:  # a client that sent half a request still has its handler waiting
-            pending = asyncio.all_tasks(loop)
-            for task in pending:
-                task.cancel()
-            loop.run_until_complete(asyncio.gather(*pending, return_exceptions=True))
-            loop.close()
-
-    async def _serve(self) -> None:
-        one_line(logging.getLogger("aiohttp.server"))
-        runner = web.AppRunner(app(self.service, self.guard), access_log=None,
-                               handle_signals=False)
-        await runner.setup()
-        site = web.TCPSite(runner, self.host, self.port, reuse_address=True)
-        await site.start()
-        self.port = runner.addresses[0][1]
-        self.guard.bind(self.port)
-        self.stopping = asyncio.Event()
-        self.ready.set()
-        try:
-            await self.stopping.wait()
-        finally:
-            await runner.cleanup()
-
-    def stop(self) -> None:
-        """Stop listening."""
-        loop = self.service.loop
-        if loop is not None and self.thread.is_alive() and hasattr(self, "stopping"):
-            loop.call_soon_threadsafe(self.stopping.set)
-            self.thread.join(timeout=5)

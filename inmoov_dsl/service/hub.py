@@ -4,6 +4,7 @@ loop's notes the other, as events to every WebSocket; the pose as the boards hol
 from __future__ import annotations
 
 import asyncio
+import dataclasses
 import queue
 from collections.abc import Callable
 from typing import Any
@@ -12,8 +13,17 @@ from ..errors import Diagnostic
 from ..live.drive import Drive, Next, Note
 from ..live.orders import Control, Order
 from . import core
+from .work import Work
 
 QUEUE = 1000  #: events kept for a WebSocket that reads slowly; older ones are dropped
+
+
+class Lost(Exception):  # noqa: N818 (not an error of the request: of a cable)
+    """A request needs boards whose link is down (HTTP 503)."""
+
+    def __init__(self, boards: set[int]):
+        super().__init__(boards)
+        self.boards = boards
 
 
 class Service:
@@ -31,17 +41,27 @@ class Service:
         self.make_view: Callable[[], Any] | None = None
         #: refuses what drives the robot into itself (``model.guard.Guard``), or None
         self.collisions = None
+        self.work = Work()  #: the requests' checks, off the event loop
+
+    def prepare(self, doc: dict[str, Any], id: str) -> tuple[Order, tuple[Diagnostic, ...]]:
+        """A play request made an Order and checked (a check's thread: ``work``): its
+        warnings; a BadRequest (400), a GestError (422) or Lost (503)."""
+        order = core.play_order(doc, self.program, self.profile, id)
+        needed = core.boards_of(order.what.actions, self.profile) & self.lost
+        if needed:
+            raise Lost(needed)
+        return dataclasses.replace(order, checked=True), self.check(order)
 
     def check(self, order: Order) -> tuple[Diagnostic, ...]:
         """A play request's steps against the guard, planned from where the hand is
-        going (the HTTP thread: a 422 before anything moves; the drive loop checks
-        them again as it takes them): its warnings, or a GestError."""
+        going (a 422 before anything moves; the drive loop checks them again as it
+        takes them): its warnings, or a GestError."""
         drive = self.drive
         if self.collisions is None or drive is None:
             return ()
         what = order.what
         return self.collisions.steps(what.actions, drive.session.current.plan.final,
-                                what.sources, order.allow_contact)
+                                     what.sources, order.allow_contact)
 
     def next_request(self, timeout: float) -> Next:
         """The drive loop's ``next_request``."""

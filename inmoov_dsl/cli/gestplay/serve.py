@@ -28,7 +28,8 @@ SWITCH = 0.0005  #: s; how often the threads take turns (Python's default is 5 m
 def run(args: argparse.Namespace) -> int:
     """Open the boards, listen, and drive the hand until Ctrl-C or SIGTERM."""
     try:
-        from ...service import guard, http, hub, links
+        from ...service import guard, hub, links
+        from ...service.server import Server
     except ImportError:
         raise GestError(Diagnostic("error", "the service needs aiohttp, which is not "
                                    "installed", hint="pip install 'inmoov-dsl[serve]'")
@@ -51,7 +52,7 @@ def run(args: argparse.Namespace) -> int:
         service.drive = Drive(on.links, profile, on.pose, program, service.told,
                               speaker=speaker, guard=service.collisions.plan)
         service.make_view = lambda: _view(profile, service.drive.mirror.held())
-        server = http.Server(service, guard.Guard(host, port, token), host, port)
+        server = Server(service, guard.Guard(host, port, token), host, port)
         try:
             port = server.start()
         except OSError as exc:
