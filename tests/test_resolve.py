@@ -174,7 +174,7 @@ def test_deep_calls_are_an_error_even_through_a_gesture_measured_before(rhand):
 MORE_ERRORS = [
     ("g: p 9\np: index 9", ["main.gest:1:6: error: 'p' is a gesture; it takes no value"]),
     ("g: index 9 stagger 1s stagger 2s",
-     ["main.gest:1:31: error: 'stagger' is given twice in this step"]),
+     ["main.gest:1:23: error: 'stagger' is given twice in this step"]),
     ("g: index 9\npose fingers: all 9",
      ["main.gest:2:6: error: 'fingers' is the name of a group of profile 'rhand'"]),
 ]

@@ -5,6 +5,7 @@ next ones'."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from typing import Any
 
@@ -104,10 +105,10 @@ class _ToAst(Transformer):
         side = self._name(parts[0]) if isinstance(parts[0], Token) else None
         targets = tuple(p for p in parts if isinstance(p, ast.Target))
         timing: dict[str, Any] = {}  # over and stagger: a Duration; through: a Pos
-        for kind, value in (p for p in parts if isinstance(p, tuple)):
-            if kind in timing:
+        for kind, value, where in (p for p in parts if isinstance(p, tuple)):
+            if kind in timing:  # the caret from the second keyword to its value's end
                 self.flaws.append(SyntaxProblem(f"'{kind}' is given twice in this step",
-                                                pos_span(getattr(value, "pos", value))))
+                                                pos_span(where)))
             timing.setdefault(kind, value)
         return ast.Move(targets, timing.get("over"), timing.get("stagger"),
                         (side or targets[0].name).pos, timing.get("through"), side)
@@ -118,14 +119,21 @@ class _ToAst(Transformer):
     def say(self, keyword: Token, text: Token):
         return ast.Say(text[1:-1], self._pos(keyword), self._pos(text))
 
-    def over(self, duration: ast.Duration):  # the timings: (kind, value)
-        return ("over", duration)
+    def over(self, keyword: Token, duration: ast.Duration):  # (kind, value, where)
+        return ("over", duration, self._through(keyword, duration.pos))
 
-    def stagger(self, duration: ast.Duration):
-        return ("stagger", duration)
+    def stagger(self, keyword: Token, duration: ast.Duration):
+        return ("stagger", duration, self._through(keyword, duration.pos))
 
     def through(self, keyword: Token):
-        return ("through", self._pos(keyword))
+        return ("through", self._pos(keyword), self._pos(keyword))
+
+    def _through(self, keyword: Token, last: Pos) -> Pos:
+        """From ``keyword`` to the end of ``last`` (on its line)."""
+        start = self._pos(keyword)
+        if last.line != start.line:
+            return start
+        return dataclasses.replace(start, width=last.column + last.width - start.column)
 
     def target(self, name: Token, value: Token | None = None):
         if value is None:
