@@ -5,6 +5,7 @@ did not write: a raw socket, curl, http.client and the websockets library."""
 
 import contextlib
 import json
+import shutil
 import signal
 import socket
 import subprocess
@@ -15,6 +16,7 @@ import time
 import pytest
 from test_service import Service, need_service_libraries, serving, until
 from test_web import Lines
+from toolchain import require
 
 STEPS = b'{"steps": "index 90 over 0.5s"}'
 
@@ -71,6 +73,35 @@ def test_a_body_in_several_segments_is_read_whole_and_a_large_one_is_not_read():
         assert answer.startswith(b"HTTP/1.1 400 "), answer[:200]
         assert b"the body is larger than 65,536 bytes" in answer
         assert service.call("GET", "/api/pose")[0] == 200
+
+
+# -- a gesture's length ---------------------------------------------------------------------
+HOURS = [  # (what a request sends, the lines and column the 422 may point at: the step
+    # that passes the hour, which depends on where the hand starts)
+    ({"text": "g:\n  repeat 7:\n    wait 600s"}, {3}, 10),
+    ({"text": "g:\n  repeat 7:\n    wait 600s", "loop": 3}, {3}, 10),
+    ({"text": "g:\n  repeat 1000:\n    repeat 49:\n      index 90 over 0.02s\n"
+              "      index 0 over 0.02s"}, {4, 5}, 7),
+]
+
+
+def test_a_gesture_lasts_at_most_an_hour_on_a_robot_without_a_contact_check():
+    """On rhand (whose profile has no collision model, so nothing was planned before a
+    request was queued), a sent text that lasts more than 3600 s is a 422 at its place,
+    as the compiler says it, and nothing moves."""
+    if shutil.which("curl") is None:
+        require("curl", False, "apt-get install curl")
+    with serving() as service:
+        for body, lines, column in HOURS:
+            status, answer = service.curl("--json", json.dumps(body), f"{service.url}"
+                                          "/api/play")
+            assert status == 422, answer
+            assert answer["error"] == "the gesture lasts more than 3600 s"
+            where = answer["diagnostics"][0]
+            assert where["line"] in lines and where["column"] == column
+            assert where["hint"] == "split it into shorter gestures"
+        _, pose, _ = service.call("GET", "/api/pose")
+        assert pose["playing"] is None
 
 
 # -- long checks ----------------------------------------------------------------------------

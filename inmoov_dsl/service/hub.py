@@ -9,6 +9,7 @@ import queue
 from collections.abc import Callable
 from typing import Any
 
+from ..compiling.plan import Planner
 from ..errors import Diagnostic
 from ..live.drive import Drive, Next, Note
 from ..live.orders import Control, Order
@@ -53,15 +54,18 @@ class Service:
         return dataclasses.replace(order, checked=True), self.check(order)
 
     def check(self, order: Order) -> tuple[Diagnostic, ...]:
-        """A play request's steps against the guard, planned from where the hand is
-        going (a 422 before anything moves; the drive loop checks them again as it
-        takes them): its warnings, or a GestError."""
-        drive = self.drive
-        if self.collisions is None or drive is None:
+        """A play request's steps planned from where the hand is going, as one gesture
+        (its limits hold: a gesture lasts at most an hour, each pass of a loop), and
+        checked against the guard (a 422 before anything moves; the drive loop plans
+        each step again as it takes it): its warnings, or a GestError."""
+        drive, what = self.drive, order.what
+        if drive is None or not what.actions:
             return ()
-        what = order.what
-        return self.collisions.steps(what.actions, drive.session.current.plan.final,
-                                     what.sources, order.allow_contact)
+        planned = Planner(self.profile, what.sources).plan(
+            list(what.actions), drive.session.current.plan.final)
+        if self.collisions is None:
+            return ()
+        return self.collisions.plan(planned, what.sources, order.allow_contact)
 
     def next_request(self, timeout: float) -> Next:
         """The drive loop's ``next_request``."""
