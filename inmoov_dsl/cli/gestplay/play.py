@@ -25,7 +25,7 @@ from .. import hand
 from ..common import EXIT_OK, add_allow_contact, add_blind, add_lib, guard_for, number, report, warn
 from ..options import PORT_FORMS
 from ..target import Target, load_target
-from . import sounds
+from . import TOOLS, sounds
 
 if TYPE_CHECKING:
     from ...model.guard import Guard
@@ -122,29 +122,52 @@ def watch(args: argparse.Namespace, profile: Profile, boards: set[int],
           posix: bool = os.name == "posix") -> str:
     """Where to watch the gesture move: the commands that run a virtual board of each
     board it drives (gestsim) and play it there, each as it runs (POSIX: gestsim serves
-    a pseudo-terminal), or elsewhere the one that draws it."""
+    a pseudo-terminal), or elsewhere the one that draws it. Each runs as printed: the
+    options that choose and play the gesture are carried over (``again``)."""
     name = args.target
-    again = ["--profile", args.profile] if args.profile else []  # else the file's robot
     if not posix or not all(controller(profile, b).serial for b in profile.boards):
         # gestc preview draws a gesture as written: on its own side (a PCA9685 is on a
         # bus, which gestsim cannot serve)
-        return f"'{shlex.join(['gestc', 'preview', name, *again, '-o', f'{name}.gif'])}' " \
-            "draws it"
-    again += ["--hand", args.hand] if args.hand else []
+        draw = ["gestc", "preview", name, *again(args, preview=True), "-o", f"{name}.gif"]
+        return f"'{shlex.join(draw)}' draws it"
     sim = ["gestsim", "--view"]
     if profile_arg(profile) != "rhand":  # gestsim's default
         sim += ["--profile", profile_arg(profile)]
+    # a gesture named like a tool (dump) is played by its full command
+    play = ["gestplay", *(["play"] if name in TOOLS else []), name, *again(args)]
     ids = sorted(boards) or [profile.boards[0].id]  # a gesture that moves nothing
     if len(ids) == 1:
         if ids[0] != profile.boards[0].id:
             sim += ["--board", str(ids[0])]
         return (f"run '{shlex.join(sim)}' (or --web: in 3-D, in a browser) in another "
-                f"terminal, then '{shlex.join(['gestplay', name, *again])} --port PTY' with "
-                "the PTY it prints")
+                f"terminal, then '{shlex.join(play)} --port PTY' with the PTY it prints")
     ports = " ".join(f"--port {b}=PTY{b}" for b in ids)
     return (f"run '{shlex.join(sim)} --board {ids[0]}' in a terminal of its own, and the "
             f"same with --board {', '.join(str(b) for b in ids[1:])}; then "
-            f"'{shlex.join(['gestplay', name, *again])} {ports}' with the PTY each prints")
+            f"'{shlex.join(play)} {ports}' with the PTY each prints")
+
+
+def again(args: argparse.Namespace, preview: bool = False) -> list[str]:
+    """The options of the play that ``args`` ran which the same play elsewhere needs:
+    the gesture, the profile, the library, the side, the checks, the speed and the
+    passes (``preview``: those gestc preview takes, which draws the gesture as
+    written)."""
+    said = vars(args)
+    out = ["-g", said["gesture"]] if said.get("gesture") else []
+    out += ["--profile", said["profile"]] if said.get("profile") else []  # else the file's
+    for lib in said.get("lib") or []:
+        out += ["--lib", lib]
+    out += ["--strict"] if said.get("strict") else []
+    if preview:
+        return out
+    out += ["--hand", said["hand"]] if said.get("hand") else []
+    out += ["--allow-contact"] if said.get("allow_contact") else []
+    if said.get("speed", 1.0) != 1.0:
+        out += ["--speed", f"{said['speed']:g}"]
+    loop = said.get("loop", 1)
+    out += ["--loop"] if loop == 0 else ["--loop", str(loop)] if loop != 1 else []
+    out += ["--audio", said["audio"]] if said.get("audio") else []
+    return out
 
 
 def dry_run(compiled: Compiled, speed: float) -> int:
