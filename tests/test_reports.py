@@ -126,3 +126,38 @@ def test_strict_check_still_fails_on_a_stretch(capsys, tmp_path):
     w.write_text(SLOW)
     code, _, err = run(capsys, "check", "--strict", str(w))
     assert code == 1 and f"{w}:2:20: error: move stretched" in err
+
+
+TWICE = """hello:
+    index 90 over 1s
+    indx 90 over 1s
+
+hello:
+    thumb 90 over 1s
+
+pose p: index 9
+pose p: index 10
+group g: index, ring
+group g: thumb
+
+other:
+    ring 300 over 1s
+"""
+
+
+def test_a_name_defined_twice_is_told_with_every_other_error(capsys, tmp_path):
+    """A gesture, pose or group defined twice hid every other error of the file (in
+    gestc check, the editor and the live preview): now each is told at its place."""
+    file = tmp_path / "twice.gest"
+    file.write_text(TWICE)
+    code, out, err = run(capsys, "check", str(file))
+    told = [line.split(": error: ")[1] for line in err.splitlines() if ": error: " in line]
+    assert code == 1 and out == ""
+    assert told == ["unknown servo or group 'indx'", "'hello' is defined twice",
+                    "'p' is defined twice", "'g' is defined twice",
+                    "value 300 is outside 0..180"]
+    assert err.splitlines()[-1] == f"{file}: 5 errors"
+    from inmoov_dsl.editor.analysis import analyse  # the editor's and the page's analysis
+
+    found = analyse(TWICE, str(file))
+    assert [d.message for d in found.diagnostics] == told

@@ -70,13 +70,17 @@ def load_program(path: str, read: Reader, search: Sequence[str] = (),
     Imports are looked up beside the importing file, then in ``search``; each file is
     read once. Duplicate definitions are errors naming both places, unless
     ``first_wins`` (a library along its search path): then a name already defined by
-    another file is shadowed, and only one file defining it twice is an error.
+    another file is shadowed, and only one file defining it twice is an error. Loaded
+    ``partly`` (to tell every error: ``gestc check``, the editor), a name defined twice
+    is an error among the program's syntax errors, its first definition kept, so the
+    rest of the file is checked too.
     """
     program = Program(path, in_library=Catalog(tuple(search)), hear=Hearing(search))
     loader = _Loader(program, read, search, first_wins, parser, partly)
     loader.visit(path, read(path) if text is None else text, True)
-    if loader.errors:
+    if loader.errors and partly is None:
         raise GestError(loader.errors)
+    program.syntax = (*program.syntax, *loader.errors)
     return loader.program
 
 
