@@ -247,3 +247,111 @@ def test_a_check_over_its_budget_is_stopped_and_so_are_all_as_the_service_stops(
     for thread in ended:  # each check's thread has ended (not left running)
         thread.join(10)
         assert not thread.is_alive()
+
+
+# -- what a request may say -------------------------------------------------------------------
+def test_a_request_that_says_too_much_is_a_422_at_its_string():
+    """On a robot with a voice, a sent text may say 20 different sounds lasting 180 s
+    in all (the same one said again counts once); past that, a 422 at the string, as
+    the compiler words it, and the sounds after it are not made."""
+    from test_voice import need_espeak
+
+    from inmoov_dsl.service.allowance import SPLIT
+
+    need_espeak()
+    words = ("the quick brown fox jumps over a lazy dog while robots wave their hands "
+             * 80).split(" ")
+    long = [" ".join(words[i:i + 150])[:900] for i in range(6)]
+    with serving("--profile", "inmoov") as service:
+        many = "g:\n" + "\n".join(f'  say "word {i}"' for i in range(25))
+        status, answer, _ = service.call("POST", "/api/play", {"text": many})
+        assert status == 422
+        first = answer["diagnostics"][0]
+        assert first["message"] == "a request may say at most 20 different sounds"
+        assert (first["line"], first["column"], first["hint"]) == (22, 7, SPLIT)
+        assert first["text"].startswith('<request>:22:7: error: a request may say at most')
+        talk = "g:\n" + "\n".join(f'  say "{text}"' for text in long)  # ~60 s each
+        status, answer, _ = service.call("POST", "/api/play", {"text": talk})
+        assert status == 422
+        first = answer["diagnostics"][0]
+        assert first["message"].startswith("a request's sounds may last 180 s in all: "
+                                           "with this one, they last ")
+        assert first["line"] in range(3, 8) and first["column"] == 7
+        status, _, _ = service.call("POST", "/api/play", {"text": 'g:\n  repeat 25:\n'
+                                                                  '    say "hi"'})
+        assert status == 202
+        assert service.call("POST", "/api/stop")[0] == 200
+
+
+def test_a_request_s_sounds_are_counted_once_each_and_not_made_past_the_limit():
+    import numpy as np
+
+    from inmoov_dsl.service.allowance import Allowance
+    from inmoov_dsl.voice.wav import Sound, SoundError
+
+    made = []
+
+    def hear(text: str, file: str, voice: str, speed: int, pitch: int) -> Sound:
+        made.append(text)
+        return Sound(np.zeros(6000, np.float32), 100.0, text, text)  # a minute
+
+    said = Allowance(hear)
+    for text in ("a", "b", "c", "a"):
+        said(text, "<request>", "en", 150, 45)
+    with pytest.raises(SoundError, match="with this one, they last 240 s"):
+        said("d", "<request>", "en", 150, 45)
+    with pytest.raises(SoundError, match="those before this one last 240 s"):
+        said("e", "<request>", "en", 150, 45)
+    assert made == ["a", "b", "c", "d"]  # "a" once, "e" never
+    few = Allowance(hear, sounds=2, seconds=1e9)
+    few("a", "<request>", "en", 150, 45)
+    few("b", "<request>", "en", 150, 45)
+    with pytest.raises(SoundError, match="at most 2 different sounds"):
+        few("c", "<request>", "en", 150, 45)
+
+
+def test_the_sounds_kept_are_bounded_and_those_heard_longest_ago_go_first():
+    from test_voice import wav
+
+    from inmoov_dsl.voice.hearing import Hearing
+
+    spoken = []
+
+    def speaker(text: str, voice: str, speed: int, pitch: int) -> bytes:
+        spoken.append(text)
+        return wav([0.1] * 8000, rate=8000)  # a second: 32,000 bytes of samples
+
+    hearing = Hearing(speaker=speaker, kept=100_000)
+    for text in "abcde":
+        hearing(text, "<request>", "en", 150, 45)
+    assert sum(s.samples.nbytes for s in hearing.made.values()) <= 100_000
+    assert [key[1] for key in hearing.made] == ["c", "d", "e"]
+    hearing("c", "<request>", "en", 150, 45)  # kept: not spoken again, heard last now
+    hearing("a", "<request>", "en", 150, 45)  # dropped: spoken again, and "d" goes
+    assert spoken == [*"abcde", "a"]
+    assert [key[1] for key in hearing.made] == ["e", "c", "a"]
+
+
+def test_a_mouth_track_is_fitted_once_while_it_is_kept(monkeypatch):
+    from collections import OrderedDict
+
+    from test_voice import INMOOV, JAW, vowel, wav
+
+    from inmoov_dsl.compiling import speech
+    from inmoov_dsl.voice.wav import read_wav
+
+    monkeypatch.setattr(speech, "TRACKS", 2)
+    monkeypatch.setattr(speech, "_tracks", OrderedDict())
+    fitted, fit = [], speech._fit
+    monkeypatch.setattr(speech, "_fit", lambda s, servo, start: fitted.append(start) or
+                        fit(s, servo, start))
+    said = speech.heard(read_wav(wav(vowel()), "v.wav"), JAW, INMOOV.voice)
+    jaw = INMOOV.servos[JAW]
+    first = speech.track(said, jaw, 0)
+    again = speech.heard(read_wav(wav(vowel()), "v.wav"), JAW, INMOOV.voice)  # planned anew
+    assert speech.track(again, jaw, 0) is first
+    speech.track(said, jaw, 10)
+    speech.track(said, jaw, 20)  # the third: the one used longest ago goes
+    assert len(speech._tracks) == 2
+    speech.track(said, jaw, 0)
+    assert fitted == [0, 10, 20, 0]

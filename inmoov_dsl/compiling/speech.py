@@ -12,11 +12,16 @@ under STILL times the hiss) of QUIET or more closes the mouth and holds it still
 CLOSING after it begins to OPENING before the next sound. STILL is lower than HISS: a
 consonant a little above the hiss ends a silence, so the mouth is free in time to open
 for the vowel after it, while it opens nothing itself.
+
+A track is fitted once while it is kept (the last TRACKS): a player that plans a ``say``
+again after its check (the service) does not fit it twice.
 """
 
 from __future__ import annotations
 
 import math
+import threading
+from collections import OrderedDict
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -41,6 +46,10 @@ OPENING = 0.080  #: ...to this long before the next sound (the mouth opening ahe
 #: where the sound wants it: the fit's shape is not judged there (``mouth.fit``)
 ONSET = 0.150
 AFTER = 0.300  #: s the track may take after the sound to close
+#: mouth tracks kept (a say planned again, by a player after its check, is fitted once)
+TRACKS = 64
+_tracks: OrderedDict[tuple, tuple[Track, float, float]] = OrderedDict()
+_tracks_lock = threading.Lock()
 
 
 @dataclass(frozen=True, eq=False)
@@ -140,7 +149,24 @@ def delay(speech: Speech, servo: Servo) -> float:
 def track(speech: Speech, servo: Servo, start: float) -> tuple[Track, float, float]:
     """The mouth's track from ``start`` (at rest), how long it moves, and when the
     sound starts (``delay``): aiming LEAD ahead at the opening the sound asks, still
-    and closed in each long silence, and closed at rest after the sound."""
+    and closed in each long silence, and closed at rest after the sound. The last
+    TRACKS are kept: the same sound, voice, servo and start give the same track."""
+    sound = speech.sound
+    key = (sound.digest, sound.rate, len(sound.samples), speech.voice, servo, float(start))
+    with _tracks_lock:
+        if key in _tracks:
+            _tracks.move_to_end(key)
+            return _tracks[key]
+    made = _fit(speech, servo, start)
+    with _tracks_lock:
+        _tracks[key] = made
+        while len(_tracks) > TRACKS:
+            _tracks.popitem(last=False)
+    return made
+
+
+def _fit(speech: Speech, servo: Servo, start: float) -> tuple[Track, float, float]:
+    """``track``, fitted."""
     voice = speech.voice
     closed = float(voice.closed)
     wait = delay(speech, servo)

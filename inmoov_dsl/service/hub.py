@@ -14,6 +14,7 @@ from ..errors import Diagnostic
 from ..live.drive import Drive, Next, Note
 from ..live.orders import Control, Order
 from . import core
+from .allowance import Allowance
 from .work import Work
 
 QUEUE = 1000  #: events kept for a WebSocket that reads slowly; older ones are dropped
@@ -46,8 +47,12 @@ class Service:
 
     def prepare(self, doc: dict[str, Any], id: str) -> tuple[Order, tuple[Diagnostic, ...]]:
         """A play request made an Order and checked (a check's thread: ``work``): its
-        warnings; a BadRequest (400), a GestError (422) or Lost (503)."""
-        order = core.play_order(doc, self.program, self.profile, id)
+        warnings; a BadRequest (400), a GestError (422: it does not compile, says too
+        much, ``Allowance``, or drives the robot into itself) or Lost (503)."""
+        program = self.program
+        if program.hear is not None:  # what the request may say, counted
+            program = dataclasses.replace(program, hear=Allowance(program.hear))
+        order = core.play_order(doc, program, self.profile, id)
         needed = core.boards_of(order.what.actions, self.profile) & self.lost
         if needed:
             raise Lost(needed)

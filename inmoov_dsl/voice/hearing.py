@@ -1,11 +1,15 @@
 """How a program hears its ``say`` steps (an edge: it reads files and runs espeak-ng),
 in one place: a ``.wav`` is looked for as ``use`` looks for a file (beside the file that
 says it, then along the search path), its name and its target's ending in ``.wav``;
-other text is spoken with the profile's voice; each sound is made once."""
+other text is spoken with the profile's voice; each sound is made once while it is kept
+(the most recently heard, KEPT bytes of samples: a program that lives long, the
+service's, holds no more)."""
 
 from __future__ import annotations
 
 import os
+import threading
+from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 
@@ -15,6 +19,7 @@ from .wav import MAX_SECONDS, Sound, SoundError, read_wav
 MAX_WAV_BYTES = int(MAX_SECONDS * 48_000 * 2 * 4) + 1024  #: the largest file read
 WAV_SUFFIX = ".wav"
 REQUEST = "<request>"  #: what another program sent: it names no file of this computer
+KEPT = 32 * 2 ** 20  #: bytes of samples kept for a sound heard again (~6 min of espeak-ng)
 
 
 def espeak(text: str, voice: str, speed: int, pitch: int) -> bytes:
@@ -26,12 +31,14 @@ def espeak(text: str, voice: str, speed: int, pitch: int) -> bytes:
 
 class Hearing:
     """The sounds of one program's ``say`` steps; ``Speak(text, voice, speed, pitch)``
-    makes WAV bytes of text."""
+    makes WAV bytes of text. Those heard last are kept, ``kept`` bytes of samples at
+    most (a sound larger than that is made each time); threads may share it."""
 
     def __init__(self, search: Sequence[str] = (),
-                 speaker: Callable[[str, str, int, int], bytes] = espeak):
-        self.search, self.speaker = list(search), speaker
-        self.made: dict[tuple, Sound] = {}
+                 speaker: Callable[[str, str, int, int], bytes] = espeak, kept: int = KEPT):
+        self.search, self.speaker, self.kept = list(search), speaker, kept
+        self.made: OrderedDict[tuple, Sound] = OrderedDict()
+        self.lock = threading.Lock()
 
     def __call__(self, text: str, file: str, voice: str, speed: int, pitch: int) -> Sound:
         """The sound of ``say "text"`` written in ``file`` (a pseudo-file such as
@@ -41,13 +48,24 @@ class Hearing:
             key: tuple = ("file", os.path.realpath(path))
         else:
             key = ("text", text, voice, speed, pitch)
-        if key not in self.made:
-            if key[0] == "file":
-                self.made[key] = replace(read_wav(_read(path), text),
-                                         path=os.path.abspath(path))
-            else:
-                self.made[key] = read_wav(self.speaker(text, voice, speed, pitch), text)
-        return self.made[key]
+        with self.lock:
+            if key in self.made:
+                self.made.move_to_end(key)
+                return self.made[key]
+        if key[0] == "file":
+            sound = replace(read_wav(_read(path), text), path=os.path.abspath(path))
+        else:
+            sound = read_wav(self.speaker(text, voice, speed, pitch), text)
+        self._keep(key, sound)
+        return sound
+
+    def _keep(self, key: tuple, sound: Sound) -> None:
+        """Keep ``sound``, and drop those heard longest ago while they are too many."""
+        with self.lock:
+            self.made[key] = sound
+            total = sum(s.samples.nbytes for s in self.made.values())
+            while self.made and total > self.kept:
+                total -= self.made.popitem(last=False)[1].samples.nbytes
 
     def _find(self, name: str, file: str) -> str:
         if file == REQUEST:
