@@ -97,12 +97,42 @@ def private_file(path: Path) -> bool:
     return os.name == "nt" or (st.st_uid == os.getuid() and not st.st_mode & 0o022)
 
 
+class FolderGiven(ValueError):
+    """A folder where a file was to be read (``read_regular``), said as plainly as
+    that: ``it is a folder, not a file``."""
+
+    def __init__(self, path: str | os.PathLike):
+        super().__init__("it is a folder, not a file")
+        self.path = os.fspath(path)
+
+
+def files_in(folder: str | os.PathLike, suffix: str, most: int = 3) -> list[str]:
+    """Up to ``most`` of the files in ``folder`` whose names end in ``suffix``, sorted,
+    each as a path through ``folder`` (what to give instead of the folder)."""
+    try:
+        names = sorted(e.name for e in os.scandir(folder)
+                       if e.name.endswith(suffix) and e.is_file())
+    except OSError:
+        return []
+    return [os.path.join(os.fspath(folder), n) for n in names[:most]]
+
+
 def read_regular(path: str | os.PathLike, limit: int) -> bytes:
     """At most ``limit + 1`` bytes of the regular file ``path`` (one more than the limit
-    tells the caller it is too large). Anything else (a FIFO, a device, a directory) is a
-    ValueError; opening does not wait for a FIFO's writer."""
+    tells the caller it is too large). A folder is a FolderGiven, anything else that is
+    not a file (a FIFO, a device) a ValueError; opening does not wait for a FIFO's
+    writer."""
     flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0)
-    with open(os.open(path, flags), "rb") as f:
+    try:
+        fd = os.open(path, flags)
+    except PermissionError:  # Windows opens no folder
+        if os.path.isdir(path):
+            raise FolderGiven(path) from None
+        raise
+    if stat.S_ISDIR(os.fstat(fd).st_mode):
+        os.close(fd)
+        raise FolderGiven(path)
+    with open(fd, "rb") as f:
         if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
             raise ValueError("not a regular file")
         return f.read(limit + 1)

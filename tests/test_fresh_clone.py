@@ -57,3 +57,70 @@ def test_a_gesture_named_like_a_tool_is_watched_by_its_full_command(tmp_path, mo
                          "with the PTY it prints")
     line = watch(args, load_profile("rhand"), {181}, posix=False)
     assert line == "'gestc preview dump --lib mine --strict -o dump.gif' draws it"
+
+
+def test_a_folder_given_for_a_gesture_file_is_said_to_be_one(tmp_path, monkeypatch, capsys):
+    """``gestc check adir``: the folder is named as a folder (no errno), and the .gest
+    files in it are what to give instead."""
+    from inmoov_dsl.cli import gestc
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "adir").mkdir()
+    assert gestc.main(["check", "adir"]) == 1
+    assert capsys.readouterr().err == (
+        "gestc: error: 'adir' is a folder, not a gesture file\n"
+        "  hint: give a .gest file, or a library gesture's name (gestc list)\n"
+        "adir: 1 error\n")
+    (tmp_path / "adir" / "b.gest").write_text("b: index 90\n")
+    (tmp_path / "adir" / "a.gest").write_text("a: index 90\n")
+    for argv in (["show", "adir"], ["fmt", "adir"], ["preview", "--live", "adir"]):
+        assert gestc.main(argv) == 1
+        assert capsys.readouterr().err == (
+            "gestc: error: 'adir' is a folder, not a gesture file\n"
+            f"  hint: give a .gest file in it: {os.path.join('adir', 'a.gest')}, "
+            f"{os.path.join('adir', 'b.gest')}\n")
+    assert gestplay.main(["adir", "--port", "sim://"]) == 1
+    assert "gestplay: error: 'adir' is a folder, not a gesture file\n" in capsys.readouterr().err
+
+
+def test_a_folder_given_for_any_other_file_is_said_to_be_one(tmp_path, monkeypatch,
+                                                              capsys):
+    """A folder where a profile, a used file, a sound or a compiled gesture is read."""
+    from inmoov_dsl.cli import gestc
+
+    monkeypatch.chdir(tmp_path)
+    for folder in ("my.toml", "part.gest", "hi.wav", "done.gestc"):
+        (tmp_path / folder).mkdir()
+    assert gestplay.main(["peace", "--profile", "./my.toml", "--dry-run"]) == 1
+    assert capsys.readouterr().err == (
+        "gestplay: error: './my.toml' is a folder, not a profile file\n"
+        "  hint: give a .toml file, or a built-in profile's name (rhand)\n")
+    (tmp_path / "uses.gest").write_text('use "part.gest"\nx: index 90\n')
+    (tmp_path / "says.gest").write_text('robot inmoov\nx: say "hi.wav"\n')
+    assert gestc.main(["check", "uses.gest", "says.gest"]) == 1
+    err = capsys.readouterr().err
+    assert "uses.gest:1:5: error: cannot read 'part.gest': it is a folder, not a file\n" in err
+    assert "says.gest:2:8: error: cannot read 'hi.wav': it is a folder, not a file\n" in err
+    assert "Errno" not in err
+    assert gestplay.main(["done.gestc", "--port", "sim://"]) == 1
+    assert capsys.readouterr().err == (
+        "gestplay: error: cannot read 'done.gestc': it is a folder, not a file\n")
+    assert gestc.main(["urdf", "-o", "part.gest"]) == 1  # a folder to write
+    assert capsys.readouterr().err == (
+        "gestc: error: 'part.gest' is a folder, not a file\n"
+        "  hint: give a file's path (one in the folder: FOLDER/NAME)\n")
+
+
+def test_a_folder_given_for_the_firmware_is_said_to_be_one(tmp_path):
+    """``gestc upload BOARD --hex FOLDER``: the .hex files in it are what to give."""
+    from pathlib import Path
+
+    from inmoov_dsl.errors import GestError
+    from inmoov_dsl.firmware.upload import read_hex
+
+    (tmp_path / "servo_rhand.hex").write_text(":00000001FF\n")
+    with pytest.raises(GestError) as info:
+        read_hex(Path(tmp_path))
+    assert info.value.format() == (
+        f"error: '{tmp_path}' is a folder, not a HEX file\n"
+        f"  hint: give the .hex file a build wrote: {tmp_path / 'servo_rhand.hex'}")

@@ -97,6 +97,10 @@ def run(prog: str, body: Callable[[], int]) -> int:
     except BrokenPipeError:
         sys.stderr.close()  # the reader went away (| head): nothing more to say
         return EXIT_OK
+    except IsADirectoryError as exc:  # a folder given for a file, to read or to write
+        print(f"{prog}: error: '{exc.filename}' is a folder, not a file\n"
+              "  hint: give a file's path (one in the folder: FOLDER/NAME)", file=sys.stderr)
+        return EXIT_ERROR
     except OSError as exc:
         where = f" '{exc.filename}'" if exc.filename else ""
         print(f"{prog}: error: cannot use{where}: {exc.strerror or exc}", file=sys.stderr)

@@ -25,7 +25,7 @@ from ..boards import arduino
 from ..errors import Diagnostic, GestError, did_you_mean
 from ..hardware import Profile
 from ..profiles.profile import builtin_profiles, load_profile
-from ..resources import data_dir
+from ..resources import data_dir, files_in
 from ..wire.ports import not_found, permission_denied
 from ..wire.stored import StoredSet
 from .sketches import sketch_names, sketches
@@ -88,6 +88,11 @@ def read_hex(path: Path) -> dict[int, int]:
     base = 0
     try:
         lines = path.read_text(encoding="ascii").split()
+    except IsADirectoryError:
+        files = ", ".join(files_in(path, ".hex")) or "firmware/build/BOARD.hex"
+        raise GestError(Diagnostic("error", f"'{path}' is a folder, not a HEX file",
+                                   hint=f"give the .hex file a build wrote: {files}")
+                        ) from None
     except (OSError, UnicodeDecodeError) as exc:
         raise GestError(Diagnostic("error", f"cannot read {path}: {exc}")) from None
     for n, line in enumerate(lines, 1):

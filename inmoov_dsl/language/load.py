@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..errors import Diagnostic, GestError, Pos, SourceMap, decode_utf8
-from ..resources import read_regular
+from ..resources import FolderGiven, files_in, read_regular
 from ..voice.hearing import Hearing
 from . import syntax as ast
 from .catalog import Catalog
@@ -44,6 +44,15 @@ def read_text(path: str) -> str:
     return decode_utf8(data, path)
 
 
+def folder_given(path: str) -> Diagnostic:
+    """The error of a folder given where a gesture file was, and the files in it to give
+    instead (or a library gesture)."""
+    files = files_in(path, GEST_SUFFIX)
+    hint = (f"give a {GEST_SUFFIX} file in it: {', '.join(files)}" if files else
+            f"give a {GEST_SUFFIX} file, or a library gesture's name (gestc list)")
+    return Diagnostic("error", f"'{path}' is a folder, not a gesture file", hint=hint)
+
+
 def load(path: str, text: str | None = None, read: Reader = read_text,
          search: Sequence[str] | None = None, first_wins: bool = False,
          parser: Parser = parse, partly: Partly | None = None) -> Program:
@@ -57,6 +66,8 @@ def load(path: str, text: str | None = None, read: Reader = read_text,
         return load_program(path, read, dirs, text, first_wins, parser, partly)
     except FileNotFoundError:
         raise GestError(Diagnostic("error", f"cannot find '{path}'")) from None
+    except FolderGiven:
+        raise GestError(folder_given(path)) from None
     except (OSError, ValueError) as exc:  # not UTF-8, too large, a NUL in the name
         raise GestError(Diagnostic("error", f"cannot read '{path}': {exc}",
                                    Pos(path, 1, 1))) from None

@@ -18,7 +18,7 @@ from typing import Any
 
 from ..errors import Diagnostic, GestError, Pos, decode_utf8, did_you_mean
 from ..hardware import Board, Glove, Profile, Sensor, Servo
-from ..resources import profiles_dir, read_regular
+from ..resources import files_in, profiles_dir, read_regular
 from . import collisiontable, kinds, tables, voicetable
 from .fields import LIMITS, NAME_RE, cut
 from .keys import Report
@@ -78,6 +78,12 @@ def find_profile(name_or_path: str) -> Path:
             raise GestError(Diagnostic("error", f"a profile is a .toml file, not "
                                        f"'{name_or_path}'", hint="--profile rhand, or "
                                        "--profile my_hand.toml"))
+        if path.is_dir():
+            files = files_in(path, ".toml")
+            raise GestError(Diagnostic("error", f"'{name_or_path}' is a folder, not a "
+                                       "profile file", hint=f"give a .toml file in it: "
+                                       f"{', '.join(files)}" if files else "give a .toml "
+                                       "file, or a built-in profile's name (rhand)"))
         if not path.is_file():
             raise GestError(Diagnostic("error", f"profile file '{name_or_path}' not found"))
         return path

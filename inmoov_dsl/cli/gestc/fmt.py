@@ -17,6 +17,7 @@ def run(args: argparse.Namespace) -> int:
     as UTF-8; a byte-order mark at its start is dropped (a file that has one is
     rewritten without it)."""
     from ...language.fmt import format_source
+    from ...language.load import folder_given
 
     status = EXIT_OK
     for file in args.files:
@@ -27,6 +28,10 @@ def run(args: argparse.Namespace) -> int:
             formatted = format_source(text, name)
         except GestError as exc:
             report(exc.diagnostics, PROG)
+            status = EXIT_ERROR
+            continue
+        except IsADirectoryError:
+            report([folder_given(file)], PROG)
             status = EXIT_ERROR
             continue
         if file == "-":

@@ -95,6 +95,10 @@ def live(args: argparse.Namespace) -> int:
         raise GestError(Diagnostic("error", "--from does not go with --live (the page "
                                    "plays the gesture from the robot's rest pose)"))
     path, gesture = find_gesture(args.target, args.gesture, library_dirs(args.lib))
+    if os.path.isdir(path):
+        from ...language.load import folder_given
+
+        raise GestError(folder_given(path))
     follower = Follower(str(Path(path)), gesture, args.profile, args.lib)
     page = LivePage(port)
     try:
