@@ -47,7 +47,7 @@ def test_the_arm_into_the_chest_warns_at_its_step(tmp_path):
     assert not errors
     (w,) = [w for w in warnings if "chest" in w.message]
     assert (w.pos.line, w.pos.column) == (5, 5)
-    assert "the right upper arm enters the chest by" in w.message
+    assert "the right upper arm enters the chest, " in w.message and " mm deep at " in w.message
     assert "r_shoulder" in w.message and "r_omoplate" in w.message and w.hint
     at = float(w.message.split()[1])
     assert 2.0 < at < 5.0 + 1e-9  # during the second step, which starts at 2 s
@@ -74,3 +74,25 @@ def test_the_library_whole_robot_gestures_touch_nothing(name):
     errors, warnings = check_program(program)
     assert not errors
     assert not [w for w in warnings if " s the " in w.message], warnings
+
+
+ELBOW = "robot inmoov\n\nelbow:\n    r_rotate 125 over 1.5s\n    r_bicep 143 over 2s\n"
+
+
+def test_a_contact_is_told_when_it_begins_and_when_it_is_deepest(tmp_path):
+    """The forearm meets the chest at 2.12 s and goes deepest at the motion's end: both
+    moments said (the message joined the first moment with the deepest depth), the
+    servos' values those of the first; the live page's mark says the same."""
+    path = tmp_path / "elbow.gest"
+    path.write_text(ELBOW, encoding="utf-8")
+    program = load(str(path))
+    _, warnings = check_program(program, "inmoov")
+    (w,) = warnings
+    assert w.message == ("at 2.12 s the right forearm enters the chest, 24 mm deep at "
+                         "3.50 s (r_bicep 39)")
+    from inmoov_dsl.compiling.compiler import compile_program
+    from inmoov_dsl.model.timeline import contacts
+
+    _, plan = compile_program(program, "elbow", "inmoov")
+    (mark,) = contacts(plan)
+    assert (round(mark.start, 2), mark.text) == (2.12, w.message.removesuffix(" (r_bicep 39)"))

@@ -13,6 +13,7 @@ when closer still, so the rest pose is never a contact (docs/collisions.md).
 
 from __future__ import annotations
 
+import dataclasses
 import threading
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
@@ -35,6 +36,17 @@ KEEP = 16  #: plans whose contacts are kept
 Step = Callable[[], None]
 _KEPT: dict[int, tuple] = {}  #: id(plan.tracks) -> (tracks, checker, its first contacts)
 _KEPT_LOCK = threading.Lock()
+
+
+@dataclass(frozen=True, eq=False)
+class Touch:
+    """A pair's contact along a motion: when it began (``at``, the servos' ``values``
+    then) and ``contact`` at its deepest, ``deepest`` s."""
+
+    at: float
+    contact: Contact
+    values: np.ndarray
+    deepest: float
 
 
 @dataclass(frozen=True)
@@ -216,11 +228,10 @@ def part(link: str) -> str:
 
 
 def first_contacts(checker: Checker, plan: Plan, step: Step | None = None
-                   ) -> list[tuple[float, Contact, np.ndarray]]:
-    """(time, contact, servo values) of each checked pair's first contact in ``plan``
-    (the time and values when it began, the contact at its deepest), sampled every servo
-    frame. The newest plans' are kept: the editor's check and its preview page ask for
-    the same plan's (``step``: as ``contacts_along``)."""
+                   ) -> list[Touch]:
+    """Each checked pair's first contact in ``plan`` (when it began, at its deepest),
+    sampled every servo frame. The newest plans' are kept: the editor's check and its
+    preview page ask for the same plan's (``step``: as ``contacts_along``)."""
     with _KEPT_LOCK:
         kept = _KEPT.get(id(plan.tracks))
     if kept is not None and kept[0] is plan.tracks and kept[1] is checker:
@@ -239,14 +250,14 @@ def first_contacts(checker: Checker, plan: Plan, step: Step | None = None
 
 
 def contacts_along(checker: Checker, times: np.ndarray, values: np.ndarray,
-                   step: Step | None = None) -> list[tuple[float, Contact, np.ndarray]]:
+                   step: Step | None = None) -> list[Touch]:
     """``first_contacts`` of a motion: servo ``values`` (rows, profile order) at
     ``times``; two parts as messages name them are one pair (a hand's palm and fingers
     are the hand). A pair already touching in the first pose is the motion's only where
     it goes DEEPER_MM further in: a robot that starts in contact may move out of it.
     Swept CHUNK poses at a time, ``step()`` called before each (what it raises stops the
     sweep: an editor's newer text)."""
-    found: dict[tuple[str, str], tuple[float, Contact, np.ndarray]] = {}
+    found: dict[tuple[str, str], Touch] = {}
     already: dict[tuple[str, str], float] = {}
     for lo in range(0, len(values), CHUNK):
         if step is not None:
@@ -261,7 +272,8 @@ def contacts_along(checker: Checker, times: np.ndarray, values: np.ndarray,
                     continue
                 if pair in already and contact.distance_mm > already[pair] - DEEPER_MM:
                     continue
-                begun = found.setdefault(pair, (times[row], contact, values[row]))
-                if contact.distance_mm < begun[1].distance_mm:  # the deepest it goes
-                    found[pair] = (begun[0], contact, begun[2])
-    return sorted(found.values(), key=lambda f: f[0])
+                at = float(times[row])
+                begun = found.setdefault(pair, Touch(at, contact, values[row], at))
+                if contact.distance_mm < begun.contact.distance_mm:  # the deepest it goes
+                    found[pair] = dataclasses.replace(begun, contact=contact, deepest=at)
+    return sorted(found.values(), key=lambda f: f.at)

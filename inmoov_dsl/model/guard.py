@@ -26,6 +26,7 @@ from .collide import (
     Checker,
     Contact,
     Step,
+    Touch,
     checker_for,
     contacts_along,
     first_contacts,
@@ -44,15 +45,23 @@ def moving_step(plan: Plan, t: float) -> PlannedStep | None:
     return begun[-1] if begun else None
 
 
-def contact_message(checker: Checker, t: float, contact: Contact, values: np.ndarray,
-                    servos: Sequence[int]) -> str:
-    """``at 1.24 s the right forearm enters the chest by 12 mm (r_bicep 150, ...)``."""
-    profile = checker.profile
+def contact_message(checker: Checker, touch: Touch, servos: Sequence[int] = ()) -> str:
+    """How every tool words a contact: ``at 1.24 s the right forearm enters the chest
+    by 12 mm (r_bicep 150, ...)``, or when it goes deeper later ``at 1.24 s the right
+    forearm enters the chest, 24 mm deep at 1.60 s (...)``: when it began (the servos'
+    values then), and its deepest."""
+    profile, contact, values = checker.profile, touch.contact, touch.values
     named = ", ".join(f"{profile.servos[i].name} {values[i]:.0f}" for i in servos)
     a, b = checker.part(contact.a), checker.part(contact.b)
-    how = (f"enters {a} by {contact.depth_mm:.0f} mm" if contact.depth_mm
-           else f"comes within {contact.distance_mm:.0f} mm of {a}")
-    return f"at {t:.2f} s {b} {how}" + (f" ({named})" if named else "")
+    later = touch.deepest - touch.at >= SERVO_FRAME / 2
+    if contact.depth_mm:
+        how = (f"enters {a}, {contact.depth_mm:.0f} mm deep at {touch.deepest:.2f} s"
+               if later else f"enters {a} by {contact.depth_mm:.0f} mm")
+    else:
+        how = (f"comes near {a}, within {contact.distance_mm:.0f} mm at "
+               f"{touch.deepest:.2f} s" if later
+               else f"comes within {contact.distance_mm:.0f} mm of {a}")
+    return f"at {touch.at:.2f} s {b} {how}" + (f" ({named})" if named else "")
 
 
 def _names(profile: Profile, servos: Sequence[int]) -> str:
@@ -72,22 +81,22 @@ def told(plan: Plan, sources: SourceMap | None, checker: Checker, error: bool,
     sources = sources or SourceMap()
     make = sources.error if error else sources.warning
     out = []
-    for t, contact, row in first_contacts(checker, plan, step):
-        moving = moving_step(plan, t)
+    for touch in first_contacts(checker, plan, step):
+        moving = moving_step(plan, touch.at)
         servos = moving.servos if moving else ()
-        out.append(make(contact_message(checker, t, contact, row, servos),
+        out.append(make(contact_message(checker, touch, servos),
                         moving.pos if moving else None,
                         fix_hint(plan.profile, servos) + (f"; {also}" if also else "")))
     return out
 
 
-def marks(plan: Plan) -> list[tuple[float, str]]:
-    """(time, what) of each contact in ``plan``, for a drawing or a page (none without
-    python-fcl, or on a robot with nothing to check)."""
+def marks(plan: Plan) -> list[tuple[float, str]] | None:
+    """(time it began, what) of each contact in ``plan``, for a drawing or a page; None
+    when they cannot be looked for (no python-fcl, or a robot with nothing to check)."""
     if (checker := checker_for(plan.profile)) is None:  # None without python-fcl too
-        return []
-    return [(t, contact_message(checker, t, c, row, ()))
-            for t, c, row in first_contacts(checker, plan)]
+        return None
+    return [(touch.at, contact_message(checker, touch))
+            for touch in first_contacts(checker, plan)]
 
 
 def unchecked(profile: Profile) -> Diagnostic | None:
@@ -157,8 +166,8 @@ class Guard:
         for c in self.checker.contacts_of(row):  # deepest first
             deepest.setdefault((self.checker.part(c.a), self.checker.part(c.b)), c)
         found = [Diagnostic("warning" if self.allow_contact else "error",
-                            contact_message(self.checker, 0.0, c, row, moved).removeprefix(
-                                "at 0.00 s "),
+                            contact_message(self.checker, Touch(0.0, c, row, 0.0),
+                                            moved).removeprefix("at 0.00 s "),
                             hint=f"turn {_names(self.profile, moved)} the other way ({MODEL})"
                             + ("" if self.allow_contact else f"; {self.allow}"))
                  for c in deepest.values()]
@@ -185,11 +194,10 @@ class Guard:
         sent = values_sent(self.profile, compiled.streams)
         values = held_at(compiled.start, sent, times).astype(float)
         found = [Diagnostic("warning" if self.allow_contact else "error",
-                            contact_message(self.checker, t, c, row, ()),
-                            _at(compiled, t),
+                            contact_message(self.checker, touch), _at(compiled, touch.at),
                             f"compile it again from its .gest file, changed ({MODEL})"
                             + ("" if self.allow_contact else f"; {self.allow}"))
-                 for t, c, row in contacts_along(self.checker, times, values)]
+                 for touch in contacts_along(self.checker, times, values)]
         if found and not self.allow_contact:
             raise GestError(found)
         return tuple(found)

@@ -169,25 +169,19 @@ def stretched(spans: tuple[Span, ...]) -> tuple[Mark, ...]:
 
 
 def contacts(plan: Plan) -> tuple[Mark, ...] | None:
-    """Where two parts of the robot first touch (``collide.first_contacts``, sampled
-    every servo frame): a mark each; None when they cannot be looked for (python-fcl is
+    """Where two parts of the robot first touch, worded as every tool words it
+    (``guard.marks``): a mark each; None when they cannot be looked for (python-fcl is
     not installed, or the profile's model has no two parts that can meet). Costly (a
     tenth of a second and more on the whole robot): a page looks for them aside."""
     try:
-        from .collide import checker_for, first_contacts, part
-        from .shapes import need_fcl
+        from .guard import marks
 
-        need_fcl()
+        found = marks(plan)
     except (ImportError, GestError):
         return None
-    checker = checker_for(plan.profile)
-    if checker is None:
+    if found is None:
         return None
-    return tuple(Mark("contact", float(t), float(t),
-                      f"{part(c.b)} and {part(c.a)}: "
-                      + (f"{c.depth_mm:.0f} mm deep" if c.depth_mm
-                         else f"{c.distance_mm:.0f} mm apart"))
-                 for t, c, _ in first_contacts(checker, plan))
+    return tuple(Mark("contact", float(t), float(t), what) for t, what in found)
 
 
 @dataclass(frozen=True, eq=False)

@@ -16,7 +16,7 @@ def run(args: argparse.Namespace) -> int:
 
     compiled, plan = compile_target(args)
     out = output_path(args.output, compiled.gesture, (".png", ".svg", ".pdf"))
-    plot(plan, compiled, out, marks(plan))  # where the robot meets itself, marked
+    plot(plan, compiled, out, marks(plan) or [])  # where the robot meets itself, marked
     print(f"wrote {out}", file=sys.stderr)
     return EXIT_OK
 
