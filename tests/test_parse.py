@@ -131,6 +131,8 @@ def test_syntax_errors_say_what_and_where(source, first, caret):
     ("p: hodl 0.5s", "did you mean 'hold'?"),
     ("p:\n    repaet 3: index 9", "did you mean 'repeat'?"),
     ("p: peace.gest", "a step names a gesture, not its file: peace"),
+    ("p:\n    repeat:\n        index 9", "repeat takes how many times: repeat 3:"),
+    ("p: wait", "durations are written 0.4s or 400ms"),
 ])
 def test_syntax_errors_suggest_a_fix(source, hint):
     with pytest.raises(GestError) as info:

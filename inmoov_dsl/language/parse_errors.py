@@ -114,7 +114,8 @@ def _explain(exc: UnexpectedInput, text: str) -> tuple[str, str | None, int]:
         layout = tok.type in ("_NL", "_INDENT", "_DEDENT", "$END")
         width = 1 if layout else max(1, len(str(tok)))
         hint = _misspelt(tok, set(expected)) or _step_keyword(text, exc.line) or \
-            _hint(tok, set(expected)) or _colon(tok, set(expected), text, exc.line)
+            _hint(tok, set(expected), _word_before(text, tok)) or \
+            _colon(tok, set(expected), text, exc.line)
         wanted = _or([_WORDS.get(e, f"'{e.lower()}'") for e in expected if e in _WORDS or
                       e.isupper()])
         return f"unexpected {found}; expected {wanted}", hint, width
@@ -143,12 +144,21 @@ def _misspelt(tok: Token, expected: set[str]) -> str | None:
     return did_you_mean(str(tok), keywords) if tok.type == "NAME" else None
 
 
-def _hint(tok: Token, expected: set[str]) -> str | None:
+def _word_before(text: str, tok: Token) -> str:
+    """The word right before ``tok`` on its line ('' at the line's start)."""
+    start = tok.start_pos if tok.start_pos is not None else 0
+    words = text[:start].rsplit("\n", 1)[-1].split()
+    return words[-1] if words else ""
+
+
+def _hint(tok: Token, expected: set[str], before: str = "") -> str | None:
     if "COMMA" in expected and tok.type == "NAME":
         return "separate the servos of a step with ',': index 90, middle 90"
     if "COLON" in expected and tok.type in ("NAME", "NUMBER"):
         return "a gesture starts with its name and ':', as in  peace: index 180"
 
+    if expected == {"NUMBER"} and before == "repeat":
+        return "repeat takes how many times: repeat 3:"
     if expected == {"NUMBER"}:
         return "durations are written 0.4s or 400ms"
     if expected == {"_INDENT"}:
