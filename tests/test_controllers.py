@@ -165,7 +165,8 @@ def test_a_bus_that_does_not_answer_is_a_clear_error():
     with pytest.raises(OSError, match="the PCA9685 at 0x41 did not answer"):
         port.write(tx.read(regs.MODE1, 1))
     for spec, message in [("COM3", "a PCA9685 is on an I2C bus"),
-                          ("i2c:1@0x99", "a PCA9685.s address is 0x40..0x77, not 0x70")]:
+                          ("i2c:1@0x99", "0x99 is not a PCA9685.s address, which is 0x40..0x77 "
+                           "except 0x70")]:
         with pytest.raises(GestError, match=message):
             open_bus(spec)
 

@@ -124,3 +124,73 @@ def test_a_folder_given_for_the_firmware_is_said_to_be_one(tmp_path):
     assert info.value.format() == (
         f"error: '{tmp_path}' is a folder, not a HEX file\n"
         f"  hint: give the .hex file a build wrote: {tmp_path / 'servo_rhand.hex'}")
+
+
+VALUES = ("robot inmoov\ngroup g: neck, jaw\na: neck 190\nb: eyes 300\nc: jaw 300\n"
+          "d: index 200\ne: g 181\n")
+
+
+def test_a_value_out_of_range_is_hinted_with_its_servo_s_own_range(tmp_path, monkeypatch,
+                                                                    capsys):
+    """``neck 190`` on inmoov: the neck's range, not the fingers' "0 is straight"; the
+    mouth's ends as its [voice] says; a group's members; the same in gestc check,
+    gestc show, gestplay, --from and the repl."""
+    from inmoov_dsl.cli import gestc
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "r.gest").write_text(VALUES)
+    hints = ["  hint: neck takes 0..180 on inmoov",
+             "  hint: eyes (eye_x, eye_y) take 0..180 on inmoov",
+             "  hint: jaw takes 0..180 on inmoov (0 is closed, 150 open: its [voice])",
+             "  hint: index (r_index) takes 0..180 on inmoov",
+             "  hint: g (neck, jaw) take 0..180 on inmoov"]
+    assert gestc.main(["check", "r.gest"]) == 1
+    assert [h for h in capsys.readouterr().err.splitlines() if "hint" in h] == hints
+    for main, argv in ((gestc.main, ["show", "r.gest", "-g", "a"]),
+                       (gestplay.main, ["r.gest", "-g", "a", "--dry-run"])):
+        assert main(argv) == 1
+        assert [h for h in capsys.readouterr().err.splitlines() if "hint" in h] == hints
+    assert gestc.main(["show", "peace", "--profile", "inmoov", "--from", "neck 190"]) == 1
+    assert capsys.readouterr().err.endswith("hint: neck takes 0..180 on inmoov\n")
+
+
+def test_a_value_out_of_every_range_without_a_profile_is_hinted_so():
+    """The parser alone knows no servo: it says what every servo is within."""
+    from inmoov_dsl.errors import GestError
+    from inmoov_dsl.language.parse import parse
+
+    with pytest.raises(GestError) as info:
+        parse("a: neck 190\n", "r.gest")
+    assert info.value.diagnostics[0].hint == ("no servo takes more than 0..180; its profile "
+                                              "may give it less")
+
+
+@pytest.mark.parametrize(("argv", "said"), [
+    (["peace", "--port", "i2c:1"],
+     "gestplay: error: port i2c:1 is an I2C bus, where a PCA9685 is: board 181 (right hand) "
+     "of profile 'rhand' is a rig board, on a serial port\n  hint: a profile whose board is "
+     "a pca9685 plays there: --profile rhand-pca9685; for board 181, give its serial port "
+     "('gestplay ports' lists them)\n"),
+    (["peace", "--profile", "rhand-pca9685", "--port", "i2c:1@0x99"],
+     "gestplay: error: cannot open port i2c:1@0x99: 0x99 is not a PCA9685's address, which "
+     "is 0x40..0x77 except 0x70\n  hint: its six address pins give 0x40..0x7F; the I2C bus "
+     "reserves 0x78..0x7F, and 0x70 is the All Call address every PCA9685 answers; with no "
+     "pin bridged it is 0x40: --port i2c:1\n"),
+])
+def test_an_i2c_port_says_what_it_needs(argv, said, capsys):
+    assert gestplay.main(argv) == 1
+    assert capsys.readouterr().err == said
+
+
+def test_a_value_typed_at_the_repl_is_hinted_with_its_servo_s_range():
+    from inmoov_dsl.errors import GestError
+    from inmoov_dsl.language.load import load
+    from inmoov_dsl.live.session import line_steps
+    from inmoov_dsl.profiles.profile import load_profile
+
+    program = load("<repl>", "", search=[])
+    with pytest.raises(GestError) as info:
+        line_steps("neck 190", program, load_profile("inmoov"))
+    assert info.value.format().splitlines() == [
+        "<repl>:1:6: error: value 190 is outside 0..180", "    neck 190", "         ^~~",
+        "  hint: neck takes 0..180 on inmoov"]

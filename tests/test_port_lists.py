@@ -118,17 +118,18 @@ def test_a_virtual_board_of_another_kind_is_refused_before_it_is_opened(capsys, 
                         "what is played) or sim://inmoov?board=183\n")
 
 
-ADDRESS = ("a PCA9685's address is 0x40..0x77, not 0x70\n  hint: its six address pins give "
-           "0x40..0x7F; the I2C bus reserves 0x78..0x7F, and 0x70 is the All Call address "
-           "every PCA9685 answers; with no pin bridged: 0x40")
+ADDRESS = ("{} is not a PCA9685's address, which is 0x40..0x77 except 0x70\n  hint: its six "
+           "address pins give 0x40..0x7F; the I2C bus reserves 0x78..0x7F, and 0x70 is the "
+           "All Call address every PCA9685 answers; with no pin bridged it is 0x40: --port "
+           "i2c:1")
 PI = ("  hint: on a Raspberry Pi, enable I2C (sudo raspi-config, Interface Options): its "
       "bus is then /dev/i2c-1, --port i2c:1")
 
 
 @pytest.mark.parametrize(("port", "found", "message"), [
-    ("i2c:1@0x99", [], ADDRESS),
-    ("i2c:1@0x70", [], ADDRESS),
-    ("i2c:1@0x3f", [], ADDRESS),
+    ("i2c:1@0x99", [], ADDRESS.format("0x99")),
+    ("i2c:1@0x70", [], ADDRESS.format("0x70")),
+    ("i2c:1@0x3f", [], ADDRESS.format("0x3f")),
     ("i2c:99", [], f"there is no I2C bus 99 (/dev/i2c-99); buses on this machine: none\n{PI}"),
     ("i2c:99@0x41", ["/dev/i2c-1", "/dev/i2c-20"], "there is no I2C bus 99 (/dev/i2c-99); "
      f"buses on this machine: /dev/i2c-1, /dev/i2c-20\n{PI}"),

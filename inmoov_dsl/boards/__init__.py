@@ -33,12 +33,23 @@ def _kinds() -> dict[str, type[Controller]]:
                                 MrlCommController)}
 
 
-__all__ = ["DEFAULT_KIND", "KINDS", "TABLES", "Controller", "KindTable", "controller", "fault"]
+__all__ = ["DEFAULT_KIND", "KINDS", "TABLES", "Controller", "KindTable", "claimed", "controller",
+           "fault"]
 
 
 def controller(profile: Profile, board: Board) -> Controller:
     """``board`` of ``profile`` as its kind drives it."""
     return _kinds()[board.kind](profile, board)
+
+
+def claimed(spec: str) -> tuple[str, str] | None:
+    """The kind whose own port ``spec`` is (``Controller.claims``), and what it is; None:
+    a port any kind may be on (a serial port, a URL)."""
+    for kind, cls in _kinds().items():
+        said = cls.claims(spec)
+        if said is not None:
+            return kind, said
+    return None
 
 
 def fault(kind: str, data: bytes) -> str | None:

@@ -109,6 +109,12 @@ class Controller:
         which the link edge opens."""
         return None
 
+    @classmethod
+    def claims(cls, spec: str) -> str | None:
+        """What ``spec`` is when it names a port of this kind's own, which no other kind
+        opens (a PCA9685's I2C bus), said to a board of another kind given it; None."""
+        return None
+
     def unanswered(self) -> str:
         """What to try when nothing answers on its port."""
         return "try another port ('gestplay ports' asks each one who it is), or --blind " \

@@ -43,9 +43,28 @@ def load_target(name: str, gesture: str | None, profile: str | None,
         return _compiled(name, profile, side)
     dirs = library_dirs(lib or [])
     path, picked = find_gesture(name, gesture, dirs, lambda d: report([d], prog))
-    program = load(path, search=dirs)
+    try:
+        program = load(path, search=dirs)
+    except GestError as exc:
+        raise _fitted(exc, path, dirs, profile) from None
     return Target(profile_for(program, profile), pick_gesture(program, picked),
                   program=program)
+
+
+def _fitted(exc: GestError, path: str, dirs: list[str], profile: str | None) -> GestError:
+    """``exc`` with the hint of each value outside 0..180 fitted to its servo, on the
+    profile the file is for (its text loaded again with what of it parses, for its
+    robot line and groups); as it is when that cannot be told."""
+    from ..compiling.valuehint import fitted, refused
+    from ..language.incremental import BlockParser
+
+    if not any(refused(d) for d in exc.diagnostics):
+        return exc
+    try:
+        program = load(path, search=dirs, partly=BlockParser().parse_partly)
+        return GestError(fitted(exc.diagnostics, profile_for(program, profile), program))
+    except GestError:
+        return exc
 
 
 def _compiled(name: str, profile: str | None, side: str | None) -> Target:

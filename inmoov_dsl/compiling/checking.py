@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from ..errors import Diagnostic, Errors
+from ..errors import Diagnostic, Errors, GestError
 from ..hardware import Profile
 from ..language.program import Program
 from .compiled import Compiled
@@ -16,6 +16,7 @@ from .plan import Plan
 from .resolve import resolver
 from .robot import profile_for
 from .stretch import without_count
+from .valuehint import fitted
 
 Told = set[tuple[str, object, str]]  #: (severity, place, message) already told
 
@@ -60,13 +61,14 @@ def check_gesture(program: Program, gesture: str, profile: str | Profile | None 
                    None if gathered.found else plan)
 
 
-def tell(program: Program, each: list[Checked], told: Told | None = None
-         ) -> tuple[list[Diagnostic], list[Diagnostic]]:
-    """(errors, warnings) of ``program``'s file: its syntax errors, then those of the
-    gestures checked (``each``), each told once (``told``: what was told already,
-    across files)."""
+def tell(program: Program, each: list[Checked], told: Told | None = None,
+         profile: Profile | None = None) -> tuple[list[Diagnostic], list[Diagnostic]]:
+    """(errors, warnings) of ``program``'s file: its syntax errors (a value's hint
+    fitted to its servo on ``profile``), then those of the gestures checked (``each``),
+    each told once (``told``: what was told already, across files)."""
     told = set() if told is None else told
-    errors: list[Diagnostic] = untold(program.syntax, told)
+    syntax = program.syntax if profile is None else fitted(program.syntax, profile, program)
+    errors: list[Diagnostic] = untold(syntax, told)
     warnings: list[Diagnostic] = []
     for checked in each:
         warnings += untold(checked.warnings, told)
@@ -84,8 +86,12 @@ def check_program(program: Program, profile: str | Profile | None = None,
     """(errors, warnings) of every gesture of ``program``'s own file, each told once
     (``told``: what was told already, across files; ``also``: a further check of each
     compiled gesture, whose GestError is an error too)."""
-    return tell(program, [check_gesture(program, g, profile, strict, also)
-                          for g in checkable(program)], told)
+    each = [check_gesture(program, g, profile, strict, also) for g in checkable(program)]
+    try:
+        robot = profile_for(program, profile) if program.syntax else None
+    except GestError:  # told by each gesture's check
+        robot = None
+    return tell(program, each, told, robot)
 
 
 def checkable(program: Program) -> list[str]:

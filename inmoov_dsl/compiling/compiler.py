@@ -22,6 +22,7 @@ from .plan import Plan, Planner
 from .resolve import resolver
 from .robot import profile_for
 from .speech import Speech
+from .valuehint import fitting
 
 
 def _sha256(text: str) -> str:
@@ -97,7 +98,7 @@ def resolve_start(program: Program, profile: Profile,
         raise GestError(Diagnostic("error", "--from takes one line: a pose name or targets",
                                    hint='--from "fingers 90, wrist 45"'))
     program.sources.add(file, prefix + text)
-    with snippet.parsed(text, file, prefix) as module:
+    with fitting(profile, program), snippet.parsed(text, file, prefix) as module:
         (item,) = module.items
         targets = resolver(program, profile).targets(item.targets)
     for index, value in targets.items():

@@ -84,7 +84,7 @@ def checked(found: Analysis, memo: Memo, step: Callable[[], None] | None = None
     if found.checked or found.program is None or found.profile is None:
         return dataclasses.replace(found, checked=True)
     each = memo.check(found.program, found.profile, found.path, step)
-    errors, warnings = tell(found.program, [c for _, c in each])
+    errors, warnings = tell(found.program, [c for _, c in each], profile=found.profile)
     return dataclasses.replace(found, diagnostics=errors + warnings, checked=True,
                                plans={g: c.plan for g, c in each if c.plan})
 
@@ -100,7 +100,7 @@ def touched(found: Analysis, memo: Memo, step: Callable[[], None] | None = None
 
     each = memo.touch(found.program, lambda plan, sources, step: collisions(
         plan, sources, False, step), step)
-    errors, warnings = tell(found.program, [c for _, c in each])
+    errors, warnings = tell(found.program, [c for _, c in each], profile=found.profile)
     return dataclasses.replace(found, diagnostics=errors + warnings, touched=True,
                                plans={g: c.plan for g, c in each if c.plan})
 

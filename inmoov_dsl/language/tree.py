@@ -161,7 +161,8 @@ def _value_problem(text: str, span: Span) -> SyntaxProblem | None:
     number = float(text)  # inf when it has hundreds of digits
     if not math.isfinite(number) or abs(number) > 1e9 or not 0 <= number <= MAX_VALUE:
         return SyntaxProblem(f"value {shown(text)} is outside 0..{MAX_VALUE}", span,
-                             f"0 is straight, {MAX_VALUE} is curled")
+                             f"no servo takes more than 0..{MAX_VALUE}; its profile "
+                             "may give it less")
     if number != int(number) or "." in text:
         lo = int(number // 1)
         return SyntaxProblem(f"values are whole degrees, got {shown(text)}", span,

@@ -22,6 +22,7 @@ from ..compiling.compiled import Stream
 from ..compiling.encode import encode
 from ..compiling.plan import MotionState, Plan, Planner
 from ..compiling.resolve import Resolver
+from ..compiling.valuehint import fitting
 from ..errors import Diagnostic, GestError, Pos, SourceMap, did_you_mean
 from ..hardware import Profile
 from ..language import snippet
@@ -180,7 +181,7 @@ def line_steps(line: str, program: Program, profile: Profile, file: str = LINE,
     from)."""
     sources = _Typed(program, file, number, line)
     sources.add(file, line)  # what the steps are resolved from (wrapped: unwrap says it)
-    with snippet.parsed(line, file, _PREFIX, number) as module:
+    with fitting(profile, program), snippet.parsed(line, file, _PREFIX, number) as module:
         gesture = next(item for item in module.items if isinstance(item, GestureDef))
         typed = Program(file, sources, program.texts, {**program.gestures, _NAME: gesture},
                         program.poses, program.groups, [_NAME],
@@ -198,7 +199,8 @@ def text_steps(text: str, gesture: str | None, program: Program, profile: Profil
     ``file`` (its definitions over ``program``'s; ``gesture`` None: the text's only
     one), and its name. The text reads no file: a ``use`` line, or a robot line that
     names a file, is an error at its place."""
-    module = parse(text, file)
+    with fitting(profile, program):
+        module = parse(text, file)
     sources = SourceMap()
     for name, source in [*program.texts.items(), (file, text)]:
         sources.add(name, source)

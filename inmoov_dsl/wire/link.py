@@ -13,12 +13,12 @@ pyserial's URL handlers intend: callers pass a port spec and a profile, never th
 
 from __future__ import annotations
 
-from collections.abc import Collection, Mapping, Sequence
+from collections.abc import Callable, Collection, Mapping, Sequence
 from dataclasses import dataclass
 
 import serial
 
-from ..boards import controller
+from ..boards import claimed, controller
 from ..errors import Diagnostic, GestError, did_you_mean
 from ..hardware import Board, Glove, Profile
 from .player import Link
@@ -184,7 +184,39 @@ def _open(spec: str, profile: Profile, board: Board, timeout: float = 0) -> seri
     _virtual_twin(spec, profile, board)
     spec = protocol_sim.complete(spec, profile, board.id)
     port = controller(profile, board).open(spec)  # a bus, which its kind opens
+    if port is None:
+        _not_of_another_kind(spec, profile, board)
     return port if port is not None else open_port(spec, board.baud, timeout)
+
+
+def _not_of_another_kind(spec: str, profile: Profile, board: Board) -> None:
+    """A port only another kind of board is on (an I2C bus, for a rig board) is an
+    error that says so, and which shipped profiles have a board of that kind."""
+    found = claimed(spec)
+    if found is None or found[0] == board.kind:
+        return
+    kind, what = found
+    have = shipped(lambda p: any(b.kind == kind for b in p.boards))
+    raise GestError(Diagnostic(
+        "error", f"port {spec} is {what}: board {board.id} ({board.name}) of profile "
+        f"'{profile.name}' is a {board.kind} board, on a serial port",
+        hint=f"a profile whose board is a {kind} plays there"
+        + (f": --profile {' or '.join(have)}" if have else "")
+        + f"; for board {board.id}, give its serial port ('gestplay ports' lists them)"))
+
+
+def shipped(has: Callable[[Profile], bool]) -> list[str]:
+    """The shipped profiles that ``has`` is true of, by name."""
+    from ..profiles.profile import builtin_profiles, load_profile
+
+    found = []
+    for name in builtin_profiles():
+        try:
+            if has(load_profile(name)):
+                found.append(name)
+        except GestError:
+            continue
+    return found
 
 
 def _virtual_twin(spec: str, profile: Profile, board: Board) -> None:

@@ -162,6 +162,11 @@ class PcaController(Controller):
 
         return None if spec.startswith("sim://") else open_bus(spec)
 
+    @classmethod
+    def claims(cls, spec: str) -> str | None:
+        """``i2c:N``: an I2C bus, where a PCA9685 is."""
+        return "an I2C bus, where a PCA9685 is" if spec.startswith("i2c:") else None
+
     def moves(self, data: bytes) -> list[tuple[int, int]]:
         """(servo ID, OFF count) of each servo whose registers a write sets."""
         out = []

@@ -24,7 +24,7 @@ SPEC = re.compile(r"i2c:(\d+)(?:@(0x[0-9a-fA-F]+|\d+))?")
 #: the addresses a PCA9685 may be given: its six address pins give 0x40..0x7F, of which
 #: the I2C bus reserves 0x78..0x7F and 0x70 is the All Call address every PCA9685
 #: answers from power-up (a write there moves each chip on the bus)
-ADDRESSES = "0x40..0x77, not 0x70"
+ADDRESSES = "0x40..0x77 except 0x70"
 
 
 class I2CPort:
@@ -119,12 +119,13 @@ def bus_address(spec: str, text: str | None) -> int:
             hint=_readings(spec.partition("@")[0], text.lstrip("0") or "0")))
     address = int(text, 16) if text.startswith("0x") else int(text)
     if not usable(address):
-        said = "" if text.startswith("0x") else f" ({text} is decimal: 0x{address:02x})"
-        raise GestError(Diagnostic("error", f"cannot open port {spec}: a PCA9685's address "
-                                   f"is {ADDRESSES}{said}", hint="its six address pins "
-                                   "give 0x40..0x7F; the I2C bus reserves 0x78..0x7F, and "
-                                   "0x70 is the All Call address every PCA9685 answers; "
-                                   "with no pin bridged: 0x40"))
+        said = text if text.startswith("0x") else f"{text} (decimal: 0x{address:02x})"
+        raise GestError(Diagnostic("error", f"cannot open port {spec}: {said} is not a "
+                                   f"PCA9685's address, which is {ADDRESSES}",
+                                   hint="its six address pins give 0x40..0x7F; the I2C bus "
+                                   "reserves 0x78..0x7F, and 0x70 is the All Call address "
+                                   "every PCA9685 answers; with no pin bridged it is 0x40: "
+                                   f"--port {spec.partition('@')[0]}"))
     return address
 
 
