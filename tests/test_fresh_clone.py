@@ -194,3 +194,42 @@ def test_a_value_typed_at_the_repl_is_hinted_with_its_servo_s_range():
     assert info.value.format().splitlines() == [
         "<repl>:1:6: error: value 190 is outside 0..180", "    neck 190", "         ^~~",
         "  hint: neck takes 0..180 on inmoov"]
+
+
+@pytest.mark.skipif(os.name != "posix", reason="gestsim serves a pseudo-terminal")
+def test_gestsim_takes_a_board_by_its_name_as_port_does():
+    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim", "--profile",
+                             "inmoov", "--board", "left", "--quiet"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        pty = proc.stdout.readline().strip()
+        assert proc.stderr.readline() == (f"gestsim: board 183 (left) of profile 'inmoov' on "
+                                          f"{pty} at 115200 baud; Ctrl-C stops\n")
+    finally:
+        proc.kill()
+        proc.wait()
+
+
+@pytest.mark.parametrize(("main", "argv", "said"), [
+    ("gestsim", ["--profile", "inmoov", "--board", "185"],
+     "gestsim: error: --board 185: profile 'inmoov' has no board 185 (boards: 181 or "
+     "'right', 183 or 'left')\n  hint: profile 'inmoov-six' has board 185: add --profile "
+     "inmoov-six\n"),
+    ("gestsim", ["--profile", "inmoov", "--board", "lft"],
+     "gestsim: error: --board lft: profile 'inmoov' has no board 'lft' (boards: 181 or "
+     "'right', 183 or 'left')\n  hint: did you mean 'left'?\n"),
+    ("gestplay", ["dump", "--port", "183=sim://"],
+     "gestplay: error: --port 183=sim://: profile 'rhand' has no board 183 (boards: 181 or "
+     "'right hand')\n  hint: profiles inmoov, inmoov-mrlcomm, inmoov-six and lhand have "
+     "board 183: add --profile with one of them (--profile inmoov)\n"),
+    ("gestplay", ["dump", "--port", "left=sim://"],
+     "gestplay: error: --port left=sim://: profile 'rhand' has no board 'left' (boards: 181 "
+     "or 'right hand')\n  hint: profiles inmoov and inmoov-mrlcomm have board 'left': add "
+     "--profile with one of them (--profile inmoov)\n"),
+])
+def test_a_board_the_profile_does_not_have_lists_its_boards_and_who_has_it(main, argv,
+                                                                             said, capsys):
+    from inmoov_dsl.cli import gestsim
+
+    assert {"gestsim": gestsim, "gestplay": gestplay}[main].main(argv) == 1
+    assert capsys.readouterr().err == said

@@ -65,8 +65,8 @@ def test_a_glove_that_is_not_there_is_named():
                            "wiggle", "--board", "181"], capture_output=True, text=True,
                           timeout=WAIT)
     assert (done.returncode, done.stdout) == (1, "")
-    assert done.stderr == ("gestsim: error: profile 'rhand' has no glove 181\n"
-                           "  hint: its gloves: 182\n")
+    assert done.stderr == ("gestsim: error: --board 181: profile 'rhand' has no glove 181\n"
+                           "  hint: its gloves: 182 or 'right flex glove'\n")
 
 
 @POSIX

@@ -131,12 +131,12 @@ def _web(args: argparse.Namespace, profile, board_cfg):
     return WebView(profile, board_cfg, port)
 
 
-def _board(profile, board_id: int | None):
-    """The board ``--board`` names (default the profile's first)."""
-    board_cfg = next((b for b in profile.boards if board_id in (None, b.id)), None)
-    if board_cfg is None:
-        raise GestError(Diagnostic("error", f"profile '{profile.name}' has no board "
-                                   f"{board_id}"))
+def _board(profile, key: str | None):
+    """The board ``--board`` names, by its ID or its name, as ``--port BOARD=PORT``
+    names it (default the profile's first)."""
+    from ..wire.link import board_named
+
+    board_cfg = profile.boards[0] if key is None else board_named(key, profile)
     if not controller(profile, board_cfg).serial:
         raise GestError(Diagnostic("error", f"board {board_cfg.id} of profile "
                                    f"'{profile.name}' is a {board_cfg.kind}, on a bus, not a "
@@ -164,11 +164,13 @@ def _glove(args: argparse.Namespace, profile) -> _Glove:
     if not profile.gloves:
         raise GestError(Diagnostic("error", f"profile '{profile.name}' has no glove",
                                    hint="a [[glove]] table describes one (rhand has it)"))
-    glove = next((g for g in profile.gloves if args.board in (None, g.id)), None)
+    glove = next((g for g in profile.gloves if args.board in (None, str(g.id), g.name)),
+                 None)
     if glove is None:
-        ids = ", ".join(str(g.id) for g in profile.gloves)
-        raise GestError(Diagnostic("error", f"profile '{profile.name}' has no glove "
-                                   f"{args.board}", hint=f"its gloves: {ids}"))
+        ids = ", ".join(f"{g.id} or '{g.name}'" for g in profile.gloves)
+        raise GestError(Diagnostic("error", f"--board {args.board}: profile "
+                                   f"'{profile.name}' has no glove {args.board}",
+                                   hint=f"its gloves: {ids}"))
     path, gesture = find_gesture(args.glove, None, warn=lambda d: report([d], PROG))
     _, plan = compile_program(load(path), gesture, profile)
     gaps = []
@@ -188,8 +190,8 @@ def parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(prog=PROG, description=__doc__.splitlines()[0])
     add_version(ap)
     ap.add_argument("-p", "--profile", default="rhand", help="robot profile (default rhand)")
-    ap.add_argument("--board", type=int, help="which board of the profile (default the "
-                    "first; with --glove, which glove)")
+    ap.add_argument("--board", metavar="BOARD", help="which board of the profile, its ID "
+                    "or its name (default the first; with --glove, which glove)")
     ap.add_argument("--boot", type=number(0, 10), default=0.5,
                     help="seconds the board ignores bytes after a reset (default 0.5)")
     ap.add_argument("--log", help="write every byte received to this file: '<seconds> "

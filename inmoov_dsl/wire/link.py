@@ -13,16 +13,16 @@ pyserial's URL handlers intend: callers pass a port spec and a profile, never th
 
 from __future__ import annotations
 
-from collections.abc import Callable, Collection, Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from dataclasses import dataclass
 
 import serial
 
-from ..boards import claimed, controller
+from ..boards import controller
 from ..errors import Diagnostic, GestError, did_you_mean
 from ..hardware import Board, Glove, Profile
 from .player import Link
-from .ports import open_port
+from .ports import not_of_another_kind, open_port, shipped
 from .urlhandler import protocol_sim
 
 LISTEN_POLL = 0.05  #: s; the longest a read of a listened port blocks
@@ -119,17 +119,42 @@ def _board(item: str, key: str, keys: Mapping[str, int], profile: Profile,
     its boards (and the closest name)."""
     if key in keys:
         return keys[key]
-    if names:
-        boards = ", ".join(names.values())
-    else:
-        boards = ", ".join(str(b.id) if b.name == f"board {b.id}" else
-                           f"{b.id} or '{b.name}'" for b in profile.boards)
     if not key:
+        boards = ", ".join(names.values()) if names else _listed(profile)
         raise GestError(Diagnostic("error", f"--port {item}: no board before the '='",
                                    hint=f"BOARD=PORT, BOARD one of: {boards}"))
-    raise GestError(Diagnostic("error", f"--port {item}: profile '{profile.name}' has no "
-                               f"board {_said(key)} (boards: {boards})",
-                               hint=None if key.isdigit() else did_you_mean(key, keys)))
+    raise GestError(no_board(f"--port {item}", key, keys, profile, names))
+
+
+def board_named(key: str, profile: Profile, option: str = "--board") -> Board:
+    """The board of ``profile`` that ``key`` names, its ID or its name, as ``--port
+    BOARD=PORT`` names it (``option KEY``: what the error quotes)."""
+    keys = _keys(profile, {b.id: str(b.id) for b in profile.boards})
+    if key not in keys:
+        raise GestError(no_board(f"{option} {key}", key, keys, profile))
+    return next(b for b in profile.boards if b.id == keys[key])
+
+
+def _listed(profile: Profile) -> str:
+    """The profile's boards as a key names them: ``181 or 'right', 183 or 'left'``."""
+    return ", ".join(str(b.id) if b.name == f"board {b.id}" else f"{b.id} or '{b.name}'"
+                     for b in profile.boards)
+
+
+def no_board(said: str, key: str, keys: Mapping[str, int], profile: Profile,
+             names: Mapping[int, str] | None = None) -> Diagnostic:
+    """``said`` names a board ``profile`` does not have: its boards, and the closest
+    name or the shipped profiles that have that board (a profile not given, say)."""
+    boards = ", ".join(names.values()) if names else _listed(profile)
+    hint = None if key.isdigit() else did_you_mean(key, keys)
+    if hint is None and not names:
+        have = shipped(lambda p: any(key in (str(b.id), b.name) for b in p.boards))
+        hint = (f"profile '{have[0]}' has board {_said(key)}: add --profile {have[0]}"
+                if len(have) == 1 else f"profiles {', '.join(have[:-1])} and {have[-1]} "
+                f"have board {_said(key)}: add --profile with one of them (--profile "
+                f"{have[0]})" if have else None)
+    return Diagnostic("error", f"{said}: profile '{profile.name}' has no board "
+                      f"{_said(key)} (boards: {boards})", hint=hint)
 
 
 def _give(ports: dict[int, str], given: dict[int, str], boards: Sequence[int], item: str,
@@ -185,38 +210,8 @@ def _open(spec: str, profile: Profile, board: Board, timeout: float = 0) -> seri
     spec = protocol_sim.complete(spec, profile, board.id)
     port = controller(profile, board).open(spec)  # a bus, which its kind opens
     if port is None:
-        _not_of_another_kind(spec, profile, board)
+        not_of_another_kind(spec, profile, board)
     return port if port is not None else open_port(spec, board.baud, timeout)
-
-
-def _not_of_another_kind(spec: str, profile: Profile, board: Board) -> None:
-    """A port only another kind of board is on (an I2C bus, for a rig board) is an
-    error that says so, and which shipped profiles have a board of that kind."""
-    found = claimed(spec)
-    if found is None or found[0] == board.kind:
-        return
-    kind, what = found
-    have = shipped(lambda p: any(b.kind == kind for b in p.boards))
-    raise GestError(Diagnostic(
-        "error", f"port {spec} is {what}: board {board.id} ({board.name}) of profile "
-        f"'{profile.name}' is a {board.kind} board, on a serial port",
-        hint=f"a profile whose board is a {kind} plays there"
-        + (f": --profile {' or '.join(have)}" if have else "")
-        + f"; for board {board.id}, give its serial port ('gestplay ports' lists them)"))
-
-
-def shipped(has: Callable[[Profile], bool]) -> list[str]:
-    """The shipped profiles that ``has`` is true of, by name."""
-    from ..profiles.profile import builtin_profiles, load_profile
-
-    found = []
-    for name in builtin_profiles():
-        try:
-            if has(load_profile(name)):
-                found.append(name)
-        except GestError:
-            continue
-    return found
 
 
 def _virtual_twin(spec: str, profile: Profile, board: Board) -> None:

@@ -10,12 +10,15 @@ from __future__ import annotations
 import errno
 import os
 import sys
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import serial
 from serial.tools import list_ports
 
+from ..boards import claimed
 from ..errors import Diagnostic, GestError
+from ..hardware import Board, Profile
 
 HANDLERS = "inmoov_dsl.wire.urlhandler"
 if HANDLERS not in serial.protocol_handler_packages:
@@ -96,6 +99,36 @@ def not_found(name: str, virtual: bool = True) -> Diagnostic:
              + ("; sim:// is the virtual board" if virtual else ""))
     return Diagnostic("error", f"port {name} not found; ports on this machine: {_names()}",
                       hint=name_hint(name) or where)
+
+
+def not_of_another_kind(spec: str, profile: Profile, board: Board) -> None:
+    """A port only another kind of board is on (an I2C bus, for a rig board) is an
+    error that says so, and which shipped profiles have a board of that kind."""
+    found = claimed(spec)
+    if found is None or found[0] == board.kind:
+        return
+    kind, what = found
+    have = shipped(lambda p: any(b.kind == kind for b in p.boards))
+    raise GestError(Diagnostic(
+        "error", f"port {spec} is {what}: board {board.id} ({board.name}) of profile "
+        f"'{profile.name}' is a {board.kind} board, on a serial port",
+        hint=f"a profile whose board is a {kind} plays there"
+        + (f": --profile {' or '.join(have)}" if have else "")
+        + f"; for board {board.id}, give its serial port ('gestplay ports' lists them)"))
+
+
+def shipped(has: Callable[[Profile], bool]) -> list[str]:
+    """The shipped profiles that ``has`` is true of, by name."""
+    from ..profiles.profile import builtin_profiles, load_profile
+
+    found = []
+    for name in builtin_profiles():
+        try:
+            if has(load_profile(name)):
+                found.append(name)
+        except GestError:
+            continue
+    return found
 
 
 def permission_denied(name: str) -> Diagnostic:
