@@ -233,3 +233,24 @@ def test_a_board_the_profile_does_not_have_lists_its_boards_and_who_has_it(main,
 
     assert {"gestsim": gestsim, "gestplay": gestplay}[main].main(argv) == 1
     assert capsys.readouterr().err == said
+
+
+def test_a_play_that_finds_the_board_in_its_pose_says_so(capsys):
+    """``gestplay peace --port sim://`` twice: the second finds the virtual board in the
+    peace pose, which its one byte says; a gesture that moves no servo does not."""
+    assert gestplay.main(["peace", "--port", "sim://"]) == 0
+    assert capsys.readouterr().out.startswith("played peace: 0.70 s, 201 bytes, worst ")
+    assert gestplay.main(["peace", "--port", "sim://"]) == 0
+    assert capsys.readouterr().out.startswith(
+        "played peace: 0.70 s, 1 byte (the board already held its pose), worst lateness ")
+    assert gestplay.main(["hello", "--port", "sim://"]) == 0
+    capsys.readouterr()
+    assert gestplay.main(["hello", "--port", "sim://"]) == 0
+    assert "(the boards already held its pose)" not in capsys.readouterr().out  # it moves
+
+
+def test_a_gesture_that_moves_nothing_is_not_said_to_be_held(tmp_path, capsys):
+    still = tmp_path / "still.gest"
+    still.write_text("still: wait 0.1s\n")
+    assert gestplay.main([str(still), "--port", "sim://"]) == 0
+    assert capsys.readouterr().out.startswith("played still: 0.10 s, 1 byte, worst ")

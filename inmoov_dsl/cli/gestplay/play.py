@@ -186,7 +186,7 @@ def play_on(on: hand.Hand, target: Playing, loop: int, speed: float,
     where the last one ended; one line of figures after, interrupted or not. The pose
     the hand ends in (servo name -> value)."""
     pose, start, compiled = on.pose, None, None
-    run = _Run()
+    run = _Run(len(on.links) if target.boards() else 0)
     try:
         for _ in itertools.count() if loop == 0 else range(loop):
             if compiled is None or pose != start:  # a pass from the same pose: as before
@@ -221,23 +221,29 @@ def times(n: int) -> str:
 
 class _Run:
     """The figures of the passes played: how many, their time and bytes, the worst
-    lateness."""
+    lateness, and whether any moved a servo."""
 
-    def __init__(self):
+    def __init__(self, boards: int = 1):
         self.passes, self.seconds, self.sent, self.worst = 0, 0.0, 0, 0.0
+        self.boards = boards  #: the boards the gesture drives (0: it moves no servo)
+        self.moved = False
 
     def add(self, compiled: Compiled, speed: float) -> None:
         """One more pass of ``compiled`` done."""
         self.passes += 1
         self.seconds += compiled.duration / speed
         self.sent += sum(len(s.data) for s in compiled.streams)
+        self.moved = self.moved or not all(s.idle for s in compiled.streams)
 
     def say(self, gesture: str, times: str) -> None:
         """The summary line, on standard output (the result, which ``> log.txt``
-        keeps): ``played GESTURE[ times]: seconds, bytes, lateness``."""
+        keeps): ``played GESTURE[ times]: seconds, bytes, lateness``; the bytes of a
+        gesture that found its boards in its pose already say so."""
         times = f" {times}" if times else ""
-        print(f"played {gesture}{times}: {self.seconds:.2f} s, {counted(self.sent, 'byte')}, worst "
-              f"lateness {self.worst * 1000:.2f} ms", flush=True)
+        held = "" if self.moved or not self.boards else \
+            f" (the {'board' if self.boards == 1 else 'boards'} already held its pose)"
+        print(f"played {gesture}{times}: {self.seconds:.2f} s, {counted(self.sent, 'byte')}"
+              f"{held}, worst lateness {self.worst * 1000:.2f} ms", flush=True)
 
 
 def _progress(compiled: Compiled, speed: float) -> Callable[[float], None]:
