@@ -6,6 +6,7 @@ import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from ..language.parse import accepts
 from ..language.syntax import KEYWORDS
 from .lines import rows
 
@@ -52,7 +53,6 @@ def string_at(line: str, column: int) -> tuple[int, int, str] | None:
 TOKEN = re.compile(rf'(?P<string>"[^"]*"?)|(?P<comment>#)|(?P<number>{NUMBER})|'
                    rf'(?P<name>{NAME})|(?P<mark>[:,&])|(?P<other>\S)')
 TIMING = ("over", "stagger", "through")  #: the timing keywords, in the grammar's order
-STARTS = frozenset({"step", "part", "target", "pose"})  #: where a step's target starts
 
 
 @dataclass(frozen=True)
@@ -84,7 +84,8 @@ class Place:
 def place(text: str, line: int, column: int) -> Place:
     """What may be typed at 0-based ``line`` and ``column`` of ``text``, from the code
     before the cursor (its line and the lines it continues with a backslash): see
-    ``Place``. In a comment or a string: ``nothing``."""
+    ``Place``. The grammar says what may come next (``parse.accepts``); the words before
+    say which of a step's names it is. In a comment or a string: ``nothing``."""
     lines = rows(text)
     if not 0 <= line < len(lines):
         return Place("nothing", max(column, 0))
@@ -98,20 +99,25 @@ def place(text: str, line: int, column: int) -> Place:
             tokens and tokens[-1].kind == "string" and tokens[-1].end == len(prefix)
             and (len(tokens[-1].text) == 1 or not tokens[-1].text.endswith('"'))):
         return Place("nothing", column)
-    start = column
+    start, before = column, prefix
     if tokens and tokens[-1].end == len(prefix) and tokens[-1].kind in ("name", "number"):
-        typed = tokens.pop()
-        start = typed.start - len(head)
-        if typed.kind == "number" or (tokens and tokens[-1].kind == "number"
-                                      and tokens[-1].end == typed.start):
-            durations = {"over", "stagger", "wait", "hold"}
-            before = tokens[-1 if typed.kind == "number" else -2:]
-            ok = bool(before) and before[0].text in durations
-            return Place("unit", column if typed.kind == "number" else start) if ok \
-                else Place("nothing", start)
-    if prefix[:1] in (" ", "\t"):
-        return _step(tokens, Place("step", start, _defining(lines, line)))
-    return _top(tokens, Place("top", start, first=not any(
+        typed = tokens.pop()  # the word being typed: what may stand in its place
+        start, before = typed.start - len(head), prefix[:typed.start]
+        if typed.kind == "number":  # a value or a duration: its unit after it
+            ends = accepts(f"{STEP}{prefix.lstrip()}" if prefix[:1] in (" ", "\t") else prefix)
+            return Place("unit" if ends and "UNIT" in ends else "nothing",
+                         column if ends and "UNIT" in ends else start)
+        if typed.kind == "name" and tokens and tokens[-1].kind == "number" \
+                and tokens[-1].end == typed.start:  # a unit, typed after its number
+            before = prefix[:tokens[-1].end]
+    step = prefix[:1] in (" ", "\t")
+    allowed = accepts(f"{STEP}{before.lstrip()}" if step else before)
+    if allowed is None:
+        return Place("nothing", start)
+    if "UNIT" in allowed:  # after a duration's number: its unit
+        return Place("unit", start)
+    defined = _defining(lines, line) if step else _named(tokens)
+    return _kind(allowed, tokens, Place("step", start, defined, first=not any(
         code(row).strip() for row in lines[:top])))
 
 
@@ -135,79 +141,44 @@ def _defining(lines: Sequence[str], line: int) -> str:
     return ""
 
 
-def _top(tokens: list[Token], at: Place) -> Place:
-    """A line that is not indented: ``robot``, ``use``, ``group``, ``pose`` or a
-    gesture's name and its step."""
-    if not tokens:
-        return at
-    nothing = Place("nothing", at.start)
-    first = tokens[0].text
-    colon = next((k for k, t in enumerate(tokens) if t.text == ":"), None)
-    if first == "robot":
-        return Place("profile", at.start) if len(tokens) == 1 else nothing
-    if colon is None or tokens[0].kind != "name":
-        return nothing
-    rest = tokens[colon + 1:]
-    if first == "group":
-        return Place("member", at.start) if not rest or rest[-1].text == "," else nothing
-    defined = tokens[1].text if colon == 2 and tokens[1].kind == "name" else ""
-    if first == "pose":
-        return _step(rest, Place("pose", at.start, defined))
-    if first in KEYWORDS or colon != 1:
-        return nothing
-    return _step(rest, Place("step", at.start, first))
+STEP = "_:\n    "  #: a gesture's head: an indented line is one of its steps
 
 
-def _step(tokens: list[Token], at: Place) -> Place:
-    """The place after ``tokens``, the words of a step (or a pose's targets) so far,
-    starting at ``at``."""
-    state, name, written = at.kind, "", frozenset[str]()
-    pose = at.kind == "pose"
-    for token in tokens:
-        state = _next(state, token, pose)
-        if token.text == "&":
-            written = frozenset()
-        elif state == "named":
-            name = token.text
-        elif token.text in TIMING and state in ("over", "timed"):
-            written |= {token.text}
-    if state in STARTS or state == "side":
-        return Place(state, at.start, at.name)
-    if state in ("waited", "overed"):
-        return Place("unit", at.start)
-    if state in ("named", "valued", "timed") and not pose:
-        return Place("timing" if state != "named" else "named", at.start, name, written)
+def _named(tokens: list[Token]) -> str:
+    """The name a top-level line defines (a gesture's or a pose's), "" when none."""
+    words = [t.text for t in tokens]
+    if len(words) > 1 and words[1] == ":" and words[0] not in KEYWORDS:
+        return words[0]
+    if len(words) > 2 and words[0] == "pose" and words[2] == ":":
+        return words[1]
+    return ""
+
+
+def _kind(allowed: frozenset[str], tokens: list[Token], at: Place) -> Place:
+    """The place where the grammar allows ``allowed`` after ``tokens``."""
+    last = tokens[-1].text if tokens else ""
+    first = tokens[0].text if tokens else ""
+    if "ROBOT_NAME" in allowed:
+        return Place("profile", at.start)
+    if allowed & {"GROUP", "POSE", "USE"}:
+        return Place("top", at.start, first=at.first)
+    if first in ("group", "pose") and last in (":", ","):
+        return Place("member" if first == "group" else "pose", at.start, at.name)
+    if first in ("group", "pose", "use", "robot"):
+        return Place("nothing", at.start)
+    if "REPEAT" in allowed:
+        return Place("step", at.start, at.name)
+    if {"SAY", "NAME"} <= allowed:
+        return Place("part", at.start, at.name)
+    if allowed == {"NAME"}:
+        kind = "side" if last in ("left", "right") else "target" if last == "," else ""
+        return Place(kind or "nothing", at.start, at.name)
+    part = tokens[max((k for k, t in enumerate(tokens) if t.text == "&"), default=-1) + 1:]
+    written = frozenset(t.text for t in part if t.text in TIMING)
+    named = [t.text for k, t in enumerate(part) if t.kind == "name" and t.text not in
+             KEYWORDS and not (k and part[k - 1].end == t.start)]  # (not a unit)
+    if "NUMBER" in allowed and last not in KEYWORDS and tokens[-1].kind == "name":
+        return Place("named", at.start, last, written)
+    if allowed & {"OVER", "STAGGER", "THROUGH"}:
+        return Place("timing", at.start, named[-1] if named else "", written)
     return Place("nothing", at.start)
-
-
-def _next(state: str, token: Token, pose: bool) -> str:
-    """The state of a step after ``token`` (``nothing``: nothing may follow)."""
-    kind, text = token.kind, token.text
-    if state in STARTS:
-        if kind != "name":
-            return "nothing"
-        wanted = {"repeat": "repeat", "wait": "wait", "hold": "wait", "say": "say",
-                  "left": "side", "right": "side"}.get(text)
-        allowed = {"step": ("repeat", "wait", "say", "side"), "part": ("say", "side")}
-        if wanted is not None:
-            return wanted if wanted in allowed.get(state, ()) else "nothing"
-        return "nothing" if text in KEYWORDS else "named"
-    simple = {("repeat", "number"): "count", ("say", "string"): "said",
-              ("wait", "number"): "waited", ("waited", "name"): "end",
-              ("over", "number"): "overed", ("named", "number"): "valued"}
-    if (state, kind) in simple:
-        return simple[(state, kind)]
-    if state == "count" and text == ":":
-        return "step"
-    if state == "side":
-        return "called" if kind == "name" and text not in KEYWORDS else "nothing"
-    if text == "&" and not pose and state in ("said", "called", "named", "valued", "timed",
-                                              "overed"):
-        return "part"
-    if text == "," and state in ("named", "valued"):
-        return "pose" if pose else "target"
-    if not pose and kind == "name" and state in ("named", "valued", "timed", "overed"):
-        if state == "overed" and text not in TIMING:
-            return "timed"  # the unit
-        return {"over": "over", "stagger": "over", "through": "timed"}.get(text, "nothing")
-    return "nothing"

@@ -8,7 +8,7 @@ import hashlib
 import sys
 import threading
 
-from lark import Lark, UnexpectedInput
+from lark import Lark, LarkError, UnexpectedInput
 from lark import __version__ as lark_version
 
 from ..errors import Diagnostic, GestError
@@ -43,13 +43,39 @@ def parser() -> Lark:
     )
 
 
-def _cache_file(grammar: str) -> str | bool:
-    """The private file for Lark's cache of ``grammar``, or False (no cache)."""
+@functools.cache
+def _asking() -> Lark:
+    """The grammar as a parser that builds no tree: asked what may come next
+    (``accepts``), never to parse a file, so the syntax tree's transformer (which keeps
+    a parse's flaws) is not shared with it."""
+    text = grammar_path().read_text(encoding="utf-8")
+    return Lark(text, parser="lalr", lexer="contextual", postlex=GestIndenter(),
+                maybe_placeholders=False, tree_class=None,
+                cache=_cache_file(text, "asking"))
+
+
+def accepts(text: str) -> frozenset[str] | None:
+    """The grammar's terminals (``NAME``, ``OVER``, ``_NL``, ...) that may come after
+    ``text``, the start of a file cut anywhere; None when ``text`` does not parse. The
+    blocks the end of the text would close are left open (the cut is not an end)."""
+    interactive = _asking().parse_interactive(text)
+    try:
+        for token in interactive.iter_parse():  # each given before it is fed
+            if token.type == "_DEDENT":
+                break
+    except (LarkError, SyntaxProblem):  # what the parser, the lexer or the indenter refuses
+        return None
+    return frozenset(interactive.accepts())
+
+
+def _cache_file(grammar: str, kind: str = "") -> str | bool:
+    """The private file for Lark's cache of ``grammar`` (built as ``kind``), or False
+    (no cache)."""
     where = private_cache_dir()
     if where is None:
         return False
     digest = hashlib.sha256(f"{grammar}{lark_version}{sys.version_info[:2]}".encode())
-    path = where / f"gest-grammar-{digest.hexdigest()[:16]}.lark"
+    path = where / f"gest-grammar{kind and '-' + kind}-{digest.hexdigest()[:16]}.lark"
     return str(path) if private_file(path) else False
 
 
