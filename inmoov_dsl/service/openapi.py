@@ -1,9 +1,13 @@
 """The service's OpenAPI document (served at ``/api/openapi.json``); its limits are
-given by the caller (``core``'s), so they are written once."""
+given by the caller (``core``'s) or read where they are set, so they are written once."""
 
 from __future__ import annotations
 
 from typing import Any
+
+from ..compiling.plan import MAX_GESTURE_DURATION
+from .allowance import MAX_SOUNDS, MAX_SPEECH
+from .work import BUDGET
 
 
 def _answer(description: str, schema: str | None = None) -> dict[str, Any]:
@@ -36,9 +40,16 @@ def document(version: str, max_body: int, max_loop: int) -> dict[str, Any]:
                 "requestBody": {"required": True, "content": {"application/json": {
                     "schema": {"$ref": "#/components/schemas/Play"}}}},
                 "responses": {"202": _answer("accepted: its id", "Accepted"),
-                              "422": _answer("it does not compile, or it would drive the "
-                                             "robot's parts into each other (where and "
-                                             "when)", "Problem"), **errors}}},
+                              "422": _answer(f"it does not compile (a gesture lasts at "
+                                             f"most {MAX_GESTURE_DURATION:g} s; a request "
+                                             f"says at most {MAX_SOUNDS} sounds, "
+                                             f"{MAX_SPEECH:g} s in all), its check took "
+                                             f"more than {BUDGET:g} s, or it would drive "
+                                             "the robot's parts into each other (where "
+                                             "and when)", "Problem"),
+                              **errors, "503": _answer(
+                                  "a board the request needs is not there, or the service "
+                                  "stops", "BadRequest")}}},
             "/api/stop": {"post": {"summary": "CANCEL: the hand holds where it is, the "
                                               "queue is emptied", **control}},
             "/api/relax": {"post": {"summary": "the servos go limp", **control}},
