@@ -254,3 +254,24 @@ def test_a_gesture_that_moves_nothing_is_not_said_to_be_held(tmp_path, capsys):
     still.write_text("still: wait 0.1s\n")
     assert gestplay.main([str(still), "--port", "sim://"]) == 0
     assert capsys.readouterr().out.startswith("played still: 0.10 s, 1 byte, worst ")
+
+
+def test_the_live_preview_s_address_is_last_on_its_line(tmp_path):
+    """A terminal that makes links of addresses takes nothing after it (no ``;``)."""
+    import re
+
+    from test_web import Lines, need_viser
+
+    need_viser()
+    path = tmp_path / "w.gest"
+    path.write_text("w: index 90 over 0.5s\n")
+    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestc", "preview", "--live",
+                             str(path), "--no-open"], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE)
+    try:
+        line = Lines(proc.stderr).until(r"^(gestc: the live preview .*)$", 60)
+        assert re.fullmatch(rf"gestc: the live preview of {re.escape(str(path))} \(Ctrl-C "
+                            r"stops\) at http://127\.0\.0\.1:\d+/", line), line
+    finally:
+        proc.terminate()
+        proc.communicate(timeout=30)

@@ -107,7 +107,8 @@ def live(args: argparse.Namespace) -> int:
             from ...editor.preview_play import Player
 
             page.on_play = Player(args.serve, args.token)
-        print(f"{PROG}: the live preview of {path} at {page.url}; Ctrl-C stops",
+        # the address last on its line: a terminal that makes it a link takes no more
+        print(f"{PROG}: the live preview of {path} (Ctrl-C stops) at {page.url}",
               file=sys.stderr, flush=True)
         if not args.no_open:
             webbrowser.open(page.url)
