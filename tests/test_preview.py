@@ -132,3 +132,92 @@ def test_gestsim_view_draws_the_hand_live():
     text = screen.decode(errors="replace")
     assert text.count("\u2580") >= 48 * 30  # a picture of half blocks, redrawn
     assert "\x1b[38;2;" in text and "\x1b[48;2;" in text
+
+
+# --- the whole robot (model/film.py, model/render.py)
+
+RAISE = "robot inmoov\n\nraise:\n    r_omoplate 100, r_shoulder 60, r_bicep 150 over 2s\n"
+
+
+def frames_of(path):
+    """The GIF's frames (RGB arrays) and their durations (ms)."""
+    import numpy as np
+
+    gif = Image.open(path)
+    images, durations = [], []
+    for k in range(gif.n_frames):
+        gif.seek(k)
+        durations.append(gif.info["duration"])
+        images.append(np.asarray(gif.convert("RGB"), dtype=int))
+    return images, durations
+
+
+def region(image, centre, half=22):
+    x, y = (round(c) for c in centre)
+    return image[max(0, y - half):y + half, max(0, x - half):x + half]
+
+
+def changed(a, b):
+    """The share of pixels that differ between two regions."""
+    return float((abs(a - b).sum(axis=-1) > 30).mean())
+
+
+def test_a_robot_gesture_draws_the_whole_robot_moving(tmp_path, capsys):
+    """The arm's region changes between the first and the last frame, the other arm's
+    does not; a frame per 20 ms servo frame (holds merged): the gesture's length."""
+    from inmoov_dsl.model.film import held
+    from inmoov_dsl.model.render import Renderer
+
+    source = tmp_path / "raise.gest"
+    source.write_text(RAISE)
+    out = tmp_path / "raise.gif"
+    assert gestc.main(["preview", str(source), "-o", str(out)]) == 0
+    images, durations = frames_of(out)
+    said = capsys.readouterr().err
+    assert said.startswith(f"wrote {out}: {len(images)} frames, ")
+    c, plan = compile_program(load(str(source)), "raise", "inmoov")
+    assert sum(durations) == 20 * (math.ceil(c.duration / 0.02) + 1)
+    assert len(images) > 40 and images[0].shape == (460, 400, 3)
+    _, rows = held(plan, c)
+    where = Renderer(plan.profile)
+    where.fit(rows)
+    right, left = (where.pixel(rows[0], f"{side}_palm") for side in ("right", "left"))
+    assert (region(images[0], right) < 200).any()  # the hand is drawn where it hangs
+    assert changed(region(images[0], right), region(images[-1], right)) > 0.2
+    assert changed(region(images[0], left), region(images[-1], left)) == 0
+    elbow = where.pixel(rows[-1], "right_forearm")
+    assert changed(region(images[0], elbow), region(images[-1], elbow)) > 0.2
+
+
+def test_a_library_gesture_of_the_head_is_animated_for_its_length(tmp_path, capsys):
+    """nod moves no hand: it was one frame of the right hand; it is the robot nodding."""
+    out = tmp_path / "nod.gif"
+    assert gestc.main(["preview", "nod", "-o", str(out)]) == 0
+    images, durations = frames_of(out)
+    c, _ = compiled("nod", "inmoov")
+    assert sum(durations) == 20 * (math.ceil(c.duration / 0.02) + 1) > 4000
+    assert len(images) > 100
+    middle = images[len(images) // 3]
+    top = slice(30, 160)  # the head, under the title
+    assert changed(images[0][top], middle[top]) > 0.005
+    assert changed(images[0][300:], middle[300:]) == 0  # the hands stay
+
+
+def test_a_contact_is_told_and_its_parts_are_red_while_it_lasts(tmp_path, capsys):
+    """The forearm enters the chest at 2.12 s: from then on the words at the bottom, in
+    red, and the parts in the contact's colour; none before."""
+    import numpy as np
+
+    pytest.importorskip("fcl", reason="contacts are found with python-fcl")
+    source = tmp_path / "elbow.gest"
+    source.write_text("robot inmoov\n\nelbow:\n    r_rotate 125 over 1.5s\n"
+                      "    r_bicep 143 over 2s\n")
+    out = tmp_path / "elbow.gif"
+    assert gestc.main(["preview", str(source), "-o", str(out)]) == 0
+    images, durations = frames_of(out)
+    starts = np.cumsum([0, *durations[:-1]]) / 1000
+    words = [(abs(im[400:] - (200, 30, 30)).sum(axis=-1) == 0).sum() for im in images]
+    hot = [(abs(im[30:400] - (242, 64, 51)).sum(axis=-1) < 40).sum() for im in images]
+    before, after = starts < 2.1, starts > 2.2
+    assert max(np.array(words)[before]) == 0 and min(np.array(words)[after]) > 50
+    assert max(np.array(hot)[before]) == 0 and min(np.array(hot)[after]) > 200

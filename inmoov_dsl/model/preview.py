@@ -36,11 +36,12 @@ _GEOMETRY = {"index": (86, (38, 24, 18)), "middle": (112, (42, 27, 19)),
 _PALM = (72, 130, 176, 225)  # left, top, right, bottom
 
 
-def _pillow():
+def pillow():
+    """Pillow's Image, ImageDraw and ImageFont; a GestError saying how to get it."""
     try:
         from PIL import Image, ImageDraw, ImageFont
     except ImportError:
-        raise GestError(Diagnostic("error", "the hand preview needs Pillow, which is not "
+        raise GestError(Diagnostic("error", "the preview needs Pillow, which is not "
                                    "installed", hint="pip install 'inmoov-dsl[plot]'")) from None
     return Image, ImageDraw, ImageFont
 
@@ -63,7 +64,7 @@ def hand_servos(profile: Profile) -> dict[str, int]:
 def draw_hand(pose: Mapping[str, int], title: str = "",
               image: PIL.Image.Image | None = None) -> PIL.Image.Image:
     """The hand in ``pose`` (part -> value 0..180; missing parts straight)."""
-    Image, ImageDraw, ImageFont = _pillow()  # noqa: N806 (modules)
+    Image, ImageDraw, ImageFont = pillow()  # noqa: N806 (modules)
     img = image or Image.new("RGB", (WIDTH, HEIGHT), "white")
     d = ImageDraw.Draw(img)
     font = ImageFont.load_default(size=12)

@@ -1,4 +1,5 @@
-"""gestc preview: an animated drawing of the hand doing the gesture (Pillow); with
+"""gestc preview: an animated drawing of the gesture (Pillow): the hand of a hand
+profile, the whole robot in 3-D on a profile with arms, a head or a torso; with
 ``--live``, a page on this computer that follows the file as it is saved: the robot in
 3-D, the gesture's timeline, its steps (``model.livepage``)."""
 
@@ -18,7 +19,7 @@ def run(args: argparse.Namespace) -> int:
         from .preview_live import live
 
         return live(args)
-    from ...model.preview import write_gif
+    from ...model.film import write_gif
 
     compiled, plan = compile_target(args)
     out = output_path(args.output, compiled.gesture, (".gif",))
@@ -29,9 +30,9 @@ def run(args: argparse.Namespace) -> int:
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestc preview GESTURE``."""
-    p = sub.add_parser("preview", help="an animated drawing of the hand doing the gesture "
-                       "(needs Pillow); --live: a page that follows the file as it changes "
-                       "(needs the web extra)")
+    p = sub.add_parser("preview", help="an animated drawing of the gesture: the hand, or "
+                       "the whole robot in 3-D (needs Pillow); --live: a page that follows "
+                       "the file as it changes (needs the web extra)")
     add_arguments(p)
     p.add_argument("-o", "--output", help="the GIF to write (default GESTURE.gif)")
     live = p.add_argument_group("the live page (--live)")
