@@ -275,3 +275,36 @@ def test_the_live_preview_s_address_is_last_on_its_line(tmp_path):
     finally:
         proc.terminate()
         proc.communicate(timeout=30)
+
+
+@pytest.mark.parametrize("argv", [["dump"], ["peace"]])
+def test_a_trapped_mega_s_wait_is_said_once_while_it_happens(virtual_clock, capsys, argv):
+    """A Mega whose bootloader another program's byte trapped answers after 9 s of
+    silence: what is waited for is said once, on standard error, as the wait starts."""
+    from test_boot import MEGA, mega, probing_at_once
+
+    from inmoov_dsl.wire.ports import open_port
+
+    kind = mega(MEGA)
+    port = open_port(MEGA, kind.board.baud)
+    probing_at_once(port, virtual_clock.now, virtual_clock.sleep)  # trapped
+    port.close()
+    assert gestplay.main([*argv, "--profile", "rhand-mrlcomm", "--port", MEGA]) == 0
+    where = MEGA if argv == ["dump"] else f"board 181 on {MEGA}"
+    assert capsys.readouterr().err.splitlines()[0] == (
+        f"gestplay: {where}: nothing answered yet: a Mega's bootloader that took a byte "
+        "for its own starts the sketch after 9 s of silence; waiting for it")
+
+
+@pytest.mark.parametrize(("profile", "said"), [
+    ("rhand", "no DUMP reply from loop://\n  hint: is the board powered, and at this baud?"),
+    ("rhand-maestro", "no answer to Get Position from loop://\n  hint: is the Maestro "
+     "powered, and this its Command Port (the first of its two), in serial mode USB Dual "
+     "Port?"),
+    ("rhand-mrlcomm", "no board info (getBoardInfo) from loop://\n  hint: is the board "
+     "running MrlComm, and at this baud?"),
+])
+def test_a_board_that_does_not_tell_its_pose_is_told_in_its_kind_s_words(profile, said,
+                                                                         capsys):
+    assert gestplay.main(["dump", "--profile", profile, "--port", "loop://"]) == 1
+    assert capsys.readouterr().err == f"gestplay: error: {said}\n"

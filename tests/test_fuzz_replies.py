@@ -93,7 +93,9 @@ def test_a_loopback_is_no_board_for_any_kind(capsys, virtual_clock, tmp_path, pr
     name = pololu(tmp_path) if profile == "pololu" else profile
     code, out, err = run(capsys, "dump", "--profile", name, "--port", "loop://")
     assert (code, out) == (1, "")
-    assert err.startswith("gestplay: error: no DUMP reply from loop://\n")
+    said = {"rhand": "DUMP reply", "rhand-mrlcomm": "board info (getBoardInfo)"}.get(
+        profile, "answer to Get Position")  # each kind's own word
+    assert err.startswith(f"gestplay: error: no {said} from loop://\n")
     code, out, err = run(capsys, "wave", "--profile", name, "--port", "loop://")
     assert (code, out) == (1, "")
     assert err.startswith("gestplay: error: no board answered on loop:// (board 181")

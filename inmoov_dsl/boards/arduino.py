@@ -25,6 +25,13 @@ class Bootloader:
     #: s of silence it waits for once a byte came in its window (0: a byte that is not
     #: one of its commands starts the sketch at once)
     trap: float = 0.0
+    whose: str = "an Arduino's"  #: the board it is on, as a message names it
+
+    def trapped(self) -> str:
+        """What a host waits for when nothing answered after a byte may have trapped it
+        (its ``trap``), said once while it waits."""
+        return (f"nothing answered yet: {self.whose} bootloader that took a byte for its "
+                f"own starts the sketch after {self.trap:g} s of silence; waiting for it")
 
 
 #: each Arduino's bootloader, the sketch's first byte measured after a reset with nothing
@@ -34,9 +41,11 @@ class Bootloader:
 #: (Debian's build) or 9 s (Arduino's own, what a Mega ships with): a host must not
 #: speak first
 BOOTLOADERS = {
-    "uno": Bootloader("optiboot", "optiboot/optiboot_atmega328.hex", 1.6),
-    "nano": Bootloader("ATmegaBOOT", "atmega/ATmegaBOOT_168_atmega328.hex", 1.5),
-    "mega": Bootloader("STK500v2", "stk500v2/stk500boot_v2_mega2560.hex", 1.5, 9.0),
+    "uno": Bootloader("optiboot", "optiboot/optiboot_atmega328.hex", 1.6, whose="an Uno's"),
+    "nano": Bootloader("ATmegaBOOT", "atmega/ATmegaBOOT_168_atmega328.hex", 1.5,
+                       whose="a Nano's"),
+    "mega": Bootloader("STK500v2", "stk500v2/stk500boot_v2_mega2560.hex", 1.5, 9.0,
+                       "a Mega's"),
 }
 #: what a host that does not know which Arduino it opened waits for: the slowest
 ANY = Bootloader("any", "", max(b.window for b in BOOTLOADERS.values()),

@@ -79,6 +79,10 @@ class Controller:
     serial: ClassVar[bool] = True
     #: what one place of ``addressed`` is called in messages ("channel")
     address: ClassVar[str] = "channel"
+    #: its answer to ``ask_pose`` in its own words, as a message misses it ("no DUMP
+    #: reply"), and what to check then
+    pose_reply: ClassVar[str] = "answer to its pose question"
+    unheard: ClassVar[str] = "is the board powered, and at this baud?"
 
     def __init__(self, profile: Profile, board: Board):
         self.profile, self.board = profile, board

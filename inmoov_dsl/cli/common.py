@@ -40,6 +40,12 @@ def warn(message: str, prog: str) -> None:
     report([Diagnostic("warning", message)], prog)
 
 
+def note(message: str, prog: str) -> None:
+    """Say what is going on, neither a result nor a warning (a wait that would
+    otherwise be silent): ``PROG: message`` on standard error."""
+    print(f"{prog}: {message}", file=sys.stderr, flush=True)
+
+
 class Stopped(KeyboardInterrupt):
     """A signal that stops a tool as Ctrl-C does (SIGTERM from a service manager or
     kill, SIGHUP from a closed terminal): every path that leaves the hand safe on

@@ -24,7 +24,7 @@ from ..wire.link import close, connect, parse_ports
 from ..wire.player import BoardTrouble, Link, cancel_all, relax_all
 from ..wire.ready import ask_dump, wait_ready
 from . import typeahead
-from .common import EXIT_INTERRUPTED, Exit, Stopped, status_of, warn, why
+from .common import EXIT_INTERRUPTED, Exit, Stopped, note, status_of, warn, why
 
 RELAX_WINDOW = 1.5  #: s after a Ctrl-C at a terminal in which a second one relaxes the hand
 REST_POSE = "starting from the profile's rest pose"
@@ -58,7 +58,9 @@ def reach(link: Link, profile: Profile, blind: bool, going_on: str) -> dict[int,
     answer); a board that answered only in part is a warning ending in ``going_on``."""
     c = link.controller
     heard = bytearray()
-    ready = wait_ready(link.port, controller=c, heard=heard, patient=not blind)
+    ready = wait_ready(link.port, controller=c, heard=heard, patient=not blind,
+                       say=lambda text: note(f"board {link.board} on {link.name}: {text}",
+                                             "gestplay"))
     if ready and c is not None and (refused := c.refusal(bytes(heard))):
         raise GestError(Diagnostic("error", f"{refused} (on {link.name})",
                                    hint="flash the MrlComm of that release, or ours: "
@@ -74,7 +76,7 @@ def reach(link: Link, profile: Profile, blind: bool, going_on: str) -> dict[int,
             raise GestError(no_answer(link, profile))
         warn(f"{where} did not answer (--blind): {going_on}", "gestplay")
     elif values is None:
-        warn(f"{where} did not answer DUMP: {going_on}", "gestplay")
+        warn(f"{where}: no {kind_of(link, profile).pose_reply}: {going_on}", "gestplay")
     elif not ready:
         warn(f"{where} {kind_of(link, profile).answered_late()}", "gestplay")
     return values

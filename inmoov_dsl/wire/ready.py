@@ -46,7 +46,7 @@ def drain(port: Port) -> bytes:
 def wait_ready(port: Port, now: Clock | None = None, sleep: Sleep | None = None,
                timeout: float = READY_TIMEOUT, controller: Controller | None = None,
                heard: bytearray | None = None, bootloader: Bootloader | None = None,
-               patient: bool = True) -> bool:
+               patient: bool = True, say: Callable[[str], None] | None = None) -> bool:
     """Wait until the board is ready: a rig (``controller`` None or a rig's) sends WAIT
     when it has booted or answers a CANCEL with WAIT; another kind answers its
     ``probe``. ``heard``: gets what the board answered. False if it never was.
@@ -57,7 +57,8 @@ def wait_ready(port: Port, now: Clock | None = None, sleep: Sleep | None = None,
     at the wrong moment, ours too when an open reset the board unseen) starts the
     sketch after enough silence: so, when nothing answered on a port with a DTR line,
     the board is left alone that long and asked again (unless not ``patient``: a link
-    that may not answer at all, ``--blind``)."""
+    that may not answer at all, ``--blind``); ``say`` is told once what is waited for
+    then (the bootloader's ``trapped``)."""
     now, sleep = now or clock.now, sleep or clock.sleep
     boot = bootloader or (controller.bootloader() if controller else None)
     question = controller.probe() if controller else CANCEL_PENDING
@@ -68,6 +69,8 @@ def wait_ready(port: Port, now: Clock | None = None, sleep: Sleep | None = None,
         ready = ask(port, question, answered, answer, now() + timeout, now, sleep)
     if not ready and patient and boot is not None and boot.trap and \
             reset_on_open(port) is not None:
+        if say is not None:
+            say(boot.trapped())
         answer = bytearray(_hear(port, now() + boot.trap + PROBE, now, sleep))
         ready = bool(answer) and answered(bytes(answer)) or \
             ask(port, question, answered, answer, now() + timeout, now, sleep)

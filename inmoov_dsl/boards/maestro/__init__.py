@@ -47,6 +47,9 @@ class MaestroController(Controller):
     next to each other), the Pololu protocol when the profile gives a device number."""
 
     kind = "maestro"
+    pose_reply = "answer to Get Position"
+    unheard = "is the Maestro powered, and this its Command Port (the first of its two), " \
+        "in serial mode USB Dual Port?"
     unit_us = 1 / c.QUARTERS
 
     @property

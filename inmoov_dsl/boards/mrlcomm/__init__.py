@@ -125,6 +125,8 @@ class MrlCommController(Controller):
     kind = "mrlcomm"
     unit_us = 1.0
     address = "device"
+    pose_reply = "board info (getBoardInfo)"
+    unheard = "is the board running MrlComm, and at this baud?"
     receive_buffer = RECEIVE_BUFFER
 
     @property

@@ -126,6 +126,9 @@ class PcaController(Controller):
 
     kind = "pca9685"
     serial = False
+    pose_reply = "answer to the reads of its LEDn registers"
+    unheard = "is the PCA9685 powered, and at this address? (i2cdetect -y BUS lists the " \
+        "addresses that answer)"
 
     @property
     def oscillator(self) -> int:

@@ -51,6 +51,7 @@ class RigController(Controller):
     fill = protocol.Signal.CANCEL
     ours = True
     address = "servo ID"
+    pose_reply = "DUMP reply"
 
     def commands(self, data: bytes) -> list[tuple[int, int]]:
         """The rig's commands (``commands``)."""

@@ -18,7 +18,7 @@ from ...protocol import CANCEL_PENDING, MAX_VALUE
 from ...resources import profiles_dir
 from ...wire.link import open_board
 from ...wire.ready import ask_dump, wait_ready
-from ..common import EXIT_OK, send_value, status_line, status_of, warn, why
+from ..common import EXIT_OK, note, send_value, status_line, status_of, warn, why
 from ..keys import key_reader
 
 PROG = "gestplay calibrate"
@@ -56,12 +56,13 @@ def run(args: argparse.Namespace) -> int:
     port = open_board(args.port, profile, board)
     try:
         heard = bytearray()
-        if wait_ready(port, controller=kind, heard=heard) and kind is not None:
+        if wait_ready(port, controller=kind, heard=heard, say=lambda text: note(
+                f"{args.port}: {text}", PROG)) and kind is not None:
             port.write(kind.setup(bytes(heard)))
         values = ask_dump(port, board.id, controller=kind)
         if values is None or servo.id not in values:
-            warn(f"no DUMP reply from board {board.id}: starting at the rest value "
-                 f"{servo.rest}", PROG)
+            warn(f"no {controller(profile, board).pose_reply} from board {board.id}: "
+                 f"starting at the rest value {servo.rest}", PROG)
         ends = Ends(servo.name, values.get(servo.id, servo.rest) if values else servo.rest,
                     mapping.angle)
         with key_reader() as keys:

@@ -10,7 +10,8 @@ from ...hardware import Board, Profile
 from ...profiles.profile import load_profile
 from ...wire.link import every_board, named_boards, open_board, parse_ports
 from ...wire.ready import ask_dump, wait_ready
-from ..common import EXIT_OK, add_ports
+from ..common import EXIT_OK, add_ports, note
+from . import PROG
 
 
 def run(args: argparse.Namespace) -> int:
@@ -32,12 +33,13 @@ def _dump(name: str, port, profile: Profile, boards: tuple[Board, ...]) -> None:
     """Print the first of ``boards`` that answers DUMP on ``port``, and close it."""
     try:
         kinds = {b.id: controller(profile, b) for b in boards}
-        wait_ready(port, controller=kinds[boards[0].id])
+        first = kinds[boards[0].id]
+        wait_ready(port, controller=first, say=lambda text: note(f"{name}: {text}", PROG))
         found = ((b, ask_dump(port, b.id, controller=kinds[b.id])) for b in boards)
         b, values = next(((b, v) for b, v in found if v is not None), (None, None))
         if values is None:
-            raise GestError(Diagnostic("error", f"no DUMP reply from {name}",
-                                       hint="is the board powered, and at this baud?"))
+            raise GestError(Diagnostic("error", f"no {first.pose_reply} from {name}",
+                                       hint=first.unheard))
         names = {s.id: s.name for s in profile.servos}
         print(f"board {b.id} ({b.name}): {len(values)} servos")
         for sid, value in values.items():

@@ -11,7 +11,7 @@ from ...profiles.profile import load_profile
 from ...protocol import MAX_VALUE, Signal
 from ...wire.link import open_board
 from ...wire.ready import drain, wait_ready
-from ..common import EXIT_OK, number
+from ..common import EXIT_OK, note, number
 
 SIGNAL_NAMES = {int(s): s.name for s in Signal}
 SIGNAL_BYTES = {s.name.lower(): int(s) for s in Signal}
@@ -43,7 +43,8 @@ def run(args: argparse.Namespace) -> int:
     port = open_board(args.port, profile)
     board = profile.boards[0]
     try:  # an Uno or Nano resets when its port opens; another kind answers its probe
-        wait_ready(port, controller=controller(profile, board))
+        wait_ready(port, controller=controller(profile, board),
+                   say=lambda text: note(f"{args.port}: {text}", "gestplay"))
         port.write(data)
         clock.sleep(args.listen)
         reply = drain(port)
