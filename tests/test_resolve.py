@@ -337,3 +337,21 @@ def test_checking_every_gesture_of_a_file_does_the_shared_work_once(rhand):
         compile_program(program, name, "rhand")
     assert list(program.resolvers.values())[0].profile is load_profile("rhand")
     assert len(program.resolvers) == 1 and list(program.digests) == ["many.gest"]
+
+
+def test_each_step_of_a_call_knows_where_the_call_is_written(tmp_path, rhand):
+    """The resolver carries each call's place (the call in the gesture resolved, the
+    outermost one when calls nest) to its planned steps, and marks where each play of it
+    begins: the editor's inlay hints and the live page read them, not the expansion
+    counted again."""
+    path = tmp_path / "calls.gest"
+    path.write_text("two:\n    index 90 over 0.5s\n    index 0 over 0.5s\n"
+                    "outer: two\n"
+                    "g:\n    thumb 90\n    repeat 2: two\n    outer\n    two\n")
+    plan = plan_gesture(load(str(path)), "g", rhand)
+    marked = [(s.call.line if s.call else None, s.opens) for s in plan.steps]
+    assert marked == [(None, False),  # thumb 90: its own step
+                      (7, True), (7, False), (7, True), (7, False),  # repeat 2: two
+                      (8, True), (8, False),  # outer (two inside it): the call of outer
+                      (9, True), (9, False)]  # two again, from another line
+    assert all(s.call.file == str(path) for s in plan.steps[1:])

@@ -29,6 +29,11 @@ class Action:
     #: ``say``: a ``speech.Speech``, the sound and the mouth moving with it (not imported
     #: here: a step's data stays below the planning that reads it)
     speech: Any = None
+    #: the call of the gesture resolved that this step plays in (where it is written
+    #: there; None: one of its own steps), and whether it is the first step of one play
+    #: of that call (a call in a repeat plays again)
+    call: Pos | None = None
+    opens: bool = False
 
     def servos(self) -> set[int]:
         """The servos this step moves (in its branches too)."""

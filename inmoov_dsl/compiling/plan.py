@@ -11,6 +11,7 @@ step's start). The result is, per servo, a piecewise cubic over the whole gestur
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -41,6 +42,8 @@ class PlannedStep:
     asked: float | None  #: the step's ``over`` (or hold) duration
     stretched: bool
     servos: tuple[int, ...]  #: indices of the servos that move
+    call: Pos | None = None  #: ``Action.call``: the call it plays in, where it is written
+    opens: bool = False  #: the first step of one play of that call
 
 
 @dataclass(frozen=True)
@@ -98,7 +101,8 @@ class Planner:
                 if report.stretched:
                     key = (step.over_pos or step.pos, stretch_message(needed, step.over))
                     stretched[key] = stretched.get(key, 0) + 1
-                reports.append(report)
+                reports.append(report if step.call is None else dataclasses.replace(
+                    report, call=step.call, opens=step.opens))
                 now = report.end
             k += len(run)
             if now > MAX_GESTURE_DURATION:

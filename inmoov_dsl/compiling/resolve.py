@@ -8,6 +8,7 @@ gesture is expanded in one pass, within a step budget.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 from collections.abc import Sequence
 
 from ..errors import Errors
@@ -115,16 +116,19 @@ class Resolver(Targets):
         shown = f"{side} {callee}" if side else callee
         inner = Frame((*at.chain, callee), call_chain(at.where, shown), at.depth + 1)
         span = self._spans.get((callee, inner.where))
+        start = len(out)
         if span is not None:  # the same Actions again (a cycle would have failed before)
             self._within_budget(len(out) + span[1] - span[0], at)
             out.extend(out[span[0]:span[1]])
         else:
-            start = len(out)
             self._heights[callee] = self._expand(self.program.gestures[callee].steps, inner,
                                                  out)
             if side:
                 self._to_side(out, start, side, callee, step.side)
             self._spans[(callee, inner.where)] = (start, len(out))
+        if len(at.chain) == 1:  # a call of the gesture resolved: its steps know where
+            out[start:] = [dataclasses.replace(a, call=step.pos, opens=k == 0)
+                           for k, a in enumerate(out[start:])]
         return self._heights[callee] + 1
 
     def _together(self, step: ast.Together, at: Frame, out: list[Action]) -> int:

@@ -16,13 +16,11 @@ import re
 from collections.abc import Sequence
 
 from ..compiling.plan import Plan
-from ..language import syntax as ast
 from ..language.program import Program
 from ..language.syntax import KEYWORDS
 from ..model.timeline import Span, View, motion
 from .analysis import Analysis
 from .text import NAME, code
-from .timing import callee, expanded_size
 
 GESTURE_LINE = re.compile(rf"({NAME})[ \t]*:")  #: a top-level line that starts a gesture
 LABEL = 60  #: characters of a step's code on its label, at most
@@ -99,10 +97,7 @@ def steps_of(program: Program, gesture: str, plan: Plan, path: str) -> tuple[Spa
     """Each planned step as a span: its code as its label, and where picking it puts
     the cursor (its own line in the gesture, or the line of the gesture's step that
     calls the gesture it is written in)."""
-    node = program.gestures[gesture]
-    sites = _sites(program, node.steps, {})
-    if len(sites) != len(plan.steps):  # not a plan of these steps: each its own place
-        sites = [s.pos for s in plan.steps]
+    sites = [s.call or s.pos for s in plan.steps]  # a call's steps: where it is written
     cache: dict[str, list[str]] = {}
     spans = []
     for k, (step, site) in enumerate(zip(plan.steps, sites, strict=True), 1):
@@ -130,17 +125,3 @@ def _label(program: Program, pos, cache: dict[str, list[str]]) -> str:
     if row[:1] not in ("", " ", "\t") and (match := GESTURE_LINE.match(said)):
         said = said[match.end():].strip()  # a gesture on one line: its steps
     return said if len(said) <= LABEL else said[:LABEL - 1] + "…"
-
-
-def _sites(program: Program, steps: tuple[ast.Step, ...], sizes: dict[str, int]) -> list:
-    """Where each planned step of ``steps`` is written in them: a step's own place, a
-    call's place for every step it plays (repeats unrolled)."""
-    out: list = []
-    for step in steps:
-        if isinstance(step, ast.Repeat):
-            for _ in range(step.count):
-                out += _sites(program, step.body, sizes)
-            continue
-        called = callee(program, step)
-        out += [step.pos] * (1 if called is None else expanded_size(program, called, sizes))
-    return out

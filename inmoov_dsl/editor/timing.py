@@ -7,9 +7,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..compiling.plan import Plan, PlannedStep
-from ..language import syntax as ast
 from ..language.parse import blocks
-from ..language.program import Program
 from .analysis import Analysis
 from .lines import compiler_rows, place, rows
 from .text import code
@@ -54,7 +52,7 @@ def step_times(found: Analysis) -> dict[int, StepTime]:
             out[line] = StepTime(gesture, line, column, end, step.start,
                                  step.end - step.start, step.asked, step.stretched, 1,
                                  step.end - step.start)
-        for call in _calls(found.program, node.steps, plan, gesture, text):
+        for call in _calls(plan, gesture, text):
             end = len(code(lines[call.line]).rstrip()) if call.line < len(lines) else 0
             seen = out.get(call.line)
             out[call.line] = _again(seen, call) if seen and seen.gesture == gesture else \
@@ -75,71 +73,21 @@ def _again(seen: StepTime, step: PlannedStep | StepTime) -> StepTime:
                     seen.times + 1, max(seen.longest, length))
 
 
-def _calls(program: Program, steps: tuple[ast.Step, ...], plan: Plan, gesture: str,
-           text: str) -> list[StepTime]:
-    """Each time a step of ``steps`` (a gesture's, in order) calls another gesture: from
-    its first planned step's start to its last's end (``line`` and ``column`` where the
-    call is written in ``text``, the protocol's). The plan has one step per step of the
-    expansion, a call's as many as its gesture expands to; none when the count does not
-    come out (not a plan of these steps)."""
-    found: list[StepTime] = []
-    sizes: dict[str, int] = {}
-
-    def walk(steps: tuple[ast.Step, ...], k: int) -> int:
-        for step in steps:
-            if isinstance(step, ast.Repeat):
-                for _ in range(step.count):
-                    k = walk(step.body, k)
-                continue
-            called = callee(program, step)
-            n = 1 if called is None else expanded_size(program, called, sizes)
-            if called is not None and n and k + n <= len(plan.steps):
-                first, last = plan.steps[k], plan.steps[k + n - 1]
-                found.append(StepTime(gesture, *place(text, step.pos.line, step.pos.column),
-                                      0, first.start, last.end - first.start, None, False,
-                                      1, last.end - first.start))
-            k += n
-        return k
-
-    if not any(callee(program, s) for s in _flat(steps)):
-        return []
-    return found if walk(steps, 0) == len(plan.steps) else []
-
-
-def _flat(steps: tuple[ast.Step, ...]) -> list[ast.Step]:
-    """``steps`` and the steps of their repeats, each once."""
-    return [inner for s in steps for inner in
-            (_flat(s.body) if isinstance(s, ast.Repeat) else [s])]
-
-
-def callee(program: Program, step: ast.Step) -> str | None:
-    """The gesture ``step`` calls, if it is a call: a gesture's name alone."""
-    if not isinstance(step, ast.Move) or len(step.targets) != 1:
-        return None
-    target = step.targets[0]
-    name = target.name.text
-    return name if not target.valued and name in program.gestures else None
-
-
-def expanded_size(program: Program, gesture: str, sizes: dict[str, int]) -> int:
-    """How many steps ``gesture`` expands to (its calls and repeats), each gesture
-    counted once (``sizes``); 0 in a cycle (which does not plan)."""
-    if gesture not in sizes:
-        sizes[gesture] = 0
-        sizes[gesture] = _count(program, program.gestures[gesture].steps, sizes)
-    return sizes[gesture]
-
-
-def _count(program: Program, steps: tuple[ast.Step, ...], sizes: dict[str, int]) -> int:
-    total = 0
-    for step in steps:
-        if isinstance(step, ast.Repeat):
-            total += step.count * _count(program, step.body, sizes)
-        elif (called := callee(program, step)) is not None:
-            total += expanded_size(program, called, sizes)
-        else:
-            total += 1
-    return total
+def _calls(plan: Plan, gesture: str, text: str) -> list[StepTime]:
+    """Each play of a call of another gesture in ``plan`` (the resolver marks the
+    steps each call plays, ``PlannedStep.call``): from its first step's start to its
+    last's end (``line`` and ``column`` where the call is written in ``text``, the
+    protocol's)."""
+    plays: list[list[PlannedStep]] = []
+    for step in plan.steps:
+        if step.call is not None and (step.opens or not plays or plays[-1][0].call
+                                      != step.call):
+            plays.append([step])
+        elif step.call is not None:
+            plays[-1].append(step)
+    return [StepTime(gesture, *place(text, play[0].call.line, play[0].call.column), 0,
+                     play[0].start, play[-1].end - play[0].start, None, False, 1,
+                     play[-1].end - play[0].start) for play in plays]
 
 
 def label(step: StepTime) -> str:
