@@ -308,3 +308,32 @@ def test_a_board_that_does_not_tell_its_pose_is_told_in_its_kind_s_words(profile
                                                                          capsys):
     assert gestplay.main(["dump", "--profile", profile, "--port", "loop://"]) == 1
     assert capsys.readouterr().err == f"gestplay: error: {said}\n"
+
+
+def test_list_long_says_a_gesture_s_first_sentence_whole(tmp_path, capsys, monkeypatch):
+    """A description whose first sentence goes on over the comment's next line is shown
+    whole, not cut where the line ends; on a terminal it wraps under its column, at
+    word ends."""
+    from inmoov_dsl.cli import gestc
+
+    (tmp_path / "mine.gest").write_text(
+        "# tap2: the index taps twice, as if on a screen, the second tap a\n"
+        "# little lighter than the first. Then it rests.\ntap2: index 60 over 250ms\n")
+    assert gestc.main(["list", "--long", "--lib", str(tmp_path)]) == 0
+    tap = next(line for line in capsys.readouterr().out.splitlines()
+               if line.startswith("tap2 "))
+    assert tap.split(None, 1)[1] == ("the index taps twice, as if on a screen, the second "
+                                     "tap a little lighter than the first.  (mine.gest:3, "
+                                     "for rhand)")
+    monkeypatch.setattr(sys.stdout, "isatty", lambda: True)
+    monkeypatch.setattr("shutil.get_terminal_size", lambda: os.terminal_size((60, 24)))
+    assert gestc.main(["list", "--long", "--lib", str(tmp_path)]) == 0
+    out = capsys.readouterr().out.splitlines()
+    at = next(k for k, line in enumerate(out) if line.startswith("tap2 "))
+    column = len("look_around  ")  # the longest name, and two spaces
+    assert all(len(line) <= 60 for line in out)
+    assert out[at:at + 3] == [
+        "tap2         the index taps twice, as if on a screen, the",
+        "             second tap a little lighter than the first.",
+        "             (mine.gest:3, for rhand)"]
+    assert out[at + 1][:column].isspace() and not out[at + 1][column].isspace()

@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 import argparse
+import re
+import shutil
 import sys
+import textwrap
 from pathlib import Path
 
 from ...errors import GestError
-from ...language.library import Entry, library_dirs, scan
+from ...language.library import Entry, comments_above, library_dirs, scan
 from ...language.load import load
 from ...language.program import Program
 from ...profiles.profile import load_profile
@@ -24,11 +27,15 @@ def run(args: argparse.Namespace) -> int:
     entries = sorted(library.entries.values(), key=lambda e: e.name)
     needs = profiles_needed(entries, dirs)
     width = max((len(e.name) for e in entries), default=0)
+    wrap = shutil.get_terminal_size().columns if sys.stdout.isatty() else None
     for e in entries:
         if args.long:
             shadows = "".join(f"  (shadows {p})" for p in e.shadows)
-            print(f"{e.name:<{width}}  {e.description or '-'}  ({e.path.name}:{e.line}, "
-                  f"for {needs[e.name]}){shadows}")
+            line = (f"{e.name:<{width}}  {summary(e) or '-'}  ({e.path.name}:{e.line}, "
+                    f"for {needs[e.name]}){shadows}")
+            print(textwrap.fill(line, wrap, subsequent_indent=" " * (width + 2),
+                                break_long_words=False, break_on_hyphens=False)
+                  if wrap else line)
         else:
             print(f"{e.name}\t{e.path}\t{needs[e.name]}")
     if not args.long:  # the columns stay three: what is shadowed is a note of its own
@@ -37,6 +44,20 @@ def run(args: argparse.Namespace) -> int:
                 print(f"{PROG}: note: '{e.name}' of {e.path} shadows the one in {path}",
                       file=sys.stderr)
     return EXIT_OK
+
+
+def summary(entry: Entry) -> str:
+    """What ``entry`` does: the first sentence of the comment block above it (over as
+    many of its lines as it takes, a leading ``name:`` dropped), else its first line."""
+    try:
+        lines = entry.path.read_text(encoding="utf-8-sig").splitlines()
+    except (OSError, UnicodeDecodeError):
+        return entry.description
+    top = comments_above(lines, entry.line)
+    text = " ".join(row.strip().lstrip("#").strip() for row in lines[top - 1:entry.line - 1])
+    text = text.removeprefix(f"{entry.name}:").strip()
+    end = re.search(r"[.!?](?=\s|$)", text)
+    return text[:end.end()] if end else text or entry.description
 
 
 def profiles_needed(entries: list[Entry], dirs: list[Path]) -> dict[str, str]:
