@@ -337,3 +337,14 @@ def test_list_long_says_a_gesture_s_first_sentence_whole(tmp_path, capsys, monke
         "             second tap a little lighter than the first.",
         "             (mine.gest:3, for rhand)"]
     assert out[at + 1][:column].isspace() and not out[at + 1][column].isspace()
+
+
+@pytest.mark.parametrize(("make", "why"), [("folder", "it is a folder, not a file"),
+                                           ("empty", "it is empty")])
+def test_a_token_file_that_is_no_token_says_why(tmp_path, capsys, make, why):
+    token = tmp_path / "token"
+    token.mkdir() if make == "folder" else token.write_text("")
+    assert gestplay.main(["serve", "--port", "sim://", "--token-file", str(token)]) == 1
+    assert capsys.readouterr().err == (
+        f"gestplay: error: cannot read the token from {token}: {why}\n"
+        "  hint: give a file whose first line is the token\n")

@@ -101,8 +101,13 @@ def _token(args: argparse.Namespace, host: str, guard) -> str | None:
         try:
             token = Path(args.token_file).read_text(encoding="utf-8").splitlines()[0].strip()
         except (OSError, UnicodeDecodeError, IndexError) as exc:
+            why = "it is a folder, not a file" if isinstance(exc, IsADirectoryError) else \
+                "it is empty" if isinstance(exc, IndexError) else \
+                exc.strerror if isinstance(exc, OSError) and exc.strerror else exc
             raise GestError(Diagnostic("error", f"cannot read the token from "
-                                       f"{args.token_file}: {exc}")) from None
+                                       f"{args.token_file}: {why}",
+                                       hint="give a file whose first line is the token"))\
+                from None
     if token is not None and len(token) < 16:
         raise GestError(Diagnostic("error", "a token has at least 16 characters",
                                    hint="python -c 'import secrets; print(secrets."
