@@ -92,3 +92,76 @@ def test_the_page_port_is_spelled_as_gestplay_serve_spells_it(monkeypatch, capsy
         tool.main(["--help"])
     helped = capsys.readouterr().out
     assert "--http PORT" in helped and "--http-port" not in helped
+
+
+# --- a profile of several boards: one gestsim is the whole robot
+
+BOTH_ARMS = "robot inmoov\n\nboth:\n    r_omoplate 80, l_omoplate 80 over 1.5s\n"
+
+
+def read_screen(master, screen: bytearray, until, timeout: float = WAIT) -> None:
+    """Read what gestsim draws on ``master`` into ``screen`` until ``until(text)``."""
+    deadline = time.monotonic() + timeout
+    while not until(screen.decode(errors="replace")) and time.monotonic() < deadline:
+        if select.select([master], [], [], max(0.0, deadline - time.monotonic()))[0]:
+            screen.extend(os.read(master, 65536))
+
+
+@POSIX
+def test_one_gestsim_serves_every_board_of_the_profile(tmp_path):
+    """``gestsim --profile inmoov`` is both Megas, each on a pty: the first line is what
+    --port takes, a gesture of both arms plays there, and each board holds its arm."""
+    proc = gestsim("--profile", "inmoov", "--quiet", "--boot", "0.1")
+    try:
+        ports = proc.stdout.readline().strip()
+        said = [proc.stderr.readline() for _ in range(3)]
+        (right, left) = [p.split("=")[1] for p in ports.split(",")]
+        assert ports == f"181={right},183={left}" and right.startswith("/dev/")
+        assert said == [
+            f"gestsim: board 181 (right) of profile 'inmoov' on {right} at 115200 baud\n",
+            f"gestsim: board 183 (left) of profile 'inmoov' on {left} at 115200 baud\n",
+            f"gestsim: play to them all with --port {ports}; Ctrl-C stops\n"]
+        (tmp_path / "both.gest").write_text(BOTH_ARMS)
+        play = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay",
+                               str(tmp_path / "both.gest"), "--port", ports],
+                              capture_output=True, text=True, timeout=60)
+        assert play.returncode == 0, play.stderr
+        dump = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "dump",
+                               "--profile", "inmoov", "--port", ports],
+                              capture_output=True, text=True, timeout=60)
+        assert dump.returncode == 0, dump.stderr
+    finally:
+        stopped(proc)
+    held = {words[0]: words[-1] for line in dump.stdout.splitlines()
+            if (words := line.split())[-2:-1] == ["value"]}
+    assert (held["r_omoplate"], held["l_omoplate"], held["neck"]) == ("80", "80", "90")
+
+
+@POSIX
+def test_the_live_view_shows_every_board_s_servos():
+    """On a terminal, the bars of both boards' servos, the right arm's and the head's,
+    drawn at once."""
+    master, slave = os.openpty()
+    proc = gestsim("--profile", "inmoov", stderr=slave)
+    os.close(slave)
+    screen = bytearray()
+    try:
+        proc.stdout.readline()
+        read_screen(master, screen, lambda text: "low_stom" in text)
+    finally:
+        stopped(proc)
+        os.close(master)
+    text = screen.decode(errors="replace")
+    for servo in ("r_index", "r_omoplate", "l_omoplate", "neck", "jaw", "low_stom"):
+        assert f"  {servo} " in text
+
+
+@pytest.mark.parametrize("option", [["--log", "x.log"], ["--store", "wave"]])
+def test_what_is_one_board_s_needs_board_on_a_profile_of_several(option, capsys):
+    from inmoov_dsl.cli import gestsim as tool
+
+    assert tool.main(["--profile", "inmoov", *option]) == 1
+    assert capsys.readouterr() == ("", (
+        f"gestsim: error: {option[0]} is for one board, and profile 'inmoov' has 2: "
+        "gestsim is all of them unless --board names one\n"
+        "  hint: add --board 181 (or 'right')\n"))

@@ -221,3 +221,62 @@ def test_a_contact_is_told_and_its_parts_are_red_while_it_lasts(tmp_path, capsys
     before, after = starts < 2.1, starts > 2.2
     assert max(np.array(words)[before]) == 0 and min(np.array(words)[after]) > 50
     assert max(np.array(hot)[before]) == 0 and min(np.array(hot)[after]) > 200
+
+
+def pictures(text):
+    """The pictures a terminal view drew, as arrays (two pixels per character cell)."""
+    import re
+
+    import numpy as np
+
+    cell = re.compile(r"\x1b\[38;2;(\d+);(\d+);(\d+)m\x1b\[48;2;(\d+);(\d+);(\d+)m\u2580")
+    found = []
+    for frame in re.split(r"\x1b\[\d+F", text):
+        rows = []
+        for line in frame.split("\n"):
+            cells = [tuple(map(int, c)) for c in cell.findall(line)]
+            if cells:
+                rows += [[c[:3] for c in cells], [c[3:] for c in cells]]
+        if rows:
+            found.append(np.array(rows))
+    return found
+
+
+@POSIX
+def test_gestsim_view_draws_the_whole_robot_of_every_board(tmp_path):
+    """``gestsim --view --profile inmoov``: one picture of the robot, both boards in it;
+    both elbows bent (the right arm on board 181, the left on 183), both arms move in
+    the picture, the head stays."""
+    master, slave = os.openpty()
+    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim", "--view",
+                             "--profile", "inmoov", "--boot", "0.1"],
+                            stdout=subprocess.PIPE, stderr=slave, text=True)
+    os.close(slave)
+    screen = bytearray()
+
+    def watch():  # read the screen as it is drawn, or the view blocks on a full pty
+        with contextlib.suppress(OSError):
+            while chunk := os.read(master, 1 << 16):
+                screen.extend(chunk)
+
+    watcher = threading.Thread(target=watch, daemon=True)
+    watcher.start()
+    source = tmp_path / "elbows.gest"
+    source.write_text("robot inmoov\n\nelbows:\n    r_bicep 90, l_bicep 90 over 1.5s\n")
+    try:
+        ports = proc.stdout.readline().strip()
+        player = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay",
+                                 str(source), "--port", ports], capture_output=True,
+                                timeout=60)
+        assert player.returncode == 0, player.stderr
+        time.sleep(0.5)
+    finally:
+        proc.kill()
+        proc.wait()
+        watcher.join(timeout=5)
+        os.close(master)
+    drawn = pictures(screen.decode(errors="replace"))
+    assert len(drawn) >= 3 and drawn[0].shape == drawn[-1].shape == (64, 56, 3)
+    moved = (abs(drawn[0] - drawn[-1]).sum(axis=-1) > 30)
+    assert moved[:, :28].sum() > 10 and moved[:, 28:].sum() > 10  # its right arm, its left
+    assert not moved[:24].any()  # the head

@@ -83,16 +83,16 @@ class Lines:
 
 
 @contextlib.contextmanager
-def web_board(port: int = 0):
-    """gestsim --web on ``port``: (process, the pty's path, the line giving the page's
-    address)."""
+def web_board(port: int = 0, *more: str, first: str = r"^(/dev/\S+)$", what: str = "hand"):
+    """gestsim --web on ``port`` (``more``: its other options): (process, the first line
+    it prints (``first``: the pty's path), the line giving the page's address)."""
     need_viser()
     proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim", "--web",
-                             "--http", str(port), "--quiet", "--boot", "0.1"],
+                             "--http", str(port), "--quiet", "--boot", "0.1", *more],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     try:
-        path = Lines(proc.stdout).until(r"^(/dev/\S+)$", 30)
-        said = Lines(proc.stderr).until(r"(the hand in 3-D at .*)", 10)
+        path = Lines(proc.stdout).until(first, 30)
+        said = Lines(proc.stderr).until(rf"(the {what} in 3-D at .*)", 10)
         yield proc, path, said
     finally:
         if proc.poll() is None:
@@ -330,3 +330,38 @@ def see_the_hand_move(browser: Browser, path: str, url: str, tmp_path: Path) -> 
     assert browser.requests
     assert all(u.startswith(("data:", "blob:")) or u.split("//")[1].startswith(here)
                for u in browser.requests), browser.requests
+
+
+@POSIX
+def test_one_page_shows_every_board_of_the_robot(browser, tmp_path):
+    """``gestsim --web --profile inmoov``: one page for both Megas; both elbows bent
+    (the right arm on board 181, the left on 183), the page changes where each arm is,
+    on both sides of the robot, and the head stays as it was."""
+    from PIL import Image
+
+    source = tmp_path / "elbows.gest"
+    source.write_text("robot inmoov\n\nelbows:\n    r_bicep 90, l_bicep 90 over 1.5s\n")
+    with web_board(0, "--profile", "inmoov", first=r"^(181=/dev/\S+,183=/dev/\S+)$",
+                   what="robot") as (proc, ports, said):
+        url = re.fullmatch(r"the robot in 3-D at (http://127\.0\.0\.1:\d+/)", said)[1]
+        browser.call("Emulation.setDeviceMetricsOverride", width=800, height=600,
+                     deviceScaleFactor=1, mobile=False)
+        browser.navigate(url)
+        rest = settled(browser, lambda shot: ivory(shot).mean() > 0.03, SETTLE)
+        player = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay",
+                                 str(source), "--port", ports], capture_output=True,
+                                text=True, timeout=60)
+        assert player.returncode == 0, player.stderr
+
+        def changed(shot: np.ndarray) -> np.ndarray:
+            return np.abs(shot - rest).max(axis=2) > 40
+
+        bent = settled(browser, lambda shot: changed(shot).mean() > 0.005, SETTLE)
+    for name, shot in (("rest", rest), ("bent", bent)):  # to look at when it fails
+        Image.fromarray(shot.astype(np.uint8)).save(tmp_path / f"{name}.png")
+    moved = changed(bent)
+    rows, cols = box(ivory(rest))  # the robot, at rest
+    middle = (cols.start + cols.stop) // 2
+    assert moved[:, :middle].sum() > 200 and moved[:, middle:].sum() > 200
+    top = rows.start + (rows.stop - rows.start) // 5  # the head, seen from the front
+    assert not moved[:top].any()

@@ -1,12 +1,15 @@
 """gestsim: the virtual board on a pseudo-terminal, for any program that talks serial.
 
-It prints the device path, then serves until stopped. Like an Uno or a Nano, the board
+It prints the device path, then serves until stopped; on a profile of several boards
+(inmoov's two Megas), every board, each on its own pty, unless --board names one: it
+prints what --port takes then, 181=PATH,183=PATH. Like an Uno or a Nano, a board
 resets when a program opening the port raises DTR: at the first open, and at any open
 after a program closed the port with HUPCL set (the default; gestplay clears it, so
 DTR stays up and the board does not reset). After a reset it starts from the pose it
 had stored (the last pose that held for a second), ignores bytes for the boot time,
-then sends WAIT. With a terminal, it shows every servo's value live; with --web, the
-hand in 3-D on a page of its own (webview.py). POSIX only (Linux, macOS).
+then sends WAIT. With a terminal, it shows every servo's value live (--view: the robot
+drawn); with --web, the robot in 3-D on a page of its own (webview.py), every board's
+servos on one page. POSIX only (Linux, macOS).
 """
 
 from __future__ import annotations
@@ -18,50 +21,68 @@ from dataclasses import dataclass
 
 from ..boards import controller
 from ..errors import Diagnostic, GestError
-from ..hardware import Glove
+from ..hardware import Board, Glove
 from ..profiles.profile import load_profile
 from ..wire.sim import VirtualBoard
 from .common import EXIT_OK, add_version, number, parse_args, report, run
-from .gestsim_pty import Pty
-from .gestsim_views import BarsView, HandView
+from .gestsim_pty import Pty, open_pty
+from .gestsim_pty import serve as serve_ptys
+from .gestsim_views import BarsView, Feed, HandView, RobotView
 from .options import LOCAL, Renamed, http_address, shown_address
 
 PROG = "gestsim"
 
 
-def _as_a_serial_device(slave: int) -> None:
-    """Give the pty a serial device's default: HUPCL set (the last close drops DTR), so
-    a program that reads it right after opening the port knows the open reset the
-    board, as it knows of a real one (``ports.dtr_rose``)."""
-    import termios
-
-    attrs = termios.tcgetattr(slave)
-    attrs[2] |= termios.HUPCL
-    termios.tcsetattr(slave, termios.TCSANOW, attrs)
-
-
 def serve(args: argparse.Namespace) -> int:
-    """Open a pseudo-terminal, print its path, and be the board on it until stopped."""
+    """Open a pseudo-terminal per board (every board of the profile unless ``--board``
+    names one), print where, and be the boards on them until stopped."""
     if not hasattr(os, "openpty"):
         raise GestError(Diagnostic("error", "gestsim needs a POSIX system (Linux, macOS)",
                                    hint="on Windows, play to --port sim:// instead"))
     profile = load_profile(args.profile)
     # what can fail does before the pty; the log is there before the path is printed
     glove = _glove(args, profile) if args.glove else None
-    board_cfg = glove.config if glove else _board(profile, args.board)
-    views: list = []
-    if glove is None and args.view:
-        views.append(HandView(profile, board_cfg))
-    elif glove is None and sys.stderr.isatty() and not args.quiet:
-        views.append(BarsView(profile, board_cfg))
-    web = _web(args, profile, board_cfg)
+    boards = [glove.config] if glove else _boards(args, profile)
+    views = [] if glove else _views(args, profile, boards)
+    web = _web(args, profile, boards)
     views += [web] if web is not None else []
-    flash = None if glove else _stored(args, profile, board_cfg)
+    flash = None if glove else _stored(args, profile, boards[0])
     try:
-        return _serve(args, profile, board_cfg, glove, views, web, flash)
+        return _serve(args, profile, boards, glove, views, web, flash)
     finally:
         if web is not None:
             web.close()
+
+
+def _boards(args: argparse.Namespace, profile) -> list:
+    """The boards to be: the one ``--board`` names, else every board of the profile;
+    what only one board can have (``--log``, ``--flash``, ``--store``...) needs
+    ``--board`` on a profile of several."""
+    if args.board is not None or len(profile.boards) == 1:
+        return [_board(profile, args.board)]
+    from .gestc.storing import wants_store
+
+    one = [o for o, asked in (("--log", args.log), ("--flash", args.flash),
+                              ("--store", wants_store(args))) if asked]
+    if one:
+        raise GestError(Diagnostic(
+            "error", f"{one[0]} is for one board, and profile '{profile.name}' has "
+            f"{len(profile.boards)}: gestsim is all of them unless --board names one",
+            hint=f"add --board {profile.boards[0].id} (or {profile.boards[0].name!r})"))
+    return [_board(profile, str(b.id)) for b in profile.boards]
+
+
+def _views(args: argparse.Namespace, profile, boards: list) -> list:
+    """The live view in the terminal: with --view the robot drawn (its whole model on a
+    profile with arms, a head or a torso; the hand of a hand profile), else on a
+    terminal the servos' bars, unless --quiet."""
+    if args.view:
+        from ..model.film import whole_robot
+
+        return [(RobotView if whole_robot(profile) else HandView)(profile, boards)]
+    if sys.stderr.isatty() and not args.quiet:
+        return [BarsView(profile, boards)]
+    return []
 
 
 def _stored(args: argparse.Namespace, profile, board_cfg):
@@ -76,45 +97,65 @@ def _stored(args: argparse.Namespace, profile, board_cfg):
         if wants_store(args) else None
 
 
-def _serve(args: argparse.Namespace, profile, board_cfg, glove, views: list, web,
+def _serve(args: argparse.Namespace, profile, boards: list, glove, views: list, web,
            flash=None) -> int:
-    """The pty, its path printed, the board on it until stopped."""
-    import tty
-
+    """The ptys, where they are printed, the boards on them until stopped."""
     log = open(args.log, "w", encoding="utf-8") if args.log else None  # noqa: SIM115
-    master, slave = os.openpty()
+    masters: list[int] = []
     try:
-        path = os.ttyname(slave)
-        tty.setraw(slave)
-        _as_a_serial_device(slave)
-        os.close(slave)
-        print(f"{path}", flush=True)
-        print(f"{PROG}: {'glove' if glove else 'board'} {board_cfg.id} ({board_cfg.name}) "
-              f"of profile '{profile.name}' on {path} at {board_cfg.baud} baud; Ctrl-C "
-              f"stops", file=sys.stderr, flush=True)
-        if glove is not None:
-            print(f"{PROG}: its fingers perform '{args.glove}' from the moment the port "
-                  f"opens", file=sys.stderr, flush=True)
-        if web is not None:
-            asked = args.http[1]
-            busy = f" (port {asked} is busy)" if asked not in (0, web.port) else ""
-            print(f"{PROG}: the hand in 3-D at {web.url}{busy}", file=sys.stderr, flush=True)
-        kind = None if glove else controller(profile, board_cfg)  # (a glove: no board)
-        Pty(master, args.boot, glove and glove.stream, views, log,
-             lambda ready_at: VirtualBoard(kind.twin(), board_cfg.baud, ready_at=ready_at,
-                                           flash=flash, chatty=kind.ours,
-                                           hello=kind.hello())).serve()
+        paths = [open_pty(masters) for _ in boards]
+        _said(args, profile, boards, paths, glove, web)
+        ptys = [Pty(master, args.boot, glove and glove.stream,
+                    [Feed(view, board) for view in views], log, _maker(profile, board, flash))
+                for master, board in zip(masters, boards, strict=True)]
+        serve_ptys(ptys)
     except KeyboardInterrupt:
         return EXIT_OK
     finally:
-        os.close(master)
+        for master in masters:
+            os.close(master)
         if log is not None:
             log.close()
     return EXIT_OK
 
 
-def _web(args: argparse.Namespace, profile, board_cfg):
-    """With --web, the page where the hand moves in 3-D (webview.py), serving."""
+def _maker(profile, board_cfg, flash):
+    """What makes the board's virtual twin, at each reset (None for a glove)."""
+    kind = controller(profile, board_cfg) if isinstance(board_cfg, Board) else None
+    if kind is None:
+        return None
+    return lambda ready_at: VirtualBoard(kind.twin(), board_cfg.baud, ready_at=ready_at,
+                                         flash=flash, chatty=kind.ours, hello=kind.hello())
+
+
+def _said(args: argparse.Namespace, profile, boards: list, paths: list[str], glove,
+          web) -> None:
+    """Where the boards are: on standard output the path of the one (or ``ID=PATH,...``:
+    what ``--port`` takes), on standard error each board, the glove's gesture, the page."""
+    several = len(boards) > 1
+    ports = ",".join(f"{b.id}={p}" for b, p in zip(boards, paths, strict=True))
+    print(ports if several else paths[0], flush=True)
+    for board, path in zip(boards, paths, strict=True):
+        print(f"{PROG}: {'glove' if glove else 'board'} {board.id} ({board.name}) of "
+              f"profile '{profile.name}' on {path} at {board.baud} baud"
+              f"{'' if several else '; Ctrl-C stops'}", file=sys.stderr, flush=True)
+    if several:
+        print(f"{PROG}: play to them all with --port {ports}; Ctrl-C stops",
+              file=sys.stderr, flush=True)
+    if glove is not None:
+        print(f"{PROG}: its fingers perform '{args.glove}' from the moment the port "
+              f"opens", file=sys.stderr, flush=True)
+    if web is not None:
+        asked = args.http[1]
+        busy = f" (port {asked} is busy)" if asked not in (0, web.port) else ""
+        from ..model.film import whole_robot
+
+        what = "robot" if whole_robot(profile) else "hand"
+        print(f"{PROG}: the {what} in 3-D at {web.url}{busy}", file=sys.stderr, flush=True)
+
+
+def _web(args: argparse.Namespace, profile, boards: list):
+    """With --web, the page where the robot moves in 3-D (webview.py), serving."""
     if not args.web:
         return None
     if args.glove:
@@ -128,7 +169,7 @@ def _web(args: argparse.Namespace, profile, board_cfg):
             "hand to other computers (docs/service.md)"))
     from ..model.webview import WebView
 
-    return WebView(profile, board_cfg, port)
+    return WebView(profile, boards, port)
 
 
 def _board(profile, key: str | None):

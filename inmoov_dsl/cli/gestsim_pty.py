@@ -4,9 +4,11 @@ resets as the program raises DTR."""
 
 from __future__ import annotations
 
+import _thread
 import gc
 import os
 import select
+import threading
 from collections.abc import Callable
 from typing import TextIO
 
@@ -30,13 +32,13 @@ class Pty:
         self.line = DtrLine()  # no program has the port open yet
         self._left = False  # the last read filled the UART: bytes may wait in the pty
         self._turn = 0.0  # when the last turn was
+        self.drawing: threading.Lock | None = None  #: held while drawing, among boards
 
     def serve(self) -> None:
         """The board on the desk, drawn; then forever: wait up to 5 ms for bytes (while
         the UART has room for them: what it has no room for stays in the computer's
         buffer, where the program may still discard it), then let the board read and
         answer."""
-        gc.freeze()  # what is loaded stays: the collector's pauses stay short
         self.start(clock.now())
         poller = select.poll()
         poller.register(self.master, select.POLLIN)
@@ -114,8 +116,72 @@ class Pty:
             self.board.reset(now, self.boot)
 
     def _draw(self, now: float) -> None:
-        for view in self.views:
-            view.draw(self.board, now)
+        if self.drawing is None:
+            for view in self.views:
+                view.draw(self.board, now)
+            return
+        with self.drawing:  # the views are shared with other boards' threads
+            for view in self.views:
+                view.draw(self.board, now)
+
+
+def serve(ptys: list[Pty]) -> None:
+    """Each board on its pseudo-terminal, until stopped: one board in this thread; with
+    several, each but the first in a thread of its own (its loop as a lone board's:
+    one board's hung-up port or pause never holds another's reads), drawing into the
+    views one at a time. A thread that fails stops gestsim with its error."""
+    gc.freeze()  # what is loaded stays: the collector's pauses stay short
+    if len(ptys) == 1:
+        ptys[0].serve()
+        return
+    lock, stopped = threading.Lock(), threading.Event()
+    failed: list[BaseException] = []
+    for pty in ptys:
+        pty.drawing = lock
+
+    def run(pty: Pty) -> None:
+        try:
+            pty.serve()
+        except BaseException as exc:  # noqa: BLE001 (told by the main thread)
+            if not stopped.is_set():  # (not the ports closed as gestsim stops)
+                failed.append(exc)
+                _thread.interrupt_main()
+
+    for pty in ptys[1:]:
+        threading.Thread(target=run, args=(pty,), name="gestsim-board", daemon=True).start()
+    try:
+        ptys[0].serve()
+    except KeyboardInterrupt:
+        if failed:
+            raise failed[0] from None
+        raise
+    finally:
+        stopped.set()
+
+
+def _as_a_serial_device(slave: int) -> None:
+    """Give the pty a serial device's default: HUPCL set (the last close drops DTR), so
+    a program that reads it right after opening the port knows the open reset the
+    board, as it knows of a real one (``ports.dtr_rose``)."""
+    import termios
+
+    attrs = termios.tcgetattr(slave)
+    attrs[2] |= termios.HUPCL
+    termios.tcsetattr(slave, termios.TCSANOW, attrs)
+
+
+def open_pty(masters: list[int]) -> str:
+    """A new pseudo-terminal set up as a serial port: its master kept in ``masters``,
+    its path returned."""
+    import tty
+
+    master, slave = os.openpty()
+    masters.append(master)
+    path = os.ttyname(slave)
+    tty.setraw(slave)
+    _as_a_serial_device(slave)
+    os.close(slave)
+    return path
 
 
 def _hupcl(master: int) -> bool:

@@ -97,11 +97,7 @@ class Renderer:
         the lowest."""
         poses = np.asarray(poses, dtype=float).reshape(-1, len(self.chain.values({})))
         picked = np.unique(np.linspace(0, len(poses) - 1, min(len(poses), 100)).round())
-        corners = []
-        for values in poses[picked.astype(int)]:
-            places, world = self._world(values)
-            corners += [world, *(self._ball(places, i, s)[None] for i, s in self._mesh.balls)]
-        points = np.concatenate(corners)
+        points = np.concatenate([self._corners(values) for values in poses[picked.astype(int)]])
         low, high = points.min(axis=0), points.max(axis=0)
         centre, half = (low + high) / 2, max(high[:2] - low[:2]) / 2 + 0.08
         self.floor = np.array([[centre[0] + i * half, centre[1] + j * half, low[2] - 0.03]
@@ -113,6 +109,21 @@ class Renderer:
         self.scale = float(min(room / np.maximum(hi - lo, 1e-6)))
         self.offset = np.array([width / 2, 26 + room[1] / 2]) - self.scale * (lo + hi) / 2
         self._empty = None
+
+    def holds(self, values: Sequence[float]) -> bool:
+        """Whether the pose ``values`` is whole in the picture as it is fitted."""
+        x, y = (self._plane(self._corners(values)) * self.scale + self.offset).T
+        width, height = self.size
+        return bool(x.min() >= 0 and x.max() <= width and y.min() >= 22
+                    and y.max() <= height - 44)
+
+    def _corners(self, values: Sequence[float]) -> np.ndarray:
+        """Every corner of the model in the pose ``values``, and each sphere's centre
+        and top."""
+        places, world = self._world(np.asarray(values, dtype=float))
+        balls = [self._ball(places, i, s) for i, s in self._mesh.balls]
+        tops = [b + (0, 0, s.size[0]) for b, (_, s) in zip(balls, self._mesh.balls, strict=True)]
+        return np.concatenate([world, np.reshape(balls + tops, (-1, 3))])
 
     @staticmethod
     def _ball(places: np.ndarray, link: int, shape: Shape) -> np.ndarray:
