@@ -165,3 +165,17 @@ def test_what_is_one_board_s_needs_board_on_a_profile_of_several(option, capsys)
         f"gestsim: error: {option[0]} is for one board, and profile 'inmoov' has 2: "
         "gestsim is all of them unless --board names one\n"
         "  hint: add --board 181 (or 'right')\n"))
+
+
+@POSIX
+def test_after_a_whole_robot_play_the_hint_names_the_robot_it_played_on(capsys):
+    """gestplay nod (body.gest, the head: board 183 alone) on the virtual robot: to
+    watch it, one gestsim of the whole robot, and the same play with the ports it
+    prints (the options played with kept)."""
+    from inmoov_dsl.cli import gestplay
+
+    assert gestplay.main(["nod", "--port", "sim://", "--allow-contact"]) == 0
+    assert capsys.readouterr().err.splitlines()[-1] == (
+        "to watch it move: run 'gestsim --view --profile inmoov' (or --web: in 3-D, in a "
+        "browser) in another terminal: the whole robot, its 2 boards; then 'gestplay nod "
+        "--allow-contact --port PORTS' with the PORTS it prints (181=PTY181,183=PTY183)")

@@ -144,38 +144,31 @@ def test_gestplay_plays_a_robot_file_on_its_robot(capsys):
 @pytest.mark.parametrize("argv", [["peace"], ["peace", "--profile", "inmoov", "--hand", "left"],
                                   ["nod"]])
 def test_the_line_to_watch_it_move_runs_as_printed(argv, capsys):
-    """The commands after 'to watch it move' run as they are printed, the PTY each
-    gestsim prints put where the line says."""
+    """The commands after 'to watch it move' run as they are printed, what gestsim
+    prints put where the line says: on the whole robot, one gestsim for every board
+    (the robot played on, whichever boards the gesture drives)."""
     assert gestplay.main([*argv, "--port", "sim://"]) == 0
     line = capsys.readouterr().err.splitlines()[-1]
     assert line.startswith("to watch it move: run 'gestsim --view")
     sim, play = re.findall(r"'([^']*)'", line)
-    boards = re.findall(r"--port (\d+)=PTY\d+", play) or [None]
-    more = re.search(r"the same with --board ([\d, ]+);", line)
-    procs, ptys = [], {}
+    whole = "--profile" in argv or argv == ["nod"]
+    assert ("--port PORTS" in play) == whole and ("--port PTY" in play) != whole
+    if whole:
+        assert sim == "gestsim --view --profile inmoov"
+        assert line.endswith("with the PORTS it prints (181=PTY181,183=PTY183)")
+    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim",
+                             *shlex.split(sim)[1:], "--boot", "0.2"], stdout=subprocess.PIPE,
+                            stderr=subprocess.DEVNULL, text=True)
     try:
-        for board in boards:
-            command = shlex.split(sim)
-            if more and board != boards[0]:
-                command[command.index("--board") + 1] = board
-            if more and board == boards[0]:
-                assert command[-2:] == ["--board", board]
-            proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestsim",
-                                     *command[1:], "--boot", "0.2"], stdout=subprocess.PIPE,
-                                    stderr=subprocess.DEVNULL, text=True)
-            procs.append(proc)
-            ptys[board] = proc.stdout.readline().strip()
-        if more:
-            assert more[1].split(", ") == boards[1:]
-        for board, pty in ptys.items():
-            play = play.replace("PTY" if board is None else f"PTY{board}", pty, 1)
-        command = shlex.split(play)
-        assert command[0] == "gestplay" and "PTY" not in play
+        printed = proc.stdout.readline().strip()
+        if whole:
+            assert re.fullmatch(r"181=/dev/\S+,183=/dev/\S+", printed)
+        command = shlex.split(play.replace("PORTS" if whole else "PTY", printed))
+        assert command[0] == "gestplay" and "PTY" not in " ".join(command)
         assert gestplay.main(command[1:]) == 0, capsys.readouterr().err
     finally:
-        for proc in procs:
-            proc.kill()
-            proc.wait()
+        proc.kill()
+        proc.wait()
 
 
 def test_where_there_are_no_pseudo_terminals_the_line_draws_it(tmp_path, monkeypatch):

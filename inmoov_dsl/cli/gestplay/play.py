@@ -120,10 +120,12 @@ def show_virtual(on: hand.Hand, boards: set[int], pose: dict[str, int]) -> None:
 
 def watch(args: argparse.Namespace, profile: Profile, boards: set[int],
           posix: bool = os.name == "posix") -> str:
-    """Where to watch the gesture move: the commands that run a virtual board of each
-    board it drives (gestsim) and play it there, each as it runs (POSIX: gestsim serves
-    a pseudo-terminal), or elsewhere the one that draws it. Each runs as printed: the
-    options that choose and play the gesture are carried over (``again``)."""
+    """Where to watch the gesture move: the command that runs the profile's virtual
+    boards, all of them, and draws the robot (gestsim --view), and the one that plays
+    it there, each as it runs (POSIX: gestsim serves a pseudo-terminal per board), or
+    elsewhere the one that draws it (``boards``, those the gesture drives, are all
+    served). Each runs as printed: the options that choose and play the gesture are
+    carried over (``again``)."""
     name = args.target
     if not posix or not all(controller(profile, b).serial for b in profile.boards):
         # gestc preview draws a gesture as written: on its own side (a PCA9685 is on a
@@ -135,16 +137,13 @@ def watch(args: argparse.Namespace, profile: Profile, boards: set[int],
         sim += ["--profile", profile_arg(profile)]
     # a gesture named like a tool (dump) is played by its full command
     play = ["gestplay", *(["play"] if name in TOOLS else []), name, *again(args)]
-    ids = sorted(boards) or [profile.boards[0].id]  # a gesture that moves nothing
-    if len(ids) == 1:
-        if ids[0] != profile.boards[0].id:
-            sim += ["--board", str(ids[0])]
+    if len(profile.boards) > 1:  # one gestsim is every board: the robot played on
+        ids = ",".join(f"{b.id}=PTY{b.id}" for b in profile.boards)
         return (f"run '{shlex.join(sim)}' (or --web: in 3-D, in a browser) in another "
-                f"terminal, then '{shlex.join(play)} --port PTY' with the PTY it prints")
-    ports = " ".join(f"--port {b}=PTY{b}" for b in ids)
-    return (f"run '{shlex.join(sim)} --board {ids[0]}' in a terminal of its own, and the "
-            f"same with --board {', '.join(str(b) for b in ids[1:])}; then "
-            f"'{shlex.join(play)} {ports}' with the PTY each prints")
+                f"terminal: the whole robot, its {len(profile.boards)} boards; then "
+                f"'{shlex.join(play)} --port PORTS' with the PORTS it prints ({ids})")
+    return (f"run '{shlex.join(sim)}' (or --web: in 3-D, in a browser) in another "
+            f"terminal, then '{shlex.join(play)} --port PTY' with the PTY it prints")
 
 
 def again(args: argparse.Namespace, preview: bool = False) -> list[str]:
