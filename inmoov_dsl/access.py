@@ -3,7 +3,7 @@ visits can send requests to 127.0.0.1 and open a WebSocket there, and through DN
 rebinding read the answers. So a request is answered only when the ``Host`` it names is
 this computer's own address for that port, and, when it carries an ``Origin`` (a
 browser always does on a WebSocket), when that origin is the page's own.
-The service (``service/guard.py``) and every page viser serves (``model/scene.py``)
+The service (``service/guard.py``) and every page viser serves (``views/scene.py``)
 ask this one rule.
 """
 

@@ -91,7 +91,7 @@ def test_a_contact_is_told_when_it_begins_and_when_it_is_deepest(tmp_path):
     assert w.message == ("at 2.12 s the right forearm enters the chest, 24 mm deep at "
                          "3.50 s (r_bicep 39)")
     from inmoov_dsl.compiling.compiler import compile_program
-    from inmoov_dsl.model.timeline import contacts
+    from inmoov_dsl.views.timeline import contacts
 
     _, plan = compile_program(program, "elbow", "inmoov")
     (mark,) = contacts(plan)

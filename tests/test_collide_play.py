@@ -164,7 +164,7 @@ def test_gestc_collide_says_what_is_checked_and_makes_the_kept_pairs_again(tmp_p
 
 def test_gestc_plot_marks_when_the_robot_meets_itself(tmp_path):
     from inmoov_dsl.model.guard import marks
-    from inmoov_dsl.model.plot import figure
+    from inmoov_dsl.views.plot import figure
 
     compiled, plan = compile_program(load(str(write(tmp_path, "elbow"))))
     (at, what), = marks(plan)

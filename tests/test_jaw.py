@@ -119,7 +119,7 @@ def test_the_plot_of_a_say_draws_the_sound_its_loudness_and_the_jaw_received(tmp
 
     from inmoov_dsl.compiling.compiler import compile_program
     from inmoov_dsl.language.load import load
-    from inmoov_dsl.model.plot import figure
+    from inmoov_dsl.views.plot import figure
 
     (tmp_path / "v.wav").write_bytes(wav(vowel()))
     program = load(str(tmp_path / "g.gest"), 'g: say "v.wav" & neck 100 over 1s\n')

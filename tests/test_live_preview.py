@@ -25,8 +25,8 @@ from inmoov_dsl.compiling.compiled import Stream
 from inmoov_dsl.editor.analysis import Analysis, analyse
 from inmoov_dsl.editor.memo import Memo
 from inmoov_dsl.editor.preview_view import gesture_at, view_of
-from inmoov_dsl.model import livedraw, timeline
-from inmoov_dsl.model.liveclock import Clock
+from inmoov_dsl.views import livedraw, timeline
+from inmoov_dsl.views.liveclock import Clock
 
 ROOT = Path(__file__).resolve().parent.parent
 MOTION = ROOT / "gestures" / "motion.gest"
@@ -236,7 +236,7 @@ def pose_on(browser) -> dict[str, float]:
 
 @pytest.fixture
 def page():
-    from inmoov_dsl.model.livepage import LivePage
+    from inmoov_dsl.views.livepage import LivePage
 
     live = LivePage(0)
     yield live

@@ -11,7 +11,7 @@ from inmoov_dsl.cli import gestc
 from inmoov_dsl.compiling.compiler import compile_program
 from inmoov_dsl.language.library import scan_library
 from inmoov_dsl.language.load import load
-from inmoov_dsl.model.plot import moving_servos, sent_values
+from inmoov_dsl.views.plot import moving_servos, sent_values
 
 ROOT = Path(__file__).resolve().parent.parent
 LIBRARY = scan_library([ROOT / "gestures"])
@@ -80,7 +80,7 @@ def test_a_long_name_leaves_title_and_legend_apart(length, tmp_path):
     (a long one wraps), and both stay inside the picture."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-    from inmoov_dsl.model.plot import figure
+    from inmoov_dsl.views.plot import figure
 
     name = ("a_gesture_with_a_long_name_" * 8)[:length]
     gest = tmp_path / "long.gest"

@@ -18,7 +18,7 @@ from inmoov_dsl.cli import gestc
 from inmoov_dsl.compiling.compiler import compile_program
 from inmoov_dsl.language.library import scan_library
 from inmoov_dsl.language.load import load
-from inmoov_dsl.model.preview import draw_hand, hand_servos, poses
+from inmoov_dsl.views.preview import draw_hand, hand_servos, poses
 
 LIBRARY = scan_library()
 POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals are POSIX")
@@ -134,7 +134,7 @@ def test_gestsim_view_draws_the_hand_live():
     assert "\x1b[38;2;" in text and "\x1b[48;2;" in text
 
 
-# --- the whole robot (model/film.py, model/render.py)
+# --- the whole robot (views/film.py, views/render.py)
 
 RAISE = "robot inmoov\n\nraise:\n    r_omoplate 100, r_shoulder 60, r_bicep 150 over 2s\n"
 
@@ -165,8 +165,8 @@ def changed(a, b):
 def test_a_robot_gesture_draws_the_whole_robot_moving(tmp_path, capsys):
     """The arm's region changes between the first and the last frame, the other arm's
     does not; a frame per 20 ms servo frame (holds merged): the gesture's length."""
-    from inmoov_dsl.model.film import held
-    from inmoov_dsl.model.render import Renderer
+    from inmoov_dsl.views.film import held
+    from inmoov_dsl.views.render import Renderer
 
     source = tmp_path / "raise.gest"
     source.write_text(RAISE)

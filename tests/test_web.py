@@ -116,8 +116,8 @@ def test_the_model_is_posed_where_viser_s_own_update_puts_it():
     import numpy as np
     import viser
 
-    from inmoov_dsl.model.scene import Robot, start_server, stop_server
     from inmoov_dsl.profiles.profile import load_profile
+    from inmoov_dsl.views.scene import Robot, start_server, stop_server
 
     server = start_server(viser, 0)
     try:

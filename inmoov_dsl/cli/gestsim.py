@@ -77,7 +77,7 @@ def _views(args: argparse.Namespace, profile, boards: list) -> list:
     profile with arms, a head or a torso; the hand of a hand profile), else on a
     terminal the servos' bars, unless --quiet."""
     if args.view:
-        from ..model.film import whole_robot
+        from ..views.film import whole_robot
 
         return [(RobotView if whole_robot(profile) else HandView)(profile, boards)]
     if sys.stderr.isatty() and not args.quiet:
@@ -148,7 +148,7 @@ def _said(args: argparse.Namespace, profile, boards: list, paths: list[str], glo
     if web is not None:
         asked = args.http[1]
         busy = f" (port {asked} is busy)" if asked not in (0, web.port) else ""
-        from ..model.film import whole_robot
+        from ..views.film import whole_robot
 
         what = "robot" if whole_robot(profile) else "hand"
         print(f"{PROG}: the {what} in 3-D at {web.url}{busy}", file=sys.stderr, flush=True)
@@ -167,7 +167,7 @@ def _web(args: argparse.Namespace, profile, boards: list):
             "error", f"--http {shown_address(host, port)}: gestsim's page is for this "
             f"computer only ({LOCAL})", hint=f"--http {port}; gestplay serve serves the "
             "hand to other computers (docs/service.md)"))
-    from ..model.webview import WebView
+    from ..views.webview import WebView
 
     return WebView(profile, boards, port)
 

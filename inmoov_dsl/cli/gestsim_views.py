@@ -10,7 +10,7 @@ import sys
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
-from ..model.posebars import bar_lines
+from ..views.posebars import bar_lines
 
 if TYPE_CHECKING:
     from ..hardware import Board, Profile
@@ -77,7 +77,7 @@ class HandView(BarsView):
     """The hand drawn in the terminal (gestc preview's picture of a hand)."""
 
     def __init__(self, profile: Profile, boards: Sequence[Board]):
-        from ..model.preview import draw_hand, hand_servos, pose_of, to_terminal
+        from ..views.preview import draw_hand, hand_servos, pose_of, to_terminal
 
         super().__init__(profile, boards)
         hand_servos(profile)  # a profile without a hand is an error now, not later
@@ -99,8 +99,8 @@ class RobotView(BarsView):
     COLUMNS = 56
 
     def __init__(self, profile: Profile, boards: Sequence[Board]):
-        from ..model.preview import to_terminal
-        from ..model.render import Renderer
+        from ..views.preview import to_terminal
+        from ..views.render import Renderer
 
         super().__init__(profile, boards)
         self.slots = [profile.index(n) for n in self.names]

@@ -1,4 +1,4 @@
-"""The language server's live preview (an edge: the page is viser's, ``model.livepage``):
+"""The language server's live preview (an edge: the page is viser's, ``views.livepage``):
 made when an editor first asks for it (``gest.preview``), it follows one document, the
 one asked for or last edited, and shows the view of its newest checked analysis with the
 cursor the editor last told (``gest/cursor``; an editor that tells none, as Helix, has
@@ -18,7 +18,7 @@ import threading
 from collections.abc import Callable
 from typing import Any
 
-from ..model.timeline import Span
+from ..views.timeline import Span
 from .analysis import Analysis
 
 log = logging.getLogger(__name__)
@@ -47,7 +47,7 @@ class Preview:
         """The page's address, made the first time (a GestError without the web
         extra); it follows ``uri`` from now on, when given."""
         if self.page is None:
-            from ..model.livepage import LivePage
+            from ..views.livepage import LivePage
 
             self.page = LivePage(0)
             self.page.on_pick = self._picked

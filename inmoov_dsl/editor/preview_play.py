@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Any
 
 from ..language.library import library_dirs
-from ..model.timeline import View
+from ..views.timeline import View
 
 TIMEOUT = 5.0  #: s for the service to answer a request
 USE = re.compile(r"[ \t]*use\b")  #: a use line

@@ -1,5 +1,5 @@
 """The live preview of an editor's text (pure): from the analysis of a text (analysis.py)
-and the cursor, the ``View`` a preview page shows (``model.livepage``): the gesture the
+and the cursor, the ``View`` a preview page shows (``views.livepage``): the gesture the
 cursor is in, its plan and timeline, its steps labelled with their code and the place
 picking each puts the cursor, the steps under the cursor, the file's diagnostics.
 
@@ -18,7 +18,7 @@ from collections.abc import Sequence
 from ..compiling.plan import Plan
 from ..language.program import Program
 from ..language.syntax import KEYWORDS
-from ..model.timeline import Span, View, motion
+from ..views.timeline import Span, View, motion
 from .analysis import Analysis
 from .text import NAME, code
 

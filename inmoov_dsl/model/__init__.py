@@ -1,10 +1,8 @@
-"""The robot as a model: joint positions from servo values (``joints``), the URDF
-(``urdf``, ``urdf_parts``), the 3-D view in a browser (``webview``, on ``scene``), the
-live preview page (``livepage``, on ``timeline``, ``livedraw``, ``liveclock``,
-``livepanel``, ``lookout``), the drawn hand (``preview``), plots (``plot``), joint-state
-export (``export``), a pose as bars (``posebars``), and the self-collision check
-(``collide``, on ``kinematics``, ``shapes`` and ``allowed``; what the tools do with a
-contact: ``guard``)."""
+"""The robot as geometry: joint positions from servo values (``joints``), the URDF
+(``urdf``, ``urdf_parts``), every link placed (``kinematics``), joint states over time
+(``export``), and the self-collision check (``collide``, on ``shapes`` and ``allowed``;
+what the tools do with a contact, and how it is worded: ``guard``). What people look at
+is in ``views``."""
 
 from __future__ import annotations
 

@@ -38,7 +38,7 @@ class Service:
         self.loop: asyncio.AbstractEventLoop | None = None
         self.listeners: set[asyncio.Queue] = set()
         self.lost: set[int] = set()  #: boards whose link is down
-        self.view = None  #: the hand in 3-D (``model.webview.WebView``), when it can be
+        self.view = None  #: the hand in 3-D (``views.webview.WebView``), when it can be
         #: makes the view, the first time the page asks where it is (None: tried)
         self.make_view: Callable[[], Any] | None = None
         #: refuses what drives the robot into itself (``model.guard.Guard``), or None

@@ -12,7 +12,7 @@ from .target import add_arguments, compile_target, output_path
 def run(args: argparse.Namespace) -> int:
     """Write the figure (.png, .svg or .pdf)."""
     from ...model.guard import marks
-    from ...model.plot import plot
+    from ...views.plot import plot
 
     compiled, plan = compile_target(args)
     out = output_path(args.output, compiled.gesture, (".png", ".svg", ".pdf"))

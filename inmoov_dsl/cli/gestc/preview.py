@@ -1,7 +1,7 @@
 """gestc preview: an animated drawing of the gesture (Pillow): the hand of a hand
 profile, the whole robot in 3-D on a profile with arms, a head or a torso; with
 ``--live``, a page on this computer that follows the file as it is saved: the robot in
-3-D, the gesture's timeline, its steps (``model.livepage``)."""
+3-D, the gesture's timeline, its steps (``views.livepage``)."""
 
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ def run(args: argparse.Namespace) -> int:
         from .preview_live import live
 
         return live(args)
-    from ...model.film import write_gif
+    from ...views.film import write_gif
 
     compiled, plan = compile_target(args)
     out = output_path(args.output, compiled.gesture, (".gif",))

@@ -84,7 +84,7 @@ class Follower:
 def live(args: argparse.Namespace) -> int:
     """Serve the page until Ctrl-C."""
     from ...language.library import find_gesture, library_dirs
-    from ...model.livepage import LivePage
+    from ...views.livepage import LivePage
 
     host, port = args.http
     if host not in (LOCAL, "localhost"):

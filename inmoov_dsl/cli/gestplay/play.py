@@ -17,9 +17,9 @@ from ...compiling.compiler import compile_program, plan_checks
 from ...compiling.resolve import resolver
 from ...errors import Diagnostic, GestError, counted
 from ...hardware import Profile
-from ...model.posebars import bar_lines
 from ...profiles.profile import profile_arg
 from ...profiles.tables import SIDES
+from ...views.posebars import bar_lines
 from ...wire.player import play
 from .. import hand
 from ..common import EXIT_OK, add_allow_contact, add_blind, add_lib, guard_for, number, report, warn

@@ -85,7 +85,7 @@ def _view(profile, pose: list[int]):
     """The hand in 3-D for the page, on 127.0.0.1 (a free port), where the ``web`` extra
     is installed; None where it is not (the page shows bars)."""
     try:
-        from ...model.webview import WebView
+        from ...views.webview import WebView
         view = WebView(profile, profile.boards[0], 0)
     except GestError:  # viser is not installed
         return None

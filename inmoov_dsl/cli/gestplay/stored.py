@@ -99,7 +99,7 @@ def play_stored(args: argparse.Namespace) -> int:
         print(f"played {name}{times} (stored gesture {number} of board {link.board}): "
               f"{took:.2f} s, the approach to its start included", flush=True)
         if values is not None and link.name.startswith("sim://"):
-            from ...model.posebars import bar_lines
+            from ...views.posebars import bar_lines
 
             names = {s.id: s.name for s in profile.servos}
             print(f"{link.name} now holds (board {link.board}):")

@@ -21,7 +21,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from . import joints
+from ..model import joints
 from .timeline import Series, Sound, View
 
 WIDTH, LEFT, RIGHT = 600.0, 72.0, 8.0  #: the drawing's units: about a pixel each

@@ -34,7 +34,7 @@ TOLD = 1.0  #: s a contact's words stay at least, so that they can be read
 def whole_robot(profile: Profile) -> bool:
     """Whether the profile's model is more than a hand on its forearm (arms, head,
     torso): drawn in 3-D; a hand alone keeps the hand's drawing."""
-    from .urdf import body
+    from ..model.urdf import body
 
     try:
         return not body(profile)[0].link.endswith("_forearm")
@@ -64,8 +64,8 @@ def marked(plan: Plan, times: np.ndarray, rows: np.ndarray) -> list[Marked]:
     """Each frame's contacts: the words of ``guard.marks`` from when each begins, while
     its two parts touch in the frames' poses (``rows`` at ``times``) and for TOLD
     seconds at least; the touching links. Nothing without python-fcl."""
-    from .collide import checker_for, first_contacts
-    from .guard import marks
+    from ..model.collide import checker_for, first_contacts
+    from ..model.guard import marks
 
     told = marks(plan)
     checker = checker_for(plan.profile) if told else None

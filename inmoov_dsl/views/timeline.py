@@ -174,7 +174,7 @@ def contacts(plan: Plan) -> tuple[Mark, ...] | None:
     not installed, or the profile's model has no two parts that can meet). Costly (a
     tenth of a second and more on the whole robot): a page looks for them aside."""
     try:
-        from .guard import marks
+        from ..model.guard import marks
 
         found = marks(plan)
     except (ImportError, GestError):

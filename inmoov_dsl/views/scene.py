@@ -14,7 +14,8 @@ from typing import Any
 
 from ..errors import Diagnostic, GestError
 from ..hardware import Profile
-from . import gate, joints
+from ..model import joints
+from . import gate
 from .gate import HOST
 
 INSTALL = "pip install 'inmoov-dsl[web]'"
@@ -61,7 +62,7 @@ class Robot:
     def __init__(self, server: Any, profile: Profile, servos: Collection[str] | None = None,
                  command: str = "gestsim --web"):
         viser, yourdfpy, viser_urdf = need_viser(command)
-        from .urdf import model  # an error if a servo's joint is not in the model
+        from ..model.urdf import model  # an error if a servo's joint is not in the model
 
         self.profile = profile
         self.urdf = yourdfpy.URDF.load(io.StringIO(model(profile)))

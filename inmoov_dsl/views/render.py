@@ -17,9 +17,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..hardware import Profile
-from .kinematics import Chain
+from ..model.kinematics import Chain
+from ..model.urdf_parts import COLOURS, Shape
 from .preview import pillow
-from .urdf_parts import COLOURS, Shape
 
 if TYPE_CHECKING:
     import PIL.Image
