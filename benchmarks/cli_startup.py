@@ -1,6 +1,7 @@
 """Start-up cost of the CLI: ``gestc compile gestures/count.gest`` against a bare
 ``python -c "import lark, numpy, ruckig, serial"``, interleaved in the same run
-(target: at most 1.3x).
+(target: at most 1.5x; the rest is lark, numpy and ruckig: the 1.3x goal was retired in
+issue 49).
 
 Both run as an installed tool runs: with bytecode cached (pip compiles it at install),
 so PYTHONDONTWRITEBYTECODE is dropped for the children and a warm-up run fills the
@@ -49,7 +50,7 @@ def main() -> None:
     pairs = statistics.median(y / x for x, y in zip(a, b, strict=True))
     print(f"bare imports {ma * 1000:.0f} ms, gestc compile count.gest {mb * 1000:.0f} ms "
           f"(medians of {RUNS}, interleaved): {mb / ma:.2f}x; median of the runs' ratios "
-          f"{pairs:.2f}x (target <= 1.3x)")
+          f"{pairs:.2f}x (target <= 1.5x)")
 
 
 if __name__ == "__main__":
