@@ -92,7 +92,7 @@ def web_board(port: int = 0, *more: str, first: str = r"^(/dev/\S+)$", what: str
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     try:
         path = Lines(proc.stdout).until(first, 30)
-        said = Lines(proc.stderr).until(rf"(the {what} in 3-D at .*)", 10)
+        said = Lines(proc.stderr).until(rf"(the {what} in 3-D.* at .*)", 10)
         yield proc, path, said
     finally:
         if proc.poll() is None:
@@ -149,8 +149,8 @@ def test_the_page_is_served_from_here_and_sigterm_stops_it():
         taken.listen()
         busy = taken.getsockname()[1]
         with web_board(busy) as (proc, path, said):
-            url = re.fullmatch(rf"the hand in 3-D at (http://127\.0\.0\.1:\d+/) "
-                               rf"\(port {busy} is busy\)", said)[1]
+            url = re.fullmatch(rf"the hand in 3-D \(port {busy} is busy\) at "
+                               rf"(http://127\.0\.0\.1:\d+/)", said)[1]  # the address last
             with urllib.request.urlopen(url, timeout=10) as page:
                 assert page.status == 200
                 html = page.read().decode()

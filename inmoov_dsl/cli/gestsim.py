@@ -147,11 +147,12 @@ def _said(args: argparse.Namespace, profile, boards: list, paths: list[str], glo
               f"opens", file=sys.stderr, flush=True)
     if web is not None:
         asked = args.http[1]
-        busy = f" (port {asked} is busy)" if asked not in (0, web.port) else ""
+        busy = f" (port {asked} is busy)" if asked not in (0, web.port) else ""  # the
+        # address last on its line: a terminal that makes it a link takes nothing after it
         from ..views.film import whole_robot
 
         what = "robot" if whole_robot(profile) else "hand"
-        print(f"{PROG}: the {what} in 3-D at {web.url}{busy}", file=sys.stderr, flush=True)
+        print(f"{PROG}: the {what} in 3-D{busy} at {web.url}", file=sys.stderr, flush=True)
 
 
 def _web(args: argparse.Namespace, profile, boards: list):
