@@ -138,9 +138,16 @@ def values(pose: dict) -> dict:
     return {name: s["value"] for name, s in pose["servos"].items()}
 
 
-def dump(port: str) -> dict:
-    done = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "dump", "--port",
-                           port], capture_output=True, text=True, timeout=60)
+def dump(port: str, tries: int = 3) -> dict:
+    """What the board says it holds (``gestplay dump``). gestplay waits a second for the
+    answer, which a board on a desk gives in milliseconds; simavr on a machine too busy
+    to keep its board in real time may give it later: asked again then (the board keeps
+    its pose across the reset an open makes)."""
+    for _ in range(tries):
+        done = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "dump",
+                               "--port", port], capture_output=True, text=True, timeout=60)
+        if "no DUMP reply" not in done.stderr:
+            break
     assert done.returncode == 0, done.stderr
     return {w[0]: int(w[-1]) for w in map(str.split, done.stdout.splitlines()[1:])}
 
