@@ -7,6 +7,7 @@ place when the values change."""
 from __future__ import annotations
 
 import sys
+import threading
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -107,6 +108,24 @@ class RobotView(BarsView):
         self.renderer = Renderer(profile, (320, 368))
         self.seen = [[s.rest for s in profile.servos]]  #: the poses the picture holds
         self.to_terminal = to_terminal
+        self._pending: dict[int, tuple[list[int], float]] = {}
+        self._wake = threading.Event()
+        threading.Thread(target=self._draws, name="gestsim-view", daemon=True).start()
+
+    def update(self, board: int, values: Sequence[int], now: float) -> None:
+        """Board ``board`` holds ``values``: drawn aside, by a thread of the view's own
+        (a picture of the whole robot takes milliseconds, which the boards' loops, each
+        reading its port, do not wait for)."""
+        self._pending[board] = (list(values), now)
+        self._wake.set()
+
+    def _draws(self) -> None:
+        while True:
+            self._wake.wait()
+            self._wake.clear()
+            for board in list(self._pending):
+                values, now = self._pending.pop(board)
+                super().update(board, values, now)
 
     def lines(self, values: list[int]) -> list[str]:
         """The robot in that pose, as coloured half-block characters."""
