@@ -36,11 +36,24 @@
  *   simboard FIRMWARE.elf --pty [--baud B] [--eeprom FILE] [--log LOG] [--bootloader HEX]
  *       Serves the board on a pseudo-terminal in real time and prints its path. Like an
  *       Uno or a Nano, the board resets when a program opening the port raises DTR: at
- *       the first open, and at any open after a close that dropped DTR (the closing
- *       program left HUPCL set; a program that clears it leaves DTR up). FILE is written
+ *       the first open (it is powered up then: before, it would speak to nobody), and at
+ *       any open after a close that dropped DTR (the closing program left HUPCL set; a
+ *       program that clears it leaves DTR up). FILE is written
  *       whenever the EEPROM changes. The UART takes bytes from the pty only 5 ms ahead of
- *       the wire (UART_AHEAD); LOG gets "<seconds> <byte>" for each byte when it starts
- *       on the wire (CLOCK_MONOTONIC, the clock of Python's time.monotonic).
+ *       the wire (UART_AHEAD), each as soon as it has room, however late the harness
+ *       comes round to it; LOG gets "<seconds> <byte>" for each byte when it starts on
+ *       the wire, in the board's own time (simavr's cycles, counted as seconds of
+ *       CLOCK_MONOTONIC, Python's time.monotonic, from when the board was powered up).
+ *       simavr runs the board after the clock as fast as it can: on a machine too busy
+ *       for it to keep up, the board runs late (its answers come late), but what it
+ *       receives, and when in its own time, is what the wire brings it.
+ *       --control: orders on stdin, a line each:
+ *         signal SIGNUM PID [S]  send SIGNUM to PID, at once or once the clock reads S
+ *                                (the log's seconds); prints "signalled S N": when (every
+ *                                byte taken after it starts on the wire at S or later),
+ *                                and N, the bytes taken from the pty until then;
+ *       and prints "closed S N" when the program that had the port open has closed it and
+ *       every byte it wrote has been taken (and logged).
  *   --bootloader HEX  (either way) an Arduino's bootloader, an Intel hex file (Debian's
  *       arduino-core-avr ships them in hardware/arduino/avr/bootloaders/), in flash beside
  *       the image: every reset starts there, as the BOOTRST fuse makes a real board start,
@@ -60,13 +73,16 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <poll.h>
+#include <pthread.h>
 #include <pty.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <termios.h>
 #include <time.h>
+#include <sys/types.h>
 #include <unistd.h>
 
 #include <simavr/avr_eeprom.h>
@@ -768,6 +784,271 @@ static long port_baud(int master) {
   return 0;
 }
 
+/* -- serving the board on a pty --------------------------------------------------------
+ * Two clocks: the computer's (CLOCK_MONOTONIC) and the board's (simavr's cycle count),
+ * counted from the same moment, so that a cycle is a time in the log's seconds. Two
+ * threads: the line, which waits on the pty and takes each byte as a UART would, placing
+ * it on the wire at the board's time when a UART would have started it (after the byte
+ * before it, and not before it came); and the board, which simavr runs after the clock as
+ * fast as it can, reading each byte when its own time comes to it. On a machine too busy
+ * for simavr to keep up, the board runs late (its answers come late), but what it
+ * receives, and when in its own time, is what the wire brings it: the line, asleep until
+ * a byte comes, is woken at once, where one loop that also ran simavr would come round to
+ * the pty tens of milliseconds late, and leave the wire idle meanwhile. */
+#define SLICE (F_CPU / 1000) /* cycles simavr runs at a time when it is behind the clock */
+#define QUEUE (1 << 20)      /* bytes taken from the pty and not yet read by the board */
+#define RESET_EVENT (-1L)    /* in the queue: DTR rose, the board resets */
+static struct {
+  avr_cycle_count_t cycle;
+  long baud; /* the wire's, for a byte; RESET_EVENT for a reset */
+  uint8_t byte;
+} queue[QUEUE];
+static long queue_head, queue_tail; /* queue[head % QUEUE] .. queue[(tail - 1) % QUEUE] */
+static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER; /* the queue, origin, sim_cycle */
+static double start;       /* the computer's clock when the harness began serving */
+static long long origin;   /* the board's cycle at `start` (moved once: see take_open) */
+static avr_cycle_count_t sim_cycle; /* how far the board has run (published by it) */
+
+static avr_cycle_count_t clock_now(void) { /* the computer's clock, as a cycle */
+  return (avr_cycle_count_t)(origin + (long long)((wall() - start) * F_CPU));
+}
+static double in_seconds(avr_cycle_count_t c) { /* a cycle in the log's seconds */
+  return start + (double)((long long)c - origin) / F_CPU;
+}
+
+static void enqueue(avr_cycle_count_t cycle, long baud, uint8_t byte) {
+  queue[queue_tail % QUEUE].cycle = cycle;
+  queue[queue_tail % QUEUE].baud = baud;
+  queue[queue_tail % QUEUE].byte = byte;
+  queue_tail++;
+}
+
+/* --control: the commands read from stdin. */
+static int control;
+static char command[256];
+static size_t command_len;
+static struct {
+  int pending, signum;
+  pid_t pid;
+  double at; /* in the log's seconds */
+} order;
+
+/* Read what came on stdin; a whole line is the next order (one at a time). */
+static void read_commands(void) {
+  ssize_t n = read(0, command + command_len, sizeof command - 1 - command_len);
+  if (n <= 0) {
+    if (n == 0) control = 0; /* stdin closed: no more commands */
+    return;
+  }
+  command_len += (size_t)n;
+  command[command_len] = 0;
+  char *end;
+  while ((end = strchr(command, '\n'))) {
+    *end = 0;
+    int signum, pid;
+    double at = 0;
+    int got = sscanf(command, "signal %d %d %lf", &signum, &pid, &at);
+    if (got >= 2)
+      order.pending = 1, order.signum = signum, order.pid = (pid_t)pid,
+      order.at = got == 3 ? at : 0;
+    else
+      fprintf(stderr, "simboard: unknown command: %s\n", command);
+    size_t rest = command_len - (size_t)(end + 1 - command);
+    memmove(command, end + 1, rest + 1);
+    command_len = rest;
+  }
+  if (command_len == sizeof command - 1) command_len = 0; /* no line fits: dropped */
+}
+
+/* The line's side of the pty: what it knows of the wire from the computer. */
+static struct {
+  int master;
+  int hung_up, dtr, opened; /* nothing has the port open; DTR is down; never opened */
+  avr_cycle_count_t free;   /* when the wire is free of the bytes taken */
+  avr_cycle_count_t looked; /* when the pty was last looked at */
+  int left;                 /* that look left bytes in the pty: the UART had no room */
+  long taken, baud;         /* bytes taken; the wire's baud */
+} line;
+
+/* The board's thread: run it after the clock, a slice at a time when it is behind, each
+ * queued byte (and reset) given to it when its time comes. */
+static void *run_board(void *unused) {
+  (void)unused;
+  static struct { avr_cycle_count_t cycle; long baud; uint8_t byte; } due[4096];
+  for (;;) {
+    pthread_mutex_lock(&lock);
+    if (!line.opened) { /* nobody has opened the port yet: see take_open */
+      pthread_mutex_unlock(&lock);
+      usleep(1000);
+      continue;
+    }
+    avr_cycle_count_t now = clock_now(), target = avr->cycle + SLICE;
+    if (target > now) target = now;
+    long baud = queue_head == queue_tail ? line.baud : 0; /* the wire's, when idle */
+    int n = 0;
+    while (n < 4096 && queue_head < queue_tail && queue[queue_head % QUEUE].cycle <= target) {
+      due[n].cycle = queue[queue_head % QUEUE].cycle;
+      due[n].baud = queue[queue_head % QUEUE].baud;
+      due[n++].byte = queue[queue_head % QUEUE].byte;
+      queue_head++;
+    }
+    pthread_mutex_unlock(&lock);
+    int r = 0;
+    for (int k = 0; k < n && !r; k++) {
+      if (due[k].baud == RESET_EVENT) {
+        r = run_until(due[k].cycle);
+        reset_board();
+        wire_free = due[k].cycle;
+        continue;
+      }
+      byte_cycles = (avr_cycle_count_t)(10 * F_CPU / (wire_baud = due[k].baud));
+      r = send_byte(due[k].byte, due[k].cycle);
+    }
+    if (baud) { /* the computer reads the board's bytes at the baud it set (--bootloader) */
+      wire_baud = baud;
+      byte_cycles = (avr_cycle_count_t)(10 * F_CPU / baud);
+    }
+    if (!r) r = run_until(target);
+    if (r < 0) exit(1);
+    pthread_mutex_lock(&lock);
+    sim_cycle = avr->cycle;
+    int caught_up = avr->cycle >= clock_now();
+    pthread_mutex_unlock(&lock);
+    if (caught_up && n == 0) usleep(200);
+  }
+  return NULL;
+}
+
+/* Where the next byte taken would start on the wire at `now`: after the bytes taken
+ * before it; bytes left in the pty at the last look had waited since then (the UART
+ * took each as soon as it had room, however late this look came round); a byte that
+ * came since, when it was looked at. Never where the board has already run. */
+static avr_cycle_count_t next_start(avr_cycle_count_t now) {
+  avr_cycle_count_t from = line.left ? line.looked : now;
+  if (from < line.free) from = line.free;
+  if (from < sim_cycle) from = sim_cycle;
+  return from;
+}
+
+/* How many bytes the UART takes from the pty by `now` when the next would start at
+ * `from`: one as each byte-time passes, and UART_AHEAD's worth beyond the wire. */
+static long uart_room(avr_cycle_count_t now, avr_cycle_count_t from) {
+  avr_cycle_count_t cycles = (avr_cycle_count_t)(10 * F_CPU / line.baud);
+  long fifo = (long)(UART_AHEAD * F_CPU / cycles + 0.5);
+  if (fifo < 1) fifo = 1;
+  long long gap = (long long)now - (long long)from, b = (long long)cycles;
+  long long whole = gap >= 0 ? gap / b : -((-gap + b - 1) / b); /* floor(gap / b) */
+  long room = fifo + (long)whole, space = QUEUE - (queue_tail - queue_head) - 1;
+  return room < space ? room : space;
+}
+
+/* A program opened the port (with the lock held): DTR rises, and an Uno resets on that
+ * edge (after the bytes already on the wire, if any). The board is powered up then, as
+ * the port is first opened, and reset at once (its reset flags say both): until then it
+ * has not run (what it would have said would wait in the pty, where a serial port's
+ * driver drops it, and simavr catching up would only make it answer late). */
+static avr_cycle_count_t take_open(avr_cycle_count_t now) {
+  line.hung_up = 0;
+  if (!line.opened) { /* the board's thread has not run it: its cycle stands still */
+    origin += (long long)avr->cycle - (long long)now;
+    now = sim_cycle = line.free = line.looked = avr->cycle;
+  }
+  line.opened = 1;
+  if (!line.dtr) {
+    avr_cycle_count_t at = line.free > now ? line.free : now;
+    enqueue(at, RESET_EVENT, 0);
+    line.free = at;
+  }
+  line.dtr = 1;
+  return now;
+}
+
+/* The program closed the port (its bytes all taken): DTR drops if it left HUPCL set. */
+static void take_close(avr_cycle_count_t now) {
+  if (!line.hung_up) {
+    line.dtr = !hupcl(line.master);
+    if (control) {
+      printf("closed %.6f %ld\n", in_seconds(now), line.taken);
+      fflush(stdout);
+    }
+  } else if (boot_path && line.dtr && hupcl(line.master))
+    line.dtr = 0; /* a program opened and closed it unseen (stty), and left HUPCL set */
+  line.hung_up = 1;
+  line.left = 0;
+}
+
+/* Take what the pty holds that the UART has room for (with the lock held): each byte
+ * placed on the wire, logged and queued for the board. */
+static void take_bytes(const uint8_t *buf, ssize_t n, long room, avr_cycle_count_t now) {
+  if (boot_path) { /* a real board's wire runs at the baud the program set */
+    long baud = port_baud(line.master);
+    if (baud) line.baud = baud;
+  }
+  avr_cycle_count_t from = next_start(now);
+  avr_cycle_count_t cycles = (avr_cycle_count_t)(10 * F_CPU / line.baud);
+  for (ssize_t k = 0; k < n; k++) {
+    if (byte_log) fprintf(byte_log, "%.6f %d\n", in_seconds(from), buf[k]);
+    enqueue(from, line.baud, buf[k]);
+    from += cycles;
+  }
+  if (n > 0) {
+    line.free = from;
+    line.taken += n;
+    if (byte_log) fflush(byte_log);
+  }
+  line.left = n > 0 && n == room;
+  line.looked = now;
+}
+
+/* A signal ordered on stdin whose time has come (with the lock held): what the board
+ * takes from now on starts on the wire after it. */
+static void act(void) {
+  if (!order.pending || in_seconds(clock_now()) < order.at) return;
+  order.pending = 0;
+  if (kill(order.pid, order.signum) < 0) perror("simboard: signal");
+  avr_cycle_count_t sent = clock_now();
+  if (line.looked < sent) line.looked = sent;
+  printf("signalled %.6f %ld\n", in_seconds(sent), line.taken);
+  fflush(stdout);
+}
+
+/* The line's thread: wait for bytes while the UART has room for them (what it has no
+ * room for stays in the pty, where the program may still discard it: tcflush), take
+ * them, notice an open and a close. */
+static void serve_line(void) {
+  for (;;) {
+    pthread_mutex_lock(&lock);
+    avr_cycle_count_t now = clock_now();
+    long room = uart_room(now, next_start(now));
+    /* ms: bytes, a close and an order wake it; an open does not, nor an order's time */
+    int wait = order.pending || line.hung_up ? 1 : 100;
+    pthread_mutex_unlock(&lock);
+    if (room <= 0) { /* the UART is full: the pty is not looked at */
+      usleep(200);
+      continue;
+    }
+    struct pollfd p[2] = {{line.master, POLLIN, 0}, {0, POLLIN, 0}};
+    poll(p, control ? 2 : 1, wait);
+    if (control && (p[1].revents & (POLLIN | POLLHUP))) read_commands();
+    pthread_mutex_lock(&lock);
+    now = clock_now();
+    room = uart_room(now, next_start(now));
+    uint8_t buf[4096];
+    if (room > (long)sizeof buf) room = sizeof buf;
+    ssize_t n = (p[0].revents & POLLIN) && room > 0 ? read(line.master, buf, (size_t)room) : 0;
+    int closed = n <= 0 && (p[0].revents & POLLHUP);
+    if (closed)
+      take_close(now);
+    else { /* the port is open (a program that just opened it may not write at once) */
+      if (line.hung_up) now = take_open(now);
+      take_bytes(buf, n > 0 ? n : 0, room, now);
+    }
+    act();
+    pthread_mutex_unlock(&lock);
+    if (closed) usleep(10000); /* a hung-up pty polls at once: not in a loop */
+  }
+}
+
 static int serve(void) {
   int master, slave;
   if (openpty(&master, &slave, NULL, NULL, NULL) < 0) {
@@ -787,60 +1068,21 @@ static int serve(void) {
   fflush(stdout);
   close(slave);
   fcntl(master, F_SETFL, O_NONBLOCK);
+  if (control) fcntl(0, F_SETFL, O_NONBLOCK);
   pty_fd = master;
-  int hung_up = 1, dtr = 0; /* nothing has the port open; DTR is down */
-  double start = wall();
-  avr_cycle_count_t origin = avr->cycle;
-  for (;;) {
-    /* the UART takes bytes from the computer only UART_AHEAD ahead of the wire: the
-     * rest stays in the pty, where the program may still discard it (tcflush) */
-    avr_cycle_count_t now = origin + (avr_cycle_count_t)((wall() - start) * F_CPU);
-    long fifo = (long)(UART_AHEAD * F_CPU / byte_cycles + 0.5);
-    if (fifo < 1) fifo = 1;
-    long queued = wire_free > now ? (long)((wire_free - now + byte_cycles - 1) / byte_cycles) : 0;
-    long room = fifo - queued;
-    if (room <= 0) {
-      if (run_until(now) < 0) return 1;
-      usleep(200);
-      continue;
-    }
-    struct pollfd p = {master, POLLIN, 0};
-    poll(&p, 1, 1);
-    now = origin + (avr_cycle_count_t)((wall() - start) * F_CPU);
-    uint8_t buf[256];
-    if (room > (long)sizeof buf) room = sizeof buf;
-    ssize_t n = (p.revents & POLLIN) ? read(master, buf, (size_t)room) : 0;
-    if (n <= 0 && (p.revents & POLLHUP)) {
-      if (!hung_up) dtr = !hupcl(master); /* the program closed the port as it left it */
-      else if (boot_path && dtr && hupcl(master))
-        dtr = 0; /* a program opened and closed it unseen (stty), and left HUPCL set */
-      hung_up = 1;
-      if (run_until(now) < 0) return 1;
-      usleep(10000);
-      continue;
-    }
-    if (hung_up) { /* a program opened the port: DTR rises, and an Uno resets on that edge */
-      hung_up = 0;
-      if (!dtr) {
-        reset_board();
-        wire_free = now;
-      }
-      dtr = 1;
-    }
-    if (boot_path) { /* a real board's wire runs at the baud the program set */
-      long baud = port_baud(master);
-      if (baud) byte_cycles = (avr_cycle_count_t)(10 * F_CPU / (wire_baud = baud));
-    }
-    for (ssize_t k = 0; k < n; k++) {
-      if (byte_log) {
-        avr_cycle_count_t at = now < wire_free ? wire_free : now;
-        fprintf(byte_log, "%.6f %d\n", start + (double)(at - origin) / F_CPU, buf[k]);
-        fflush(byte_log);
-      }
-      if (send_byte(buf[k], now) < 0) return 1;
-    }
-    if (run_until(now) < 0) return 1;
+  line.master = master;
+  line.hung_up = 1;
+  line.baud = wire_baud;
+  start = wall();
+  origin = (long long)avr->cycle;
+  sim_cycle = line.free = line.looked = avr->cycle;
+  pthread_t board;
+  if (pthread_create(&board, NULL, run_board, NULL) != 0) {
+    perror("simboard: thread");
+    return 1;
   }
+  serve_line();
+  return 0;
 }
 
 int main(int argc, char **argv) {
@@ -852,6 +1094,8 @@ int main(int argc, char **argv) {
     int more = i + 1 < argc;
     if (strcmp(argv[i], "--pty") == 0)
       pty = 1;
+    else if (strcmp(argv[i], "--control") == 0)
+      control = 1;
     else if (strcmp(argv[i], "--pulses") == 0)
       print_pulses = 1;
     else if (strcmp(argv[i], "--baud") == 0 && more)
@@ -899,7 +1143,7 @@ int main(int argc, char **argv) {
                     "[--cut N] [--pulses] [--wait S] [--button PIN [--press PIN S H]...] "
                     "[--watch SYMBOL] [--flash SYMBOL K B] [--bootloader HEX] < timed\n"
                     "       simboard FIRMWARE.elf --pty [--baud B] [--eeprom FILE] [--log LOG] "
-                    "[--bootloader HEX]\n");
+                    "[--bootloader HEX] [--control]\n");
     return 2;
   }
   elf_firmware_t fw;
