@@ -8,6 +8,7 @@ websockets library and urllib, as a foreign page's browser would send them."""
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import socket
 import subprocess
 import sys
@@ -83,8 +84,10 @@ def assert_guarded(url: str) -> None:
     assert get(url, own) == 200 and get(url, rebound) == 403
 
 
-@POSIX
-def test_gestc_preview_live_refuses_another_web_site(tmp_path):
+@contextlib.contextmanager
+def live_page(tmp_path, told: list[str]):
+    """``gestc preview --live`` of WAVE, its page's address given; what it said on its
+    standard error, once stopped by SIGTERM, appended to ``told``."""
     need_viser()
     path = tmp_path / "w.gest"
     path.write_text(WAVE, encoding="utf-8")
@@ -92,13 +95,19 @@ def test_gestc_preview_live_refuses_another_web_site(tmp_path):
                              str(path), "--no-open"], stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE)
     try:
-        url = Lines(proc.stderr).until(r"at (http://127\.0\.0\.1:\d+/)", LIMIT)
-        assert_guarded(url)
+        yield Lines(proc.stderr).until(r"at (http://127\.0\.0\.1:\d+/)", LIMIT)
         assert proc.poll() is None
     finally:
         proc.terminate()
-        _, err = proc.communicate(timeout=30)
-    said = err.decode()
+        told.append(proc.communicate(timeout=30)[1].decode())
+
+
+@POSIX
+def test_gestc_preview_live_refuses_another_web_site(tmp_path):
+    told: list[str] = []
+    with live_page(tmp_path, told) as url:
+        assert_guarded(url)
+    said = told[0]
     assert "Traceback" not in said
     assert (f"the page on port {url.split(':')[2].strip('/')} refused a request: a request "
             "from another site (http://evil.example) is refused") in said
@@ -148,23 +157,14 @@ def garbage(url: str, seed: int, connections: int = 20, each: int = 20) -> None:
 
 @POSIX
 def test_garbage_on_the_pages_websocket_is_a_line_each_not_a_traceback(tmp_path):
-    need_viser()
-    path = tmp_path / "w.gest"
-    path.write_text(WAVE, encoding="utf-8")
-    proc = subprocess.Popen([sys.executable, "-m", "inmoov_dsl.cli.gestc", "preview", "--live",
-                             str(path), "--no-open"], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE)
-    try:
-        url = Lines(proc.stderr).until(r"at (http://127\.0\.0\.1:\d+/)", LIMIT)
+    told: list[str] = []
+    with live_page(tmp_path, told) as url:
         garbage(url, seed=49)
         port = url.split(":")[2].strip("/")
         status, got = handshake(url, f"http://127.0.0.1:{port}")  # still the whole page
         assert status == 101 and b"wrist 180" in got
-    finally:
-        proc.terminate()
-        _, err = proc.communicate(timeout=30)
-    said = err.decode().splitlines()
-    assert "Traceback" not in err.decode()
+    said = told[0].splitlines()
+    assert "Traceback" not in told[0]
     dropped = [line for line in said if line.startswith("the page dropped a connection")]
     others = [line for line in said if not line.startswith("the page ")]
     assert dropped and others == ["gestc: stopped by SIGTERM"]
