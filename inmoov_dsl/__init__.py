@@ -49,6 +49,8 @@ if TYPE_CHECKING:
 def __getattr__(name: str) -> Any:
     if name not in _WHERE:
         raise AttributeError(f"module 'inmoov_dsl' has no attribute '{name}'")
+    if _WHERE[name].startswith("compiling."):
+        importlib.import_module(".model", __name__)  # the compiler's solver of places
     value = getattr(importlib.import_module(f".{_WHERE[name]}", __name__), name)
     globals()[name] = value
     return value

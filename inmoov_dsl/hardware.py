@@ -111,6 +111,8 @@ class Profile:
     voice: Voice | None = None  #: ``[voice]``: the mouth that moves with ``say``
     #: ``[collision]``: closer than this (mm), two of the robot's parts touch
     clearance_mm: float = CLEARANCE_MM
+    #: ``[place.NAME]``: the robot's own places (metres, its base frame), by name
+    places: dict[str, tuple[float, float, float]] = field(default_factory=dict)
 
     def index(self, name: str) -> int:
         """The position of servo ``name`` in ``servos``; KeyError if there is none."""

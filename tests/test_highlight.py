@@ -59,7 +59,8 @@ EXPECTED = {"NAME": (Name, True), "ROBOT_NAME": (Name.Namespace, True),
             "NUMBER": (Number, False), "UNIT": (Keyword.Type, True),
             "STRING": (String, False), "COLON": (Punctuation, True),
             "COMMA": (Punctuation, True), "AMPERSAND": (Operator, True),
-            "THROUGH": (Keyword, True), "SIDE": (Keyword, True), "SAY": (Keyword, True)}
+            "THROUGH": (Keyword, True), "SIDE": (Keyword, True), "SAY": (Keyword, True),
+            "LOOK": (Keyword, True), "LPAR": (Punctuation, True), "RPAR": (Punctuation, True)}
 DEFINED = (Name.Function, True)  #: the name a gesture, pose or group line defines
 COMMENT, SPACE, GOES_ON = (Comment, False), (Space, False), (Punctuation, True)
 

@@ -317,3 +317,28 @@ def test_a_says_sound_is_on_the_page_while_it_plays_at_1x(browser, page):
     until(browser, "document.getElementById('gl-time').textContent !== "
                    f"'{sound.start + 0.2:.3f}'", "the page playing")
     assert js(browser, "document.querySelector('audio')") is None  # silent at 2x
+
+
+def blue(shot: np.ndarray) -> np.ndarray:
+    """Where the picture has the gaze's blue (placemarks.GAZE), lit or shaded."""
+    r, g, b = shot[..., 0], shot[..., 1], shot[..., 2]
+    return (b > 120) & (b - r > 90) & (b - g > 30)
+
+
+def orange(shot: np.ndarray) -> np.ndarray:
+    """Where the picture has a hand's orange (placemarks.HAND), lit or shaded."""
+    r, g, b = shot[..., 0], shot[..., 1], shot[..., 2]
+    return (r > 120) & (r - b > 110) & (r - g > 60)
+
+
+def test_the_page_marks_the_places_the_hands_path_and_the_gaze(browser, page, tmp_path):
+    path = tmp_path / "p.gest"
+    path.write_text("robot inmoov\nplace cup (350, -200, 300) mm\n"
+                    "g: right hand to cup, look at (1500, 400, 600) mm over 2s\n")
+    found = analyse(path.read_text(), str(path))
+    page.show(view_of(found, gesture="g"))
+    browser.navigate(page.url)
+    settled(browser, lambda shot: orange(shot).mean() > 1e-4, SETTLE)  # the cup, the path
+    before = blue(settled(browser, lambda shot: blue(shot).any(), SETTLE))  # place, gaze
+    page.seek(2.0)  # the end: the gaze's ray turned to the place
+    settled(browser, lambda shot: (blue(shot) != before).mean() > 1e-4, SETTLE)

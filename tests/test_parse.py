@@ -100,8 +100,9 @@ ERRORS = [
     ("p:\n    index 90\n  middle 9",
      "e.gest:3:3: error: this line's indentation matches no enclosing block", "      ^"),
     ("p:\n  index 90\n\n  # c\n    middle 9",
-     "e.gest:5:5: error: unexpected indentation; expected 'hold', a name, 'repeat', "
-     "'say', 'left', 'right', 'wait' or the end of the indented block", "        ^"),
+     "e.gest:5:5: error: unexpected indentation; expected 'hold', 'look', a name, "
+     "'repeat', 'say', 'left', 'right', 'wait' or the end of the indented block",
+     "        ^"),
 ]
 
 
@@ -165,8 +166,8 @@ def test_huge_numbers_and_odd_characters_are_diagnostics(source, first):
 
 @pytest.mark.parametrize(("source", "first", "hint"), [
     ("wait: index 90", "e.gest:1:1: error: 'wait' is a keyword and cannot name a gesture",
-     "choose another name (the keywords: group, hold, left, over, pose, repeat, right, "
-     "robot, say, stagger, through, use, wait)"),
+     "choose another name (the keywords: group, hold, left, look, over, place, pose, "
+     "repeat, right, robot, say, stagger, through, use, wait)"),
     ("pose over: index 9", "e.gest:1:6: error: 'over' is a keyword and cannot name a pose",
      None),
     ("group hold: index", "e.gest:1:7: error: 'hold' is a keyword and cannot name a group",

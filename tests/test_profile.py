@@ -554,7 +554,7 @@ UNKNOWN_KEYS = {
                          "did you mean 'collision'?"),
     "at the top": ("foo = 1\n" + HAND, "unknown key 'foo'", "1:1", "foo",
                    "a profile holds: name, description, board, servo, groups, sides, glove, "
-                   "voice, collision"),
+                   "voice, collision, place"),
     "an array of tables": (HAND + "[[servos]]\nid = 3\n", "unknown table 'servos'", "40:1",
                            "[[servos]]", "did you mean 'servo'?"),
     "in [collision]": (HAND + "[collision]\nclearance = 5\n",

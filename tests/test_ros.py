@@ -236,6 +236,13 @@ def ros_python(request, tmp_path_factory) -> Path:
     return python
 
 
+def outside_this_venv() -> list[str]:
+    """PATH without this interpreter's own venv: what pip put there (the reach extra
+    brings pip's rospkg, whose rosversion script would shadow ROS's own) is not ROS's."""
+    own = Path(sys.prefix, "bin").resolve()
+    return [p for p in os.environ["PATH"].split(os.pathsep) if p and Path(p).resolve() != own]
+
+
 def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -249,7 +256,7 @@ def ros_env(ros_python, tmp_path_factory) -> dict[str, str]:
     port = free_port()
     env = {**os.environ, "ROS_MASTER_URI": f"http://127.0.0.1:{port}", "ROS_IP": "127.0.0.1",
            "ROS_HOME": str(home), "ROS_LOG_DIR": str(home / "log"),
-           "PATH": f"{ros_python.parent}{os.pathsep}{os.environ['PATH']}",
+           "PATH": os.pathsep.join([str(ros_python.parent), *outside_this_venv()]),
            "PYTHONUNBUFFERED": "1",
            # virtual boards of its own (made before the tests' own state directories:
            # the user's would carry the poses other programs left)
@@ -484,7 +491,8 @@ def test_roslaunch_brings_up_the_node_and_robot_state_publisher(ros_python, ros_
 def test_the_launch_file_s_allow_contact_is_the_node_s(ros_python):
     """``allow_contact:=true`` starts the node with --allow-contact (roslaunch itself
     says the command line it would run); by default, and with false, it refuses."""
-    env = {**os.environ, "ROS_PACKAGE_PATH": str(ROOT / "ros")}
+    env = {**os.environ, "ROS_PACKAGE_PATH": str(ROOT / "ros"),
+           "PATH": os.pathsep.join([str(ros_python.parent), *outside_this_venv()])}
 
     def node(*args: str) -> list[str]:
         done = subprocess.run(["roslaunch", "--args", "/inmoov_hand", "inmoov_dsl",

@@ -52,6 +52,11 @@ SCOPES = {
     "COLON": "punctuation.separator.colon.gest",
     "COMMA": "punctuation.separator.comma.gest",
     "AMPERSAND": "punctuation.separator.together.gest",
+    "HAND": "keyword.other.place.gest",  # right hand to (350, -200, 300) mm, look at cup
+    "TO": "keyword.other.place.gest",
+    "AT": "keyword.other.place.gest",
+    "LPAR": "punctuation.section.parens.begin.gest",
+    "RPAR": "punctuation.section.parens.end.gest",
 }
 #: what the library does not write: a robot with a dash, a group, left and right,
 #: through, &, a unit after a space, a line continued (its backslash is no token)

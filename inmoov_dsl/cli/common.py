@@ -13,6 +13,7 @@ import sys
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
+from .. import model  # noqa: F401  (gives the compiler its solver of places)
 from ..errors import Diagnostic, GestError
 
 EXIT_OK, EXIT_ERROR, EXIT_INTERRUPTED = 0, 1, 130

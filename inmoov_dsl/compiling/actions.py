@@ -34,10 +34,15 @@ class Action:
     #: of that call (a call in a repeat plays again)
     call: Pos | None = None
     opens: bool = False
+    #: ``right hand to cup``, ``look at cup``: ``reaching.Aim``s the solve turns into
+    #: targets (then empty), and each one solved with its values ((servo, value), ...)
+    aims: tuple[Any, ...] = ()
+    solved: tuple[tuple[Any, tuple[tuple[int, int], ...]], ...] = ()
 
     def servos(self) -> set[int]:
         """The servos this step moves (in its branches too)."""
         found = {i for i, _ in self.targets} | ({self.speech.servo} if self.speech else set())
+        found.update(i for aim in self.aims for i in aim.servos)
         for branch in self.branches:
             for action in branch:
                 found |= action.servos()

@@ -15,6 +15,7 @@ from ..hardware import Profile
 from ..language import snippet
 from ..language.load import load
 from ..language.program import Program
+from . import reaching
 from .actions import Action
 from .compiled import Compiled, Cue, StepSummary
 from .encode import encode
@@ -116,8 +117,10 @@ def plan_gesture(program: Program, gesture: str, profile: Profile, start: Start 
     if actions is None:
         actions = resolver(program, profile).gesture(gesture, side)
     pose = resolve_start(program, profile, start)
+    actions, noted = reaching.solve(actions, pose, profile, program.sources, strict)
     plan = Planner(profile, program.sources).plan(actions, pose, strict)
-    found = tuple(d for check in _CHECKS.get() for d in check(plan, program.sources, strict))
+    found = noted + tuple(d for check in _CHECKS.get()
+                          for d in check(plan, program.sources, strict))
     return dataclasses.replace(plan, warnings=plan.warnings + found) if found else plan
 
 

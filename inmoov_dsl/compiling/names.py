@@ -7,7 +7,7 @@ import functools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from ..errors import Diagnostic, GestError, closest, did_you_mean
+from ..errors import Diagnostic, GestError, Pos, closest, did_you_mean
 from ..hardware import Profile
 from ..language import syntax as ast
 from ..language.program import Program
@@ -45,7 +45,17 @@ class Gesture:
     node: ast.GestureDef
 
 
-Entity = Servo | Group | Pose | Gesture
+@dataclass(frozen=True)
+class Place:
+    """A place, of the program (``place cup (350, -200, 300) mm``) or of the profile
+    (``[place.cup]``): metres in the robot's base frame, and where it is written."""
+
+    name: str
+    xyz: tuple[float, float, float] | None  #: None: written wrong (told by the parser)
+    pos: Pos | None = None  #: None: the profile's
+
+
+Entity = Servo | Group | Pose | Gesture | Place
 
 
 class NameTable:
@@ -114,6 +124,10 @@ def _table(program: Program, profile: Profile) -> dict[str, Entity]:
         table[group.name.text] = Group(group.name.text, tuple(m.text for m in group.members))
     if errors:
         raise GestError(errors)
+    table.update({n: Place(n, xyz) for n, xyz in profile.places.items()
+                  if n not in table})  # a file's own place of the name wins
+    table.update({n: Place(n, node.point.xyz, node.name.pos)
+                  for n, node in program.places.items()})
     table.update({n: Pose(node) for n, node in program.poses.items()})
     table.update({n: Gesture(node) for n, node in program.gestures.items()})
     return table

@@ -44,6 +44,7 @@ class PlannedStep:
     servos: tuple[int, ...]  #: indices of the servos that move
     call: Pos | None = None  #: ``Action.call``: the call it plays in, where it is written
     opens: bool = False  #: the first step of one play of that call
+    solved: tuple = ()  #: ``Action.solved``: its places and the values they solved to
 
 
 @dataclass(frozen=True)
@@ -101,8 +102,9 @@ class Planner:
                 if report.stretched:
                     key = (step.over_pos or step.pos, stretch_message(needed, step.over))
                     stretched[key] = stretched.get(key, 0) + 1
-                reports.append(report if step.call is None else dataclasses.replace(
-                    report, call=step.call, opens=step.opens))
+                reports.append(report if step.call is None and not step.solved else
+                               dataclasses.replace(report, call=step.call, opens=step.opens,
+                                                   solved=step.solved))
                 now = report.end
             k += len(run)
             if now > MAX_GESTURE_DURATION:

@@ -18,7 +18,7 @@ from ..language.program import Program
 from . import robot, saying, sides
 from .actions import Action, Frame
 from .names import ANYTHING, Gesture, call_chain
-from .targets import MAX_NESTING, Targets
+from .targets import MAX_NESTING, Aims
 
 MAX_STEPS = 100_000  #: the most steps one gesture may expand to
 #: the most steps all the gestures of one program may expand to for one profile, each
@@ -26,7 +26,7 @@ MAX_STEPS = 100_000  #: the most steps one gesture may expand to
 MAX_TOTAL_STEPS = 1_000_000
 
 
-class Resolver(Targets):
+class Resolver(Aims):
     """Turns a gesture of a Program into Actions for one profile."""
 
     def gesture(self, name: str, side: str | None = None, label: str | None = None
@@ -175,7 +175,7 @@ class Resolver(Targets):
 
     def _callee(self, move: ast.Move) -> str | None:
         """The gesture ``move`` calls, if it is a call: a gesture's name alone."""
-        if len(move.targets) != 1:
+        if len(move.targets) != 1 or move.reaches:
             return None
         target = move.targets[0]
         what = "servo or group" if target.valued else ANYTHING
@@ -200,8 +200,9 @@ class Resolver(Targets):
             if step.through and step.stagger:
                 self.fail("a step that flows 'through' its keyframe cannot 'stagger'",
                           step.through, "stagger the step before, or after, instead")
-            self._moves[key] = tuple(self.targets(step.targets).items())
-        return Action(self._moves[key], over=step.over.seconds if step.over else None,
+            self._moves[key] = (tuple(self.targets(step.targets).items()), self.aims(step))
+        targets, aims = self._moves[key]
+        return Action(targets, aims=aims, over=step.over.seconds if step.over else None,
                       stagger=step.stagger.seconds if step.stagger else 0.0, pos=step.pos,
                       over_pos=step.over.pos if step.over else None, where=where,
                       through=step.through is not None)

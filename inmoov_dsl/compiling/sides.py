@@ -38,9 +38,22 @@ def moved(actions: Sequence[Action], partner: dict[int, int]
                 clashes.append(j)
             targets[j] = v
         branches = tuple(tuple(move(a) for a in branch) for branch in action.branches)
-        return replace(action, targets=tuple(targets.items()), branches=branches)
+        aims = tuple(_mirrored(aim, partner) for aim in action.aims)
+        return replace(action, targets=tuple(targets.items()), branches=branches, aims=aims)
 
     return [move(a) for a in actions], clashes
+
+
+def _mirrored(aim, partner: dict[int, int]):
+    """A hand's place on the other side (its servos' partners): the mirror image of the
+    place (y to -y); the gaze's place as it is, as the head's values are."""
+    if not any(i in partner for i in aim.servos):
+        return aim
+    other = {"right": "left", "left": "right"}.get(aim.what, aim.what)
+    x, y, z = aim.xyz
+    return replace(aim, what=other, xyz=(x, -y, z),
+                   place=aim.place and f"the mirror image of {aim.place}",
+                   servos=tuple(partner.get(i, i) for i in aim.servos))
 
 
 def to_side(steps: list[Action], profile: Profile, side: str, name: str,

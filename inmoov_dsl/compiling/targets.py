@@ -12,7 +12,8 @@ from ..hardware import Profile
 from ..language import syntax as ast
 from ..language.program import Program
 from ..profiles.profile import profiles_with
-from .names import ANYTHING, Entity, Gesture, Group, NameTable, Pose, Servo
+from . import reaching
+from .names import ANYTHING, Entity, Gesture, Group, NameTable, Place, Pose, Servo
 from .speech import Speech
 
 MAX_NESTING = 100  #: the deepest chain of calls and repeats, or of poses within poses
@@ -31,7 +32,7 @@ class Targets:
         # keeps the nodes), and the gestures counted against MAX_TOTAL_STEPS
         self._poses: dict[str, tuple[dict[int, int], int]] = {}
         self._heights: dict[str, int] = {}
-        self._moves: dict[int, tuple[tuple[int, int], ...]] = {}
+        self._moves: dict[int, tuple[tuple[tuple[int, int], ...], tuple]] = {}
         self._speech: dict[int, Speech] = {}
         self._counted: set[str] = set()
         self._total = 0
@@ -70,6 +71,10 @@ class Targets:
                                   "poses, not gestures")
                     case Servo() | Group() as found:
                         self._set(t, found, direct, out)
+                    case Place():
+                        self.fail(f"'{t.name.text}' is a place: a hand goes to it, or the "
+                                  f"gaze", t.name.pos, f"right hand to {t.name.text}, or "
+                                  f"look at {t.name.text}")
         errors.raise_any()
         return out
 
@@ -116,3 +121,63 @@ class Targets:
                 self.fail(f"value {t.value} is outside the range of '{member}' "
                           f"({servo.lo}..{servo.hi})", t.value_pos)
             out[index] = t.value
+
+
+class Aims(Targets):
+    """The places of a step's items, for one profile (``right hand to cup``)."""
+
+    def aims(self, step: ast.Move) -> tuple[reaching.Aim, ...]:
+        """Each place item of ``step`` as an Aim, with the servos it turns; a servo that
+        two items turn, or that the step also gives a value, is an error at the second
+        (every one told)."""
+        found: list[reaching.Aim] = []
+        turned: dict[int, ast.Reach] = {}
+        errors = Errors()
+        for r in step.reaches:
+            with errors:
+                aim = self._aim(r)
+                for i in aim.servos:
+                    if i in turned:
+                        self.fail(f"'{self.profile.servos[i].name}' is turned by "
+                                  f"'{aim.label}' and by an item before it in this step",
+                                  r.pos, "one place for each hand, and one for the gaze")
+                    turned[i] = r
+                found.append(aim)
+        for t in step.targets:
+            with errors:
+                if t.value is None and not self._is_pose(t):
+                    continue
+                for i in self.targets((t,)):
+                    if i in turned:
+                        self.fail(f"'{self.profile.servos[i].name}' is solved by "
+                                  f"'{self._label(turned[i])}' in this step",
+                                  t.value_pos or t.name.pos,
+                                  "leave its value out, or write the arm's values "
+                                  "instead of the place")
+        errors.raise_any()
+        return tuple(a for a in found if a.xyz is not None)
+
+    def _is_pose(self, t: ast.Target) -> bool:
+        return isinstance(self.names.get(t.name.text), Pose)
+
+    def _label(self, r: ast.Reach) -> str:
+        where = r.to.name.text if r.to.name else "(" + ", ".join(r.to.numbers) + ")"
+        return f"look at {where}" if r.what == "look" else f"{r.what} hand to {where}"
+
+    def _aim(self, r: ast.Reach) -> reaching.Aim:
+        """One place item as an Aim: its place looked up, the servos it turns found."""
+        servos, missing = reaching.servos_for(self.profile, r.what)
+        if missing:
+            part = "head" if r.what == "look" else f"{r.what} arm"
+            self.fail(f"profile '{self.profile.name}' has no {part} to turn: "
+                      f"'{self._label(r)}' needs servos for joints {', '.join(missing)}",
+                      r.pos, "a place needs a robot with that arm or head (robot inmoov); "
+                      "a hand alone takes its servos' values")
+        xyz, name = r.to.xyz, ""
+        if r.to.name is not None:
+            found = self.lookup(r.to.name, "place")
+            if not isinstance(found, Place):
+                self.fail(f"'{r.to.name.text}' is not a place", r.to.name.pos,
+                          f"define it: place {r.to.name.text} (350, -200, 300) mm")
+            xyz, name = found.xyz, found.name
+        return reaching.Aim(r.what, xyz, servos, r.pos, name)  # type: ignore[arg-type]

@@ -13,12 +13,15 @@ from pathlib import Path
 from ..boards import TABLES
 from ..compiling.compiler import compile_program
 from ..compiling.names import Gesture, Group, Pose, Servo
+from ..compiling.names import Place as Located
+from ..compiling.reaching import servos_for
 from ..errors import GestError, Pos
 from ..language.catalog import scanned
 from ..language.library import Entry, library_dirs
 from ..language.load import GEST_SUFFIX
 from ..profiles.profile import builtin_profiles
 from ..voice.hearing import WAV_SUFFIX
+from . import places
 from .analysis import Analysis
 from .lines import rows
 from .text import TIMING, Place, code, place, string_at, word_at
@@ -41,6 +44,8 @@ def hover(found: Analysis, line: int, column: int) -> str | None:
         return said
     word = word_at(found.text, line, column)
     parts = [what] if word and (what := _entity(found, word)) else []
+    if (item := places.at(found, line, column)) is not None:
+        parts.insert(0, f"**{item.label}**: {item.text}")
     step = step_times(found).get(line)
     if step is not None and column >= step.column:
         parts.append(f"**step of {step.gesture}**: {label(step)[2:]}")
@@ -61,6 +66,10 @@ def _entity(found: Analysis, word: str) -> str | None:
                 f"{s.max_jerk:,.0f} deg/s³")
     if isinstance(entity, Group):
         return f"**group {word}**: {', '.join(entity.members)}"
+    if isinstance(entity, Located):
+        where = ", ".join(f"{c * 1000:g}" for c in entity.xyz or ())
+        whose = "" if entity.pos else f" (profile {profile.name})"
+        return f"**place {word}**{whose}: ({where}) mm, x forward, y left, z up"
     if isinstance(entity, Pose):
         targets = ", ".join(f"{t.name.text} {t.value}" if t.value is not None
                             else t.name.text for t in entity.node.targets)
@@ -113,9 +122,10 @@ class Completion:
 #: what each place offers (``text.Place``): the kinds of names, and the keywords
 NAMES = {"member": ("servo",), "pose": ("servo", "group", "pose"),
          "target": ("servo", "group", "pose"), "step": ("servo", "group", "pose", "gesture"),
-         "part": ("servo", "group", "pose", "gesture"), "side": ("gesture",)}
-WORDS = {"step": ("hold", "left", "repeat", "right", "say", "wait"),
-         "part": ("left", "right", "say")}
+         "part": ("servo", "group", "pose", "gesture"), "side": ("gesture",),
+         "place": ("place",)}
+WORDS = {"step": ("hold", "left", "look", "repeat", "right", "say", "wait"),
+         "part": ("left", "look", "right", "say")}
 
 
 def completions(found: Analysis, line: int, column: int,
@@ -149,12 +159,14 @@ def _offered(found: Analysis, at: Place, lib: Sequence[str]) -> list[Completion]
     if at.kind in NAMES:
         robot = found.profile
         unable = set() if robot is None else {
-            *(() if robot.sides else ("left", "right")), *(() if robot.voice else ("say",))}
+            *(() if robot.sides else ("left", "right")), *(() if robot.voice else ("say",)),
+            *(("look",) if servos_for(robot, "look")[1] else ())}
         return _names(found, NAMES[at.kind], at.name, lib) + [
             Completion(k, "keyword", "keyword") for k in WORDS.get(at.kind, ())
             if k not in unable]
     if at.kind == "top":
-        return [Completion(k, "keyword", "keyword") for k in ("group", "pose", "robot", "use")
+        return [Completion(k, "keyword", "keyword") for k in ("group", "place", "pose",
+                                                              "robot", "use")
                 if k != "robot" or at.first]
     if at.kind == "profile":
         return [Completion(p, "profile", "robot profile") for p in builtin_profiles()]
@@ -186,20 +198,23 @@ def _names(found: Analysis, kinds: Sequence[str], defining: str, lib: Sequence[s
     return out
 
 
-def _scope(found: Analysis) -> dict[str, Servo | Group | Pose | Gesture]:
+def _scope(found: Analysis) -> dict[str, Servo | Group | Pose | Gesture | Located]:
     """Every name in scope -> what it is: the analysis's names, or, when they do not
     resolve (two things of one name), the robot's and the program's as they are."""
     if found.names is not None:
         return found.names.entries()
-    out: dict[str, Servo | Group | Pose | Gesture] = {}
+    out: dict[str, Servo | Group | Pose | Gesture | Located] = {}
     if found.profile is not None:
         out.update((n, Servo(n, i)) for i, n in enumerate(found.profile.names))
         out.update((n, Group(n, tuple(m))) for n, m in found.profile.groups.items())
+        out.update((n, Located(n, xyz)) for n, xyz in found.profile.places.items())
     if found.program is not None:
         program = found.program
         out.update((n, Group(n, tuple(m.text for m in g.members)))
                    for n, g in program.groups.items())
         out.update((n, Pose(node)) for n, node in program.poses.items())
+        out.update((n, Located(n, node.point.xyz, node.name.pos))
+                   for n, node in program.places.items())
         out.update((n, Gesture(node)) for n, node in program.gestures.items())
     return out
 

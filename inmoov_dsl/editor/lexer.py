@@ -17,7 +17,7 @@ from pygments.lexer import RegexLexer, bygroups, this, using
 from pygments.token import Comment, Keyword, Name, Number, Operator, Punctuation, String, Whitespace
 
 from ..language.syntax import KEYWORDS
-from ..language.tree import UNITS
+from ..language.tree import LENGTHS, UNITS
 from .text import NAME, NUMBER, PROFILE
 
 END = r"(?![A-Za-z0-9_])"  #: a word ends here (the grammar's keywords end so)
@@ -31,6 +31,8 @@ def _either(texts) -> str:
 
 KEYWORD = _either(KEYWORDS)
 UNIT = _either(UNITS)
+LENGTH = _either(LENGTHS)  #: a place's unit, after its ')'
+SIDES = _either(("left", "right"))
 ROBOT = "robot"  #: the keyword whose name may hold dashes
 
 
@@ -58,12 +60,17 @@ class GestLexer(RegexLexer):
             # NAME: at the start of a line: a gesture
             (rf"^(?!{KEYWORD})({NAME})([ \t]*)(:)",
              bygroups(Name.Function, Whitespace, Punctuation)),
+            # right hand to, look at: words of the language only there ('hand' is a group)
+            (rf"({SIDES})([ \t]+)(hand)([ \t]+)(to){END}",
+             bygroups(Keyword, Whitespace, Keyword, Whitespace, Keyword)),
+            (rf"(look)([ \t]+)(at){END}", bygroups(Keyword, Whitespace, Keyword)),
             (KEYWORD, Keyword),
             (rf"({NUMBER})([ \t]*)({UNIT})", bygroups(using(this), Whitespace, Keyword.Type)),
+            (rf"(\))([ \t]*)({LENGTH})", bygroups(Punctuation, Whitespace, Keyword.Type)),
             (r"[+-]?(?:\d+\.\d*|\.\d+)", Number.Float),
             (r"[+-]?\d+", Number.Integer),
             (NAME, Name),
-            (r"[:,]", Punctuation),
+            (r"[:,()]", Punctuation),
             (r"&", Operator),
         ],
     }

@@ -14,6 +14,7 @@ from lsprotocol import types as lsp
 from ..errors import Diagnostic, GestError, Pos
 from ..language.fmt import format_source
 from ..language.load import GEST_SUFFIX, read_text
+from . import places
 from .actions import after_header, fixes
 from .analysis import Analysis, planned_at
 from .knowledge import completions, definition, hover, outline, references
@@ -27,7 +28,7 @@ KINDS = {"servo": lsp.CompletionItemKind.Variable, "group": lsp.CompletionItemKi
          "pose": lsp.CompletionItemKind.Constant, "gesture": lsp.CompletionItemKind.Function,
          "keyword": lsp.CompletionItemKind.Keyword, "unit": lsp.CompletionItemKind.Unit,
          "file": lsp.CompletionItemKind.File, "sound": lsp.CompletionItemKind.File,
-         "profile": lsp.CompletionItemKind.Module}
+         "profile": lsp.CompletionItemKind.Module, "place": lsp.CompletionItemKind.Reference}
 SYMBOLS = {"group": lsp.SymbolKind.Enum, "pose": lsp.SymbolKind.Constant,
            "gesture": lsp.SymbolKind.Function}
 
@@ -155,9 +156,11 @@ def outlined(found: Analysis) -> list[lsp.DocumentSymbol]:
 def hints(found: Analysis, within: lsp.Range) -> list[lsp.InlayHint]:
     """After each step of the range: when it starts and how long it lasts."""
     first, last = sorted((within.start.line, within.end.line))
-    return [lsp.InlayHint(lsp.Position(line, step.end_column), label(step),
-                          padding_left=True)
-            for line, step in sorted(step_times(found).items()) if first <= line <= last]
+    out = [lsp.InlayHint(lsp.Position(s.line, s.end), f"= {s.text}", padding_left=True)
+           for s in places.solved(found) if first <= s.line <= last]
+    return out + [lsp.InlayHint(lsp.Position(line, step.end_column), label(step),
+                                padding_left=True)
+                  for line, step in sorted(step_times(found).items()) if first <= line <= last]
 
 
 def actions(found: Analysis, uri: str, within: lsp.Range) -> list[lsp.CodeAction]:
@@ -172,6 +175,13 @@ def actions(found: Analysis, uri: str, within: lsp.Range) -> list[lsp.CodeAction
             fix.title, kind=lsp.CodeActionKind.QuickFix,
             diagnostics=[to_lsp(fix.diagnostic, found)], is_preferred=fix.preferred,
             edit=lsp.WorkspaceEdit(changes={uri: [edit]})))
+    for item in places.solved(found):  # a place written as the values it solves to
+        if first <= item.line <= last and len(item.values) == 1:
+            edit = lsp.TextEdit(lsp.Range(lsp.Position(item.line, item.column),
+                                          lsp.Position(item.line, item.end)), item.values[0])
+            out.append(lsp.CodeAction(f"Write '{item.label}' as servo values",
+                                      kind=lsp.CodeActionKind.RefactorRewrite,
+                                      edit=lsp.WorkspaceEdit(changes={uri: [edit]})))
     return out
 
 

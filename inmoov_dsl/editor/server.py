@@ -204,10 +204,12 @@ async def on_inlay_hints(ls: GestServer, params: lsp.InlayHintParams
 
 
 @server.feature(lsp.TEXT_DOCUMENT_CODE_ACTION,
-                lsp.CodeActionOptions(code_action_kinds=[lsp.CodeActionKind.QuickFix]))
+                lsp.CodeActionOptions(code_action_kinds=[lsp.CodeActionKind.QuickFix,
+                                                         lsp.CodeActionKind.RefactorRewrite]))
 async def on_code_action(ls: GestServer, params: lsp.CodeActionParams
                          ) -> list[lsp.CodeAction]:
-    """The fixes the hints of the range's diagnostics offer (once they are told)."""
+    """The fixes the hints of the range's diagnostics offer (once they are told), and
+    each place of the range written as the servo values it solves to."""
     uri = params.text_document.uri
     return await ls.ask(uri, functools.partial(actions, uri=uri, within=params.range),
                         checked=True) or []

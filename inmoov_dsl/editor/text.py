@@ -170,7 +170,9 @@ def _kind(allowed: frozenset[str], tokens: list[Token], at: Place) -> Place:
         return Place("step", at.start, at.name)
     if {"SAY", "NAME"} <= allowed:
         return Place("part", at.start, at.name)
-    if allowed == {"NAME"}:
+    if allowed == {"LPAR", "NAME"}:  # after 'right hand to', 'look at'
+        return Place("place", at.start, at.name)
+    if "NAME" in allowed and allowed <= {"NAME", "SIDE", "LOOK", "HAND"}:
         kind = "side" if last in ("left", "right") else "target" if last == "," else ""
         return Place(kind or "nothing", at.start, at.name)
     part = tokens[max((k for k, t in enumerate(tokens) if t.text == "&"), default=-1) + 1:]

@@ -7,8 +7,9 @@ from __future__ import annotations
 
 import re
 
-from ..compiling.names import Gesture, Group, Pose, Servo
+from ..compiling.names import Gesture, Group, Place, Pose, Servo
 from ..language.syntax import KEYWORDS
+from ..language.tree import LENGTHS
 from .analysis import Analysis
 from .knowledge import UNITS
 from .lines import rows
@@ -16,9 +17,10 @@ from .text import NUMBER, PROFILE, STRING
 
 #: the token types, in the order the editor is told them (the legend)
 TYPES = ("keyword", "number", "string", "comment", "namespace", "variable", "enum",
-         "enumMember", "function")
+         "enumMember", "function", "property")
 MODIFIERS = ("declaration", "defaultLibrary")
-KIND = {Servo: "variable", Group: "enum", Pose: "enumMember", Gesture: "function"}
+KIND = {Servo: "variable", Group: "enum", Pose: "enumMember", Gesture: "function",
+        Place: "property"}
 TOKEN = re.compile(rf'(?P<comment>#.*)|(?P<string>{STRING.pattern})'
                    rf"|(?P<number>{NUMBER})(?P<unit>[A-Za-z_]+)?|(?P<word>{PROFILE})")
 DEFINES = re.compile(r"^(\s*(group|pose)\s+)?([A-Za-z_][A-Za-z0-9_]*)\s*:")
@@ -42,7 +44,7 @@ def tokens(found: Analysis) -> list[tuple[int, int, int, str, tuple[str, ...]]]:
             elif m.group("number") is not None:
                 number = m.group("number")
                 out.append((k, start, len(number), "number", ()))
-                if m.group("unit") in UNITS:
+                if m.group("unit") in UNITS or m.group("unit") in LENGTHS:
                     out.append((k, start + len(number), len(m.group("unit")), "keyword", ()))
             elif text in KEYWORDS:
                 out.append((k, start, len(text), "keyword", ()))

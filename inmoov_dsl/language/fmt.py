@@ -95,7 +95,15 @@ def _target(t: ast.Target) -> str:
 
 
 def _targets(targets) -> str:
-    return ", ".join(_target(t) for t in targets)
+    return ", ".join(_target(t) if isinstance(t, ast.Target) else
+                     ("look at " if t.what == "look" else f"{t.what} hand to ") + point(t.to)
+                     for t in targets)
+
+
+def point(p: ast.Point) -> str:
+    """A place as the canonical layout writes it: ``(350, -200, 300) mm``, or its name."""
+    numbers = ", ".join("-" * n.startswith("-") + _number(n.lstrip("+-")) for n in p.numbers)
+    return p.name.text if p.name else f"({numbers}) {p.unit}".rstrip()
 
 
 def _step(step: ast.Step) -> _Node:
@@ -114,7 +122,7 @@ def _step(step: ast.Step) -> _Node:
 def _move(step: ast.Move | ast.Say) -> str:
     if isinstance(step, ast.Say):
         return f'say "{step.text}"'
-    text = _targets(step.targets)
+    text = _targets(step.items or step.targets)
     if step.side is not None:
         text = f"{step.side.text} {text}"
     if step.over is not None:
@@ -138,6 +146,8 @@ def _item(item: ast.Item) -> _Node:
     if isinstance(item, ast.PoseDef):
         return _Node(item.name.pos.line, f"pose {item.name.text}: "
                      f"{_targets(item.targets)}")
+    if isinstance(item, ast.PlaceDef):
+        return _Node(item.name.pos.line, f"place {item.name.text} {point(item.point)}")
     children = [_step(s) for s in item.steps]
     inline = len(children) == 1 and children[0].line == item.name.pos.line
     return _Node(item.name.pos.line, f"{item.name.text}:", children, inline)

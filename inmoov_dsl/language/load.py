@@ -133,7 +133,7 @@ class _Loader:
                 case _ if self._defines(item, file):
                     self._add(item, is_root)
 
-    def _defines(self, item: ast.GroupDef | ast.PoseDef | ast.GestureDef, file: str) -> bool:
+    def _defines(self, item: Definition, file: str) -> bool:
         """Whether ``item`` defines its name: not if shadowed or defined twice."""
         name = item.name.text
         if name not in self.defined:
@@ -147,7 +147,7 @@ class _Loader:
             f"first defined at {first.file}:{first.line}"))
         return False
 
-    def _add(self, item: ast.GroupDef | ast.PoseDef | ast.GestureDef, is_root: bool) -> None:
+    def _add(self, item: Definition, is_root: bool) -> None:
         program, name = self.program, item.name.text
         match item:
             case ast.GestureDef():
@@ -156,8 +156,13 @@ class _Loader:
                     program.own.append(name)
             case ast.PoseDef():
                 program.poses[name] = item
+            case ast.PlaceDef():
+                program.places[name] = item
             case ast.GroupDef():
                 program.groups[name] = item
+
+
+Definition = ast.GroupDef | ast.PoseDef | ast.PlaceDef | ast.GestureDef
 
 
 def _key(file: str) -> str:

@@ -45,12 +45,14 @@ class Program:
     #: step's line): read for their names, never planned
     flawed: frozenset[str] = frozenset()
     digests: dict[str, str] = field(default_factory=dict, repr=False)
+    places: dict[str, ast.PlaceDef] = field(default_factory=dict)
     _unplayable: frozenset[str] | None = field(default=None, repr=False, compare=False)
 
     def names(self) -> dict[str, Pos]:
-        """Every group, pose and gesture the program defines -> where it is defined."""
+        """Every group, pose, place and gesture the program defines -> where it is
+        defined."""
         found: dict[str, Pos] = {}
-        for table in (self.groups, self.poses, self.gestures):
+        for table in (self.groups, self.poses, self.places, self.gestures):
             for name, node in table.items():
                 found[name] = node.name.pos
         return found

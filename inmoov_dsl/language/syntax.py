@@ -8,7 +8,7 @@ from ..errors import Diagnostic, Pos
 
 #: the language's keywords: never a gesture, pose, group or servo name
 KEYWORDS = frozenset({"robot", "use", "group", "pose", "wait", "hold", "repeat", "over", "stagger",
-                      "through", "left", "right", "say"})
+                      "through", "left", "right", "say", "place", "look"})
 
 
 @dataclass(frozen=True)
@@ -34,6 +34,28 @@ class Target:
 
 
 @dataclass(frozen=True)
+class Point:
+    """``(350, -200, 300) mm``: a place in the robot's base frame (x forward, y to its
+    left, z up, from ``base_link``), or ``cup``: a place's name."""
+
+    xyz: tuple[float, float, float] | None  #: metres; None: a name (``name``), or refused
+    pos: Pos  #: the whole of it, from ``(`` to the unit, or the name
+    name: Name | None = None
+    numbers: tuple[str, ...] = ()  #: as written
+    unit: str = "mm"
+
+
+@dataclass(frozen=True)
+class Reach:
+    """``right hand to P`` (``what``: ``right``, ``left``) or ``look at P`` (``look``):
+    an item of a step that a solve turns into servo values."""
+
+    what: str
+    to: Point
+    pos: Pos  #: from the first word to the end of the place
+
+
+@dataclass(frozen=True)
 class Duration:
     """A duration (``over``, ``stagger``, ``wait``) in seconds, as written."""
 
@@ -53,6 +75,9 @@ class Move:
     pos: Pos
     through: Pos | None = None  #: ``through``: the servos cross the keyframe moving
     side: Name | None = None  #: ``left peace``: the call played on that side
+    reaches: tuple[Reach, ...] = ()  #: ``right hand to cup``, ``look at cup``
+    #: every item in the order written (targets and reaches), for what prints the step
+    items: tuple[Target | Reach, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -135,6 +160,14 @@ class PoseDef:
 
 
 @dataclass(frozen=True)
+class PlaceDef:
+    """``place NAME (x, y, z) mm``: a named place of the robot's base frame."""
+
+    name: Name
+    point: Point
+
+
+@dataclass(frozen=True)
 class GestureDef:
     """``NAME: step`` or ``NAME:`` and an indented block of steps."""
 
@@ -142,7 +175,7 @@ class GestureDef:
     steps: tuple[Step, ...]
 
 
-Item = Robot | Use | GroupDef | PoseDef | GestureDef
+Item = Robot | Use | GroupDef | PoseDef | PlaceDef | GestureDef
 
 
 @dataclass(frozen=True)

@@ -20,6 +20,8 @@ MAX_REPEAT = 1000
 MAX_DURATION = 600.0  #: s, the longest single move or wait
 MAX_DEPTH = 100  #: repeats within repeats
 UNITS = {"s": 1.0, "ms": 0.001}
+LENGTHS = {"mm": 0.001, "m": 1.0}  #: a place's units, in metres
+MAX_DISTANCE = 100.0  #: m: further than any robot reaches or looks, written by mistake
 
 
 @v_args(inline=True)
@@ -59,6 +61,41 @@ class _ToAst(Transformer):
 
     def pose_def(self, name: Token, *targets: ast.Target):
         return ast.PoseDef(self._name(name), targets)
+
+    def place_def(self, name: Token, point: ast.Point):
+        return ast.PlaceDef(self._name(name), point)
+
+    def point(self, *parts: Token):
+        """``(x, y, z) mm``: its numbers in metres; a missing or unknown unit, or a
+        number too large, is a flaw (the place is then None)."""
+        numbers, unit = parts[:3], parts[3] if len(parts) > 3 else None
+        first, last = numbers[0], unit or numbers[2]
+        pos = Pos(self.file, first.line, first.column - 1, 1)  # from the '('
+        if last.line == first.line:
+            end = last.column + len(str(last)) + (0 if unit else 1)  # past the ')'
+            pos = dataclasses.replace(pos, width=end - pos.column)
+        written = tuple(str(n) for n in numbers)
+        problem = _point_problem(written, unit, tok_span(unit) if unit else pos_span(pos))
+        if problem is not None:
+            self.flaws.append(problem)
+            return ast.Point(None, pos, None, written, str(unit or ""))
+        scale = LENGTHS[str(unit)]
+        xyz = tuple(float(n) * scale for n in written)
+        return ast.Point(xyz, pos, None, written, str(unit))  # type: ignore[arg-type]
+
+    def _place_of(self, spot: ast.Point | Token) -> ast.Point:
+        if isinstance(spot, ast.Point):
+            return spot
+        name = self._name(spot)
+        return ast.Point(None, name.pos, name)
+
+    def reach(self, side: Token, spot):
+        to = self._place_of(spot)
+        return ast.Reach(str(side), to, self._through(side, to.pos))
+
+    def look(self, keyword: Token, spot):
+        to = self._place_of(spot)
+        return ast.Reach("look", to, self._through(keyword, to.pos))
 
     def gesture_line(self, name: Token, step):
         return ast.GestureDef(self._name(name), (step,))
@@ -103,15 +140,18 @@ class _ToAst(Transformer):
 
     def move(self, *parts):
         side = self._name(parts[0]) if isinstance(parts[0], Token) else None
-        targets = tuple(p for p in parts if isinstance(p, ast.Target))
+        items = tuple(p for p in parts if isinstance(p, ast.Target | ast.Reach))
+        targets = tuple(p for p in items if isinstance(p, ast.Target))
+        reaches = tuple(p for p in items if isinstance(p, ast.Reach))
         timing: dict[str, Any] = {}  # over and stagger: a Duration; through: a Pos
         for kind, value, where in (p for p in parts if isinstance(p, tuple)):
             if kind in timing:  # the caret from the second keyword to its value's end
                 self.flaws.append(SyntaxProblem(f"'{kind}' is given twice in this step",
                                                 pos_span(where)))
             timing.setdefault(kind, value)
-        return ast.Move(targets, timing.get("over"), timing.get("stagger"),
-                        (side or targets[0].name).pos, timing.get("through"), side)
+        first = side.pos if side else getattr(items[0], "name", items[0]).pos
+        return ast.Move(targets, timing.get("over"), timing.get("stagger"), first,
+                        timing.get("through"), side, reaches, items)
 
     def together(self, *parts: ast.Move | ast.Say):
         return ast.Together(parts, parts[0].pos)
@@ -167,6 +207,24 @@ def _value_problem(text: str, span: Span) -> SyntaxProblem | None:
         lo = int(number // 1)
         return SyntaxProblem(f"values are whole degrees, got {shown(text)}", span,
                              f"use {lo} or {lo + 1}")
+    return None
+
+
+def _point_problem(numbers: tuple[str, ...], unit: Token | None, span: Span
+                   ) -> SyntaxProblem | None:
+    """What is wrong with a place as written, or None."""
+    shown_place = f"({', '.join(shown(n) for n in numbers)})"
+    if unit is None:
+        return SyntaxProblem(f"the place {shown_place} needs a unit", span,
+                             f"write {shown_place} mm or {shown_place} m")
+    if str(unit) not in LENGTHS:
+        return SyntaxProblem(f"unknown unit '{shown(str(unit))}' for a place", span,
+                             f"use mm or m, as in {shown_place} mm")
+    far = [n for n in numbers
+           if not abs(float(n) * LENGTHS[str(unit)]) <= MAX_DISTANCE]  # inf and nan too
+    if far:
+        return SyntaxProblem(f"{shown(far[0])}{unit} is further than any robot reaches "
+                             f"(at most {MAX_DISTANCE:g} m from its base)", span)
     return None
 
 

@@ -1,12 +1,12 @@
 """The drive loop (an edge): requests arrive while the hand moves, and each takes over.
 
-One loop for every front end that drives a hand live (``gestplay repl``, the ROS
-node, the service): it waits for a request only until the links need topping up, so a
-request starts within a few milliseconds; a request is a typed line of .gest text or
-steps already resolved (a trajectory's points), and each takes over the running move
-without a jump (``live.Session``). Each link's bytes go out as a continuous run timed
-by the wire (``wire.pace``), written LIVE_HORIZON ahead; a take-over or a stop drops
-what is queued and not yet on the wire. A ``Mirror`` keeps what each board holds as
+One loop for every front end that drives a hand live (``gestplay repl``, the ROS node,
+the service): it waits for a request only until the links need topping up, so a request
+starts within a few milliseconds; a request (a typed line of .gest text, or steps already
+resolved: a trajectory's points; its places solved from where the hand is going) takes
+over the running move without a jump (``live.Session``). Each link's bytes go out as a
+continuous run timed by the wire (``wire.pace``), written LIVE_HORIZON ahead; a take-over
+or a stop drops what is queued and not yet on the wire. A ``Mirror`` keeps what each board holds as
 its bytes arrive. What happens is told to the front end as ``Note``s.
 """
 
@@ -20,6 +20,7 @@ from typing import Any, Literal
 from .. import clock
 from ..compiling.actions import Action, Steps
 from ..compiling.plan import Plan, Planner
+from ..compiling.reaching import solved
 from ..errors import Diagnostic, GestError, SourceMap
 from ..hardware import Profile
 from ..language.library import library_dirs, library_files, scan
@@ -64,8 +65,7 @@ Guard = Callable[[Plan, SourceMap | None, bool | None], tuple[Diagnostic, ...]]
 
 def library_program(dirs: list[Path] | None = None) -> Program:
     """Every library gesture, pose and group, for names typed at the prompt: the first
-    definition of a name along the search path, as for gestures named on the command
-    line (files that do not parse are left out; ``gestplay repl`` warned of them)."""
+    definition along the search path (files that do not parse left out: repl warned)."""
     dirs = library_dirs() if dirs is None else dirs
     broken = scan(dirs).broken
     uses = "".join(f'use "{f.resolve()}"\n' for f in library_files(dirs) if f not in broken)
@@ -201,7 +201,7 @@ class Drive:
             except GestError as exc:
                 self.tell(Note("error", tuple(exc.diagnostics), name, id=order.id))
                 return None
-        if not self._guarded(order, steps, sources, name):
+        if (steps := self._guarded(order, steps, sources, name)) is None:
             return None
         after = not self.take_over if order.after is None else order.after
         dropped = set() if after else {self.tracker.playing, *self.session.tags()}
@@ -218,19 +218,19 @@ class Drive:
         return segment
 
     def _guarded(self, order: Order, steps: list[Action], sources: SourceMap | None,
-                 name: str) -> bool:
-        """Whether the request may go on (``Guarding.request``); else its refusal is
-        told."""
+                 name: str) -> list[Action] | None:
+        """Its steps, places solved, if it may go on (``Guarding.request``); or None."""
+        going = self.session.current.plan.final
         try:
-            warnings = self.guarding.request(order, steps, sources,
-                                             self.session.current.plan.final,
-                                             self.session.tags())
+            steps, noted = solved(steps, going, self.profile, sources)
+            warnings = noted + self.guarding.request(order, steps, sources, going,
+                                                     self.session.tags())
         except GestError as exc:
             self.tell(Note("error", tuple(exc.diagnostics), name, id=order.id))
-            return False
+            return None
         if warnings:
             self.tell(Note("warning", warnings, id=order.id))
-        return True
+        return steps
 
     def _begin(self, segment: Segment, aside: bool) -> None:
         """Send ``segment`` from now on; tell what began, and its warnings (``aside``:

@@ -186,11 +186,13 @@ def line_steps(line: str, program: Program, profile: Profile, file: str = LINE,
         typed = Program(file, sources, program.texts, {**program.gestures, _NAME: gesture},
                         program.poses, program.groups, [_NAME],
                         in_library=program.in_library, hear=program.hear,
-                        robots=program.robots)
+                        robots=program.robots, places=program.places)
         actions = Resolver(typed, profile).gesture(_NAME, side, line.strip()[:40])
     back = functools.partial(snippet.shift, text=line, file=file, prefix=_PREFIX,
                              line=number)
-    return [replace(a, pos=back(a.pos), over_pos=back(a.over_pos)) for a in actions], sources
+    return [replace(a, pos=back(a.pos), over_pos=back(a.over_pos),
+                    aims=tuple(replace(m, pos=back(m.pos)) for m in a.aims))
+            for a in actions], sources
 
 
 def text_steps(text: str, gesture: str | None, program: Program, profile: Profile,
@@ -223,5 +225,6 @@ def text_steps(text: str, gesture: str | None, program: Program, profile: Profil
                     {**program.gestures, **own.gestures}, {**program.poses, **own.poses},
                     {**program.groups, **own.groups}, list(own.own),
                     in_library=program.in_library, hear=program.hear,
-                    robots={**program.robots, **own.robots})
+                    robots={**program.robots, **own.robots},
+                    places={**program.places, **own.places})
     return Resolver(typed, profile).gesture(name, side), sources, name

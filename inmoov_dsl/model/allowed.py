@@ -61,9 +61,16 @@ class Allowed:
 
 
 def digest(profile: Profile) -> str:
-    """What the allowed pairs depend on: the model's parts and each servo's travel."""
-    text = repr(body(profile)) + repr([(s.joint, s.rest, s.lo, s.hi, s.calibration)
-                                       for s in profile.servos])
+    """What the allowed pairs depend on: the model's parts that carry a shape, or a link
+    that does, and each servo's travel (a frame with nothing under it, a hand's point or
+    the gaze, changes no pair)."""
+    parts = body(profile)
+    bearing = {p.link for p in parts if p.shape is not None}
+    for p in reversed(parts):  # each part comes after its parent
+        if p.link in bearing:
+            bearing.add(p.parent)
+    text = repr([p for p in parts if p.link in bearing]) + repr(
+        [(s.joint, s.rest, s.lo, s.hi, s.calibration) for s in profile.servos])
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 

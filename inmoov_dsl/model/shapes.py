@@ -119,6 +119,23 @@ class Bodies:
             out[k] = self._gap(self._objects[i], self._objects[j])
         return out
 
+    def around(self, transforms: np.ndarray, point: np.ndarray) -> list[tuple[int, float]]:
+        """The bodies ``point`` (the base's frame, m) is inside of, with FCL's depth of
+        it (mm), deepest first; none when it is outside every one."""
+        fcl = self._fcl
+        probe = fcl.CollisionObject(fcl.Sphere(1e-4))
+        probe.setTranslation(point)
+        places = transforms[self.links]
+        centres = self.centres_of(places)
+        near = np.linalg.norm(centres - point, axis=1) < self.radius + 1e-3
+        found = []
+        for n in np.flatnonzero(near).tolist():
+            self._objects[n].setRotation(places[n, :3, :3])
+            self._objects[n].setTranslation(centres[n])
+            if (gap := self._gap(self._objects[n], probe)) <= 0:
+                found.append((n, -gap))
+        return sorted(found, key=lambda found: -found[1])
+
     def _gap(self, one: Any, other: Any) -> float:
         fcl = self._fcl
         distance = fcl.distance(one, other, self._distance, fcl.DistanceResult())

@@ -104,6 +104,9 @@ def hand(travel: dict[str, float]) -> list[Part]:
     parts += finger("right", "thumb", (PALM[0] / 2 - 0.004, -0.01, 0.025), (0, tilt, 0),
                     lengths, r, (math.sin(tilt), 0, -math.cos(tilt)),
                     travel.get("right_palm_to_thumb", 90.0), THUMB_CURL)
+    # the hand's point, where a target puts the hand: the middle of the palm's inner face
+    parts.append(Part("right_palm_to_point", "right_palm", "right_hand_point", None,
+                      (0.0, -PALM[1] / 2, PALM[2] / 2)))
     return parts
 
 
@@ -171,6 +174,10 @@ def torso_and_head() -> list[Part]:
         Part("left_eye_y", "left_eye_socket", "left_eye", Shape("sphere", (0.017,),
                                                                 colour=DARK),
              axis=y, mimic=("eye_y", 1.0)),
+        # the gaze, between the eyes, its +x the way they look: it turns as they do
+        Part("gaze_x", "head", "gaze_socket", None, (0.1, 0.0, 0.12), axis=z,
+             mimic=("eye_x", 1.0)),
+        Part("gaze_y", "gaze_socket", "gaze", None, axis=y, mimic=("eye_y", 1.0)),
     ]
 
 

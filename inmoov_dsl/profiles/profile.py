@@ -19,7 +19,7 @@ from typing import Any
 from ..errors import Diagnostic, GestError, Pos, decode_utf8, did_you_mean
 from ..hardware import Board, Glove, Profile, Sensor, Servo
 from ..resources import files_in, profiles_dir, read_regular
-from . import collisiontable, kinds, tables, voicetable
+from . import collisiontable, kinds, placetable, tables, voicetable
 from .fields import LIMITS, NAME_RE, cut
 from .keys import Report
 
@@ -200,6 +200,8 @@ def _build(data: dict[str, Any], report: Report, file: str) -> Profile:
     voice = voicetable.voice(report, data["voice"], servos) if "voice" in data else None
     clearance = (collisiontable.collision(report, data["collision"]) if "collision" in data
                  else collisiontable.CLEARANCE_MM)
+    places = placetable.places(report, data["place"]) if "place" in data else {}
     report.stop()
     return Profile(name, description, tuple(boards), tuple(servos), groups, file,
-                   gloves=tuple(gloves), sides=sides, voice=voice, clearance_mm=clearance)
+                   gloves=tuple(gloves), sides=sides, voice=voice, clearance_mm=clearance,
+                   places=places)

@@ -26,7 +26,7 @@ FULL = (0, protocol.MAX_VALUE)
 SENSOR = "{ servo = ..., pin = ..., calibration = [low, high] }"
 #: the keys each table takes (a board's kind adds its own: ``boards.TABLES``)
 TOP = ("name", "description", "board", "servo", "groups", "sides", "glove", "voice",
-       "collision")
+       "collision", "place")
 BOARD = ("id", "name", "kind", "baud", "servos")
 SERVO = ("id", "range", "rest", "pin", "reversed", "max_velocity", "max_acceleration",
          "max_jerk", "calibration", "joint", "pulse")

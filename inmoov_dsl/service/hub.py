@@ -10,6 +10,7 @@ from collections.abc import Callable
 from typing import Any
 
 from ..compiling.plan import Planner
+from ..compiling.reaching import solved
 from ..errors import Diagnostic
 from ..live.drive import Drive, Next, Note
 from ..live.orders import Control, Order
@@ -66,11 +67,12 @@ class Service:
         drive, what = self.drive, order.what
         if drive is None or not what.actions:
             return ()
-        planned = Planner(self.profile, what.sources).plan(
-            list(what.actions), drive.session.current.plan.final)
+        start = drive.session.current.plan.final
+        steps, noted = solved(what.actions, start, self.profile, what.sources)
+        planned = Planner(self.profile, what.sources).plan(steps, start)
         if self.collisions is None:
-            return ()
-        return self.collisions.plan(planned, what.sources, order.allow_contact)
+            return noted
+        return noted + self.collisions.plan(planned, what.sources, order.allow_contact)
 
     def next_request(self, timeout: float) -> Next:
         """The drive loop's ``next_request``."""

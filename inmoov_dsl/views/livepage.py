@@ -25,6 +25,7 @@ from typing import Any
 from .liveclock import Clock
 from .livepanel import Panel
 from .lookout import Lookout
+from .placemarks import PlaceMarks
 from .scene import HOST, Robot, need_viser, robot_for, start_server, stop_server
 from .timeline import Span, View
 
@@ -58,6 +59,7 @@ class LivePage:
         self._picked: int | None = None  #: the span clicked, while the cursor is on its line
         self._wake, self._closing = threading.Event(), threading.Event()
         self.panel = Panel(self.server, self)
+        self.marks = PlaceMarks(self.server)  #: the plan's places, the hand's path, the gaze
         self.lookout = Lookout(self._found)
         self._thread = threading.Thread(target=self._run, name="live-page", daemon=True)
         self._thread.start()
@@ -65,15 +67,14 @@ class LivePage:
     # --- what the editor's side calls
 
     def show(self, view: View) -> None:
-        """Show ``view`` (at once: the page's thread draws it). Its cursor highlights
-        its steps; while paused, the robot takes the pose the last of them ends in."""
+        """Show ``view`` at once (the page's thread draws it): its cursor's steps lit,
+        and while paused, the pose the last of them ends in."""
         with self._lock:
             self._pending = self.lookout.filled(view)
         self._wake.set()
 
     def point(self, index: int | None) -> None:
-        """Highlight the step of span ``index`` (None: none), pause and hold the pose it
-        ends in."""
+        """Highlight the step of span ``index`` (None: none), pause, hold its end pose."""
         with self._lock:
             spans = (self._pending or self.view).spans if self._pending or self.view else ()
             self.cursor = (index,) if index is not None and 0 <= index < len(spans) else ()
@@ -85,8 +86,8 @@ class LivePage:
 
     @property
     def on_play(self) -> Callable[[View], str] | None:
-        """"Play on the robot": called with the view shown (its plan compiled), on a
-        thread of its own; what it returns is shown. None: the button is disabled."""
+        """"Play on the robot": called with the view shown, on a thread of its own;
+        what it returns is shown. None: the button is disabled."""
         return self._on_play
 
     @on_play.setter
@@ -137,12 +138,11 @@ class LivePage:
 
     def set_loop(self, loop: bool) -> None:
         """Loop or not."""
-        self._change(lambda clock, now: setattr(clock, "loop", loop))
+        self._change(lambda clock, _now: setattr(clock, "loop", loop))
 
     def pick(self, index: int) -> None:
         """A step's button: highlight it, hold the pose it ends in, tell ``on_pick``."""
-        view = self.view
-        if view is None or not 0 <= index < len(view.spans):
+        if (view := self.view) is None or not 0 <= index < len(view.spans):
             return
         self.point(index)
         self._picked = index
@@ -204,6 +204,7 @@ class LivePage:
             self._robot, note = robot_for(self.server, self._robot, view.profile, COMMAND)
         known, marks = self.lookout.known(view.plan) if view.plan else (False, None)
         self.panel.show(view, self.revision, known and marks is None, note)
+        self.marks.show(view.plan)
         if view.plan is not None and view.contacts is None:
             self.lookout.ask(view.plan)
         self._drawn = None
@@ -212,8 +213,7 @@ class LivePage:
         """The lookout found ``plan``'s contacts: its view shown again with them."""
         with self._lock:
             view = self._pending or self.view
-            if view is not None and view.plan is not None and \
-                    view.plan.tracks is plan.tracks and view.contacts is None:
+            if view and view.plan and view.plan.tracks is plan.tracks and view.contacts is None:
                 self._pending = dataclasses.replace(view, contacts=marks or ())
         self._wake.set()
 
@@ -229,6 +229,7 @@ class LivePage:
         values = view.pose(t)
         if self._robot is not None and view.profile is not None:
             self._robot.pose(values)
+            self.marks.pose(values)
         self.panel.now(view, t, values, cursor, playing)
         self.panel.sound(view, t, session if playing and speed == 1.0 else None)
         self.frames += 1

@@ -118,12 +118,12 @@ class Robot:
         a frame's budget while playing, against a few hundred microseconds)."""
         if list(values) == self.values:
             return
-        self.values = list(values)
+        first, self.values = self.values is None, list(values)
         configuration = self.configuration(values)
         frames = getattr(self.handle, "_joint_frames", None)
         joints = getattr(self.handle, "_joint_map_values", None)
-        if frames is None or joints is None or len(frames) != len(joints):
-            self.handle.update_cfg(configuration)  # (another viser: its own way)
+        if first or frames is None or joints is None or len(frames) != len(joints):
+            self.handle.update_cfg(configuration)  # the first: every joint, fixed ones too
             return
         at = dict(zip(self.actuated, configuration.tolist(), strict=True))
         for joint, frame in zip(joints, frames, strict=True):

@@ -40,6 +40,8 @@ def run(args: argparse.Namespace) -> int:
         flag = "  stretched" if s.stretched else ""
         print(f"  {n:>3}  {s.where:<24} {source:<18} {s.kind:<5} {s.start:7.3f} "
               f"{s.end:7.3f} {asked} {s.end - s.start:7.3f}{flag}")
+        for row in solved_text(s.solved, plan.profile.names):
+            print(f"  {'':>3}    {row}")
     for start, speech in plan.sounds:
         print()
         print(sound_text(start, speech, plan))
@@ -47,6 +49,12 @@ def run(args: argparse.Namespace) -> int:
         print()
         print(link_text(link))
     return EXIT_OK
+
+
+def solved_text(solved, names: tuple[str, ...]) -> list[str]:
+    """A line for each place of a step: ``right hand to cup -> r_omoplate 147, ...``."""
+    return [f"{aim.label} -> " + ", ".join(f"{names[i]} {v}" for i, v in values)
+            for aim, values in solved]
 
 
 def source_text(program: Program, gesture: str,
