@@ -216,3 +216,16 @@ def test_without_the_toolbox_places_are_solved_slowly_and_said_once(monkeypatch,
                               joints.positions(plan.profile, plan.final), strict=True)))
     assert np.linalg.norm(where(robot, "right_hand_point") - (400, -250, 350)) <= 5.0
     assert values["l_bicep"] == values["r_bicep"]  # the mirror image, solved the same way
+
+
+def test_the_work_a_text_may_ask_of_the_solver_is_bounded(monkeypatch):
+    from inmoov_dsl.compiling import reaching
+
+    monkeypatch.setattr(reaching, "MAX_SOLVES", 3)
+    steps = "".join(f"    right hand to ({400 + k}, -250, 350) mm over 0.5s\n" for k in range(5))
+    message = error_of("g:\n" + steps)
+    assert "p.gest:6:5: error: this gesture asks for more than 3 places to be solved" \
+        in message
+    again = "g:\n    repeat 50:\n        right hand to (400, -250, 350) mm over 0.5s\n" \
+            "        right hand to (450, -250, 350) mm over 0.5s\n"
+    compile_source("robot inmoov\n" + again)  # the same places from the same poses: 2 solves

@@ -29,6 +29,10 @@ SOLVES: Mapping[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     "look": (("rothead", "neck"), ("eye_x", "eye_y")),
 }
 FRAMES = {"right": "right_hand_point", "left": "left_hand_point", "look": "gaze"}
+#: the most places one compile solves (each from its own pose before; a place met again
+#: from the same pose is solved once): a few milliseconds each, so a compile's work stays
+#: bounded whatever the text asks
+MAX_SOLVES = 2000
 
 
 @dataclass(frozen=True)
@@ -132,6 +136,12 @@ def _solved(action: Action, pose: list[int], profile: Profile, sources: SourceMa
     solved = []
     for aim in action.aims:
         key = (aim, tuple(pose))
+        if key not in memo and len(memo) >= MAX_SOLVES:
+            errors.append(sources.error(
+                f"this gesture asks for more than {MAX_SOLVES:,} places to be solved",
+                aim.pos, "a place met again from the same pose is solved once: repeat "
+                "the same moves, or write values"))
+            continue
         if key not in memo:
             try:
                 memo[key] = _SOLVER[0][0](profile, aim, tuple(pose), sources)
