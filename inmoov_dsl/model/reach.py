@@ -19,10 +19,10 @@ from collections.abc import Sequence
 import numpy as np
 
 from ..compiling.reaching import FRAMES, Aim
-from ..errors import GestError, SourceMap
+from ..errors import Diagnostic, GestError, SourceMap
 from ..hardware import Profile
 from . import gaze, ik
-from .collide import Checker, checker_for
+from .collide import Checker, Contact, checker_for
 from .kinematics import Chain
 
 REACHED_MM = 5.0  #: the hand's point is at the place when this close (values are whole)
@@ -113,7 +113,8 @@ def _rounded(chain: Chain, arm: ik.ArmChain, values: np.ndarray, goal: np.ndarra
 
 
 def _refusal(sources: SourceMap, aim: Aim, chain: Chain, arm: ik.ArmChain,
-             best: tuple[float, np.ndarray], blocked) -> object:
+             best: tuple[float, np.ndarray], blocked: tuple[Contact, Checker] | None
+             ) -> Diagnostic:
     """The error of a place no pose reaches clear of the body."""
     if blocked is not None:
         contact, checker = blocked
@@ -129,7 +130,7 @@ def _refusal(sources: SourceMap, aim: Aim, chain: Chain, arm: ik.ArmChain,
         f"the nearest place it reaches is ({', '.join(f'{c:.0f}' for c in near)}) mm")
 
 
-def _parts(checker: Checker, contact) -> str:
+def _parts(checker: Checker, contact: Contact) -> str:
     """``the right forearm into the chest (by 12 mm)``, or ``... within 3 mm of ...``."""
     a, b = checker.part(contact.a), checker.part(contact.b)
     if contact.depth_mm > 0:
