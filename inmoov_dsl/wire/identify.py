@@ -26,6 +26,9 @@ MEGA_BAUD = 115_200  #: a Mega of ours (the InMoov's), as MyRobotLab opens its M
 ARDUINO = Bootloader("an Arduino's", "", ANY.window)
 
 
+ASKS = 3  #: DUMPs asked of a board that said WAIT (a slow link, a busy computer)
+
+
 def answer(info: PortInfo, baud: int = DEFAULT_BAUD, named: bool = False) -> str:
     """What answers on ``info``'s port, in words (``baud``: a board of ours'; a Mega of
     ours at 115200 is asked too, before MrlComm's question, which it would read as a
@@ -58,14 +61,17 @@ def _ours(device: str, baud: int) -> str | None:
     try:
         ready = wait_ready(port, bootloader=ARDUINO)  # an Uno resets as its port opens
         drain(port)
-        port.write(ASK_POSE)
-        replies, deadline = Replies(), clock.now() + DUMP_TIMEOUT
-        while clock.now() < deadline:
-            if (found := replies.feed(drain(port))) is not None:
-                board, values = found
-                at = f" at {baud} baud" if baud != DEFAULT_BAUD else ""
-                return f"board {board}, {len(values)} servos{at} (our firmware or the original)"
-            clock.sleep(0.005)
+        replies = Replies()
+        for _ in range(ASKS if ready else 1):  # a board that said WAIT is asked again
+            port.write(ASK_POSE)
+            deadline = clock.now() + DUMP_TIMEOUT
+            while clock.now() < deadline:
+                if (found := replies.feed(drain(port))) is not None:
+                    board, values = found
+                    at = f" at {baud} baud" if baud != DEFAULT_BAUD else ""
+                    return (f"board {board}, {len(values)} servos{at} (our firmware or the "
+                            f"original)")
+                clock.sleep(0.005)
         if ready:
             return f"a board that sends WAIT at {baud} baud but did not answer DUMP"
     except OSError as exc:
