@@ -124,14 +124,15 @@ def parse_profile(text: str, file: str = "<profile>") -> Profile:
     if len(text) > MAX_PROFILE:
         raise GestError(Diagnostic("error", f"the profile is longer than {MAX_PROFILE:,} "
                                    f"characters: it is not read", Pos(file, 1, 1)))
-    data = _toml(text, file)
+    data = read_toml(text, file)
     profile = _build(data, Report(text, file), file)
     digest = hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest()
     return replace(profile, sha256=digest)
 
 
-def _toml(text: str, file: str) -> dict[str, Any]:
-    """The data of TOML text; invalid TOML is an error at its place."""
+def read_toml(text: str, file: str) -> dict[str, Any]:
+    """The data of TOML text (a profile, a control map); invalid TOML is an error at its
+    place."""
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:

@@ -1,8 +1,10 @@
-"""gestc record: listen to a glove (or any stream in the protocol) and write a gesture.
+"""gestc record: listen to a glove (or any stream in the protocol), or read a MIDI take
+through a map of its controls, and write a gesture.
 
 The port is read until Ctrl-C or ``--seconds``; every (servo, value) pair is kept with
-its arrival time, and record.py turns the traces into a short gesture that the
-compiler plays back within the tolerance of the recording.
+its arrival time (a take's control changes, through ``live.controls``, the same), and
+record.py turns the traces into a short gesture that the compiler plays back within the
+tolerance of the recording.
 """
 
 from __future__ import annotations
@@ -27,16 +29,46 @@ PROG = "gestc record"
 
 
 def run(args: argparse.Namespace) -> int:
-    """Record from ``--port`` into ``--output``: listen, choose keyframes, write them."""
-    from ...decode import StreamReader
+    """Record from ``--port`` (or a MIDI take, ``--midi`` with ``--map``) into
+    ``--output``: listen or read, choose keyframes, write them."""
     from ...live.record import DEFAULT_TOLERANCE, keyframes, to_gest, traces
     from ...profiles.profile import load_profile
-    from ...wire.glove import on_the_clock
-    from ...wire.link import open_listener
 
     tolerance = DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance
     profile = load_profile(args.profile)
     name = gesture_name(args.name or Path(args.output).stem)
+    if (args.port is None) == (args.midi is None):
+        raise GestError(Diagnostic("error", "record from --port (a glove) or from --midi "
+                                   "(a MIDI take), one of them",
+                                   hint="gestc record --midi take.mid --map map.toml -o "
+                                   "take.gest"))
+    if args.midi is not None:
+        source, samples, deadband, about = _from_midi(args, profile)
+    else:
+        source, samples, deadband, about = _from_port(args, profile)
+    tr = traces(samples, profile, deadband)
+    fit = keyframes(tr, profile, tolerance)
+    lines = [f"{name}: recorded {source}, {tr.times[-1]:.2f} s, {tr.samples:,} "
+             f"samples, {len(fit.keyframes)} keyframes (tolerance {tolerance:g} degrees)"]
+    Path(args.output).write_text(to_gest(name, fit.keyframes, profile, lines),
+                                 encoding="utf-8")
+    print(f"wrote {args.output}: {name}, {tr.times[-1]:.2f} s, {len(fit.keyframes)} keyframes "
+          f"from {tr.samples:,} samples ({tr.dropped} dropped as noise{about}); it follows "
+          f"the recording within {fit.error:.1f} degrees beyond the dead-band of "
+          f"{deadband:g}", file=sys.stderr)
+    for warning in _warnings(fit, tolerance, profile):
+        warn(warning, PROG)
+    return EXIT_OK
+
+
+def _from_port(args: argparse.Namespace, profile: Profile
+               ) -> tuple[str, list[tuple[float, int, int]], float, str]:
+    """What a glove (or any stream) on ``--port`` sends: (where from, samples, its
+    dead-band, what was skipped)."""
+    from ...decode import StreamReader
+    from ...wire.glove import on_the_clock
+    from ...wire.link import open_listener
+
     listener = open_listener(args.port, profile, args.baud)
     glove = listener.glove
     deadband = glove.deadband if glove and args.deadband is None else (args.deadband or 0)
@@ -51,19 +83,30 @@ def run(args: argparse.Namespace) -> int:
     samples = reader.samples
     if glove is not None:
         samples = on_the_clock(samples, glove.frame_ms / 1000)
-    tr = traces(samples, profile, deadband)
-    fit = keyframes(tr, profile, tolerance)
-    about = [f"{name}: recorded on {args.port}, {tr.times[-1]:.2f} s, {tr.samples:,} "
-             f"samples, {len(fit.keyframes)} keyframes (tolerance {tolerance:g} degrees)"]
-    Path(args.output).write_text(to_gest(name, fit.keyframes, profile, about),
-                                 encoding="utf-8")
-    print(f"wrote {args.output}: {name}, {tr.times[-1]:.2f} s, {len(fit.keyframes)} keyframes "
-          f"from {tr.samples:,} samples ({tr.dropped} dropped as noise, {reader.skipped} "
-          f"bytes skipped); it follows the recording within {fit.error:.1f} degrees beyond "
-          f"the glove's dead-band of {deadband:g}", file=sys.stderr)
-    for warning in _warnings(fit, tolerance, profile):
-        warn(warning, PROG)
-    return EXIT_OK
+    return f"on {args.port}", samples, deadband, f", {reader.skipped} bytes skipped"
+
+
+def _from_midi(args: argparse.Namespace, profile: Profile
+               ) -> tuple[str, list[tuple[float, int, int]], float, str]:
+    """A MIDI take's control changes through the map (``--map``): (where from, samples,
+    no dead-band, what was passed over)."""
+    from ...language.load import read_text
+    from ...live.controls import no_samples, read_map, samples
+    from ...live.midi import read_take
+
+    if args.map is None:
+        raise GestError(Diagnostic("error", "--midi needs --map: which control turns which "
+                                   "servo", hint="a map.toml of [[control]] tables: cc = 1, "
+                                   "servo = \"index\" (docs/puppet.md)"))
+    controls = read_map(read_text(args.map), args.map, profile)
+    messages = read_take(args.midi)
+    found = samples(messages, controls, profile)
+    if not found:
+        raise no_samples(args.midi)
+    if args.seconds is not None:
+        found = [s for s in found if s[0] - found[0][0] <= args.seconds]
+    return (f"from {args.midi}", found, args.deadband or 0.0,
+            f", {len(messages) - len(found)} control changes the map does not take")
 
 
 def recorded_ids(profile: Profile, glove: Glove | None) -> frozenset[int]:
@@ -114,13 +157,17 @@ def _warnings(fit: Fit, tolerance: float, profile: Profile) -> list[str]:
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """Add ``record`` to gestc's subcommands."""
-    p = sub.add_parser("record", help="record a glove's motion as a gesture")
-    p.add_argument("--port", required=True, help="the glove's port (or any stream in the "
-                   "protocol): COM3, /dev/ttyUSB0, a pyserial URL")
+    p = sub.add_parser("record", help="record a glove's motion, or a MIDI take, as a gesture")
+    p.add_argument("--port", help="the glove's port (or any stream in the protocol): COM3, "
+                   "/dev/ttyUSB0, a pyserial URL")
+    p.add_argument("--midi", metavar="FILE.mid", help="a MIDI take (a DAW's recording of a "
+                   "controller's faders and knobs) instead of a port; needs --map")
+    p.add_argument("--map", metavar="MAP.toml", help="which MIDI control turns which servo "
+                   "([[control]] tables: docs/puppet.md)")
     p.add_argument("-o", "--output", required=True, help="the .gest file to write")
     p.add_argument("--name", help="the gesture's name (default: the file's name)")
     p.add_argument("--seconds", type=number(0, 86400, above=True),
-                   help="stop after this long (default: Ctrl-C)")
+                   help="stop after this long (default: Ctrl-C; a take's end)")
     p.add_argument("--tolerance", type=number(0, 90, above=True),
                    help="degrees the played gesture may stray from the recording "
                    "(default 3)")
