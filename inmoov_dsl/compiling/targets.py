@@ -161,7 +161,8 @@ class Aims(Targets):
         return isinstance(self.names.get(t.name.text), Pose)
 
     def _label(self, r: ast.Reach) -> str:
-        where = r.to.name.text if r.to.name else "(" + ", ".join(r.to.numbers) + ")"
+        where = r.to.name.text if r.to.name else \
+            f"({', '.join(r.to.numbers)}) {r.to.unit}".rstrip()
         return f"look at {where}" if r.what == "look" else f"{r.what} hand to {where}"
 
     def _aim(self, r: ast.Reach) -> reaching.Aim:
