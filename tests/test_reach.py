@@ -229,3 +229,20 @@ def test_the_work_a_text_may_ask_of_the_solver_is_bounded(monkeypatch):
     again = "g:\n    repeat 50:\n        right hand to (400, -250, 350) mm over 0.5s\n" \
             "        right hand to (450, -250, 350) mm over 0.5s\n"
     compile_source("robot inmoov\n" + again)  # the same places from the same poses: 2 solves
+
+
+def test_a_place_flows_staggers_and_runs_beside_another_part_as_values_do(robot):
+    text = ("robot inmoov\nplace cup (350, -200, 300) mm\n"
+            "flow:\n    right hand to cup over 1.5s through\n"
+            "    right hand to (450, -250, 500) mm over 1.5s\n"
+            "wave: right hand to cup, look at (1500, 400, 600) mm over 2s stagger 200ms\n"
+            "both: flow & look_right\nlook_right: look at (1500, 400, 600) mm over 1s\n")
+    flow, wave, both = (compile_source(text, gesture=g) for g in ("flow", "wave", "both"))
+    profile = load_profile("inmoov")
+    for compiled in (flow, both):  # through the cup without stopping, on to the next place
+        robot.update_cfg(dict(zip(joints.names(profile),
+                                  joints.positions(profile, compiled.final), strict=True)))
+        assert np.linalg.norm(where(robot, "right_hand_point") - (450, -250, 500)) <= 5.0
+    head = dict(zip(both.servos, both.final, strict=True))
+    assert head["rothead"] != profile.servos[profile.index("rothead")].rest  # the other part
+    assert wave.duration >= 2.0 and [s.asked for s in wave.steps] == [2.0]
