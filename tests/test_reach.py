@@ -246,3 +246,12 @@ def test_a_place_flows_staggers_and_runs_beside_another_part_as_values_do(robot)
     head = dict(zip(both.servos, both.final, strict=True))
     assert head["rothead"] != profile.servos[profile.index("rothead")].rest  # the other part
     assert wave.duration >= 2.0 and [s.asked for s in wave.steps] == [2.0]
+
+
+def test_a_place_reached_only_into_the_body_names_the_moving_part_first():
+    message = error_of("g: look at (350, -200, 300) mm over 2s\n")
+    assert message.startswith("p.gest:2:4: error: 'look at (350, -200, 300) mm' puts the jaw "
+                              "into the chest (by ")
+    message = error_of("g: right hand to (342.321, 50.605, 379.044) mm over 2s\n")
+    assert "mm' puts the right upper arm into the chest (by " in message  # within 5 mm of
+    # the place only so: told as a contact, not as out of reach

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import dataclasses
 import threading
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Collection, Iterator, Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -101,6 +101,16 @@ class Checker:
         """A link as a message names it: ``the right upper arm``; a finger or a palm,
         ``the right hand``."""
         return self._parts.get(link) or part(link)
+
+    def into(self, contact: Contact, moving: Collection[int]) -> str:
+        """``the right forearm into the chest (by 12 mm)`` (or ``within 3 mm of``): the
+        part the ``moving`` servos carry first."""
+        a, b = contact.a, contact.b
+        if not self.chain.servos_between(self.chain.links.index(a), 0) & set(moving):
+            a, b = b, a
+        if contact.depth_mm > 0:
+            return f"{self.part(a)} into {self.part(b)} (by {contact.depth_mm:.0f} mm)"
+        return f"{self.part(a)} within {max(contact.distance_mm, 0):.0f} mm of {self.part(b)}"
 
     @property
     def pairs(self) -> list[tuple[str, str]]:

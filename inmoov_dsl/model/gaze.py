@@ -94,10 +94,9 @@ def solve(profile: Profile, aim: Aim, pose: Sequence[int], sources: SourceMap,
             return {i: int(whole[i]) for i in aim.servos}
         blocked = blocked or contacts[0]
     if blocked is not None:
-        a, b = checker.part(blocked.a), checker.part(blocked.b)
         raise GestError(sources.error(
-            f"'{aim.label}' puts {a} into {b}: every turn of the head that looks there "
-            f"does", aim.pos, "a place higher up, or further away"))
+            f"'{aim.label}' puts {checker.into(blocked, aim.servos)}: every turn of the "
+            f"head that looks there does", aim.pos, "a place higher up, or further away"))
     raise GestError(sources.error(
         f"'{aim.label}' is out of the head's range: the gaze misses it by "
         f"{worst:.0f} degrees", aim.pos,

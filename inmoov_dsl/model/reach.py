@@ -75,8 +75,11 @@ def solve(profile: Profile, aim: Aim, pose: Sequence[int], sources: SourceMap
         near = min((_rounded(chain, arm, values, goal, arm.values(
             ik.nearest(arm, values, goal, seed)), aim) for seed in starts[:NEAREST]),
             key=lambda found: found[0])
-        if near[0] <= REACHED_MM and not (checker and checker.contacts_of(near[1])):
+        contacts = checker.contacts_of(near[1]) if checker is not None else []
+        if near[0] <= REACHED_MM and not contacts:
             return {i: int(near[1][i]) for i in aim.servos}  # at a joint's end
+        if near[0] <= REACHED_MM:
+            blocked = (contacts[0], checker)
         best = min(best or near, near, key=lambda found: found[0])
     raise GestError(_refusal(sources, aim, chain, arm, best, blocked))
 
@@ -119,8 +122,8 @@ def _refusal(sources: SourceMap, aim: Aim, chain: Chain, arm: ik.ArmChain,
     if blocked is not None:
         contact, checker = blocked
         return sources.error(
-            f"'{aim.label}' puts {_parts(checker, contact)}: every pose that reaches the "
-            f"place does", aim.pos, "choose a place further from the body")
+            f"'{aim.label}' puts {checker.into(contact, aim.servos)}: every pose that "
+            f"reaches the place does", aim.pos, "choose a place further from the body")
     miss, values = best
     near = chain.transforms(values)[arm.tip, :3, 3] * 1000
     side = aim.what
@@ -128,14 +131,6 @@ def _refusal(sources: SourceMap, aim: Aim, chain: Chain, arm: ik.ArmChain,
         f"'{aim.label}' is out of reach: the {side} hand's point comes no closer than "
         f"{miss:.0f} mm", aim.pos,
         f"the nearest place it reaches is ({', '.join(f'{c:.0f}' for c in near)}) mm")
-
-
-def _parts(checker: Checker, contact: Contact) -> str:
-    """``the right forearm into the chest (by 12 mm)``, or ``... within 3 mm of ...``."""
-    a, b = checker.part(contact.a), checker.part(contact.b)
-    if contact.depth_mm > 0:
-        return f"{a} into {b} (by {contact.depth_mm:.0f} mm)"
-    return f"{a} within {max(contact.distance_mm, 0):.0f} mm of {b}"
 
 
 def note() -> str | None:
