@@ -7,16 +7,18 @@ elementary transforms, its joints those of the aim's servos, every other joint h
 where the pose before the step has it (the torso carries the shoulder, the wrist the
 hand's point). Where the toolbox is not installed (the ``reach`` extra), the same
 solve is done here by damped least squares on the model's own kinematics: slower, and
-said once (``FALLBACK``).
+said once a compile (``reach.note``).
 """
 
 from __future__ import annotations
 
 import functools
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
+from ..hardware import Profile
 from . import joints
 from .kinematics import Chain
 from .urdf import body
@@ -26,7 +28,7 @@ TOLERANCE_M = 1e-6  #: the continuous solve's own tolerance, before values are r
 
 
 @functools.cache
-def toolbox() -> object | None:
+def toolbox() -> tuple[Any, Any] | None:
     """The toolbox's ``ET`` and ``ETS`` (imported once, when a place is first solved),
     or None when it is not installed."""
     try:
@@ -41,7 +43,7 @@ class ArmChain:
     joints' links, axes and radians per value, and its pieces that no arm servo turns
     at a pose (``pieces``)."""
 
-    def __init__(self, chain: Chain, profile, slots: Sequence[int], tip: str):
+    def __init__(self, chain: Chain, profile: Profile, slots: Sequence[int], tip: str):
         parts = body(profile)
         by_link = {p.link: p for p in parts}
         self.chain, self.slots = chain, tuple(slots)
@@ -56,7 +58,7 @@ class ArmChain:
         limits = np.array([[s.lo, s.hi] for s in servos], dtype=float)
         q = (limits - self.rest[:, None]) * self.gain[:, None]
         self.qlim = np.sort(q, axis=1).T  # (2, joints): lowest, highest
-        self._ets: dict[bytes, object] = {}
+        self._ets: dict[bytes, Any] = {}
 
     def q(self, values: np.ndarray) -> np.ndarray:
         """The arm's joint angles (radians) at servo values (the profile's order)."""
@@ -84,7 +86,7 @@ class ArmChain:
                                                                        strict=True)]
         return unturned[0], after
 
-    def at(self, values: np.ndarray) -> tuple[np.ndarray, object | None]:
+    def at(self, values: np.ndarray) -> tuple[np.ndarray, Any]:
         """The arm at the pose ``values``: where its first joint is, and the toolbox's
         chain of it (None without the toolbox), kept for the pieces it is made of."""
         before, after = self.pieces(values)
@@ -115,7 +117,7 @@ def _about(axis: Sequence[float], angle: float) -> np.ndarray:
     return out
 
 
-def _joint(et, axis: Sequence[float]):
+def _joint(et: Any, axis: Sequence[float]) -> Any:
     """The toolbox's turning joint about a principal ``axis`` (the model's are)."""
     k = int(np.argmax(np.abs(axis)))
     if abs(abs(axis[k]) - 1) > 1e-9 or sum(abs(c) for c in axis) > 1 + 1e-9:
