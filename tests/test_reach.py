@@ -6,6 +6,7 @@ in the file when out of reach or into the body."""
 from __future__ import annotations
 
 import csv
+import os
 import subprocess
 import sys
 
@@ -198,6 +199,7 @@ def test_without_the_toolbox_places_are_solved_slowly_and_said_once(monkeypatch,
     from inmoov_dsl.model import ik
 
     monkeypatch.setattr(ik, "toolbox", lambda: None)
+    monkeypatch.setattr(ik, "installed", lambda: False)
     text = ("robot inmoov\na: right hand to (400, -250, 350) mm over 2s\n"
             "b: left hand to (400, 250, 350) mm, right hand to (400, -250, 350) mm over 2s\n")
     path = tmp_path / "slow.gest"
@@ -255,3 +257,21 @@ def test_a_place_reached_only_into_the_body_names_the_moving_part_first():
     message = error_of("g: right hand to (342.321, 50.605, 379.044) mm over 2s\n")
     assert "mm' puts the right upper arm into the chest (by " in message  # within 5 mm of
     # the place only so: told as a contact, not as out of reach
+
+
+def test_a_place_solved_once_is_kept_and_the_toolbox_not_imported_again(tmp_path):
+    from inmoov_dsl.resources import CACHE_ENV
+
+    source = tmp_path / "p.gest"
+    source.write_text("robot inmoov\ng: right hand to (400, -250, 350) mm over 2s\n")
+    run = ("import sys; from inmoov_dsl.cli import gestc; gestc.main(['show', sys.argv[1]]);"
+           " print('toolbox', 'roboticstoolbox' in sys.modules)")
+    env = {**os.environ, CACHE_ENV: str(tmp_path / "cache")}
+    first, again = (subprocess.run([sys.executable, "-c", run, str(source)], env=env,
+                                   capture_output=True, text=True, timeout=120)
+                    for _ in range(2))
+    assert first.stdout.endswith("toolbox True\n"), first.stderr
+    assert again.stdout.endswith("toolbox False\n"), again.stderr  # seconds saved
+    shown = [row for row in first.stdout.splitlines() if "right hand to" in row]
+    assert shown and shown == [row for row in again.stdout.splitlines()
+                               if "right hand to" in row]  # the same values

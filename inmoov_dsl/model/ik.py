@@ -13,6 +13,7 @@ said once a compile (``reach.note``).
 from __future__ import annotations
 
 import functools
+import importlib.util
 from collections.abc import Sequence
 from typing import Any
 
@@ -25,6 +26,11 @@ from .urdf import body
 
 INSTALL = "pip install 'inmoov-dsl[reach]' (the Robotics Toolbox: solves in well under 1 ms)"
 TOLERANCE_M = 1e-6  #: the continuous solve's own tolerance, before values are rounded
+
+
+def installed() -> bool:
+    """Whether the toolbox is installed (asked without importing it: seconds)."""
+    return importlib.util.find_spec("roboticstoolbox") is not None
 
 
 @functools.cache

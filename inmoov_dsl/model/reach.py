@@ -21,7 +21,7 @@ import numpy as np
 from ..compiling.reaching import FRAMES, Aim
 from ..errors import Diagnostic, GestError, SourceMap
 from ..hardware import Profile
-from . import gaze, ik
+from . import gaze, ik, solved
 from .collide import Checker, Contact, checker_for
 from .kinematics import Chain
 
@@ -46,9 +46,21 @@ def arm_for(profile: Profile, aim: Aim) -> tuple[Chain, ik.ArmChain, np.ndarray]
 def solve(profile: Profile, aim: Aim, pose: Sequence[int], sources: SourceMap
           ) -> dict[int, int]:
     """The values of ``aim``'s servos that put its hand's point (or its gaze) at its
-    place from ``pose``; a GestError at the aim when none does."""
+    place from ``pose`` (kept between programs: ``solved``); a GestError at the aim
+    when none does."""
+    if (kept := solved.found(profile, aim, pose)) is not None:
+        return kept
     if aim.what == "look":
-        return gaze.solve(profile, aim, pose, sources, checker_for(profile))
+        values = gaze.solve(profile, aim, pose, sources, checker_for(profile))
+    else:
+        values = _arm(profile, aim, pose, sources)
+    solved.keep(profile, aim, pose, values)
+    return values
+
+
+def _arm(profile: Profile, aim: Aim, pose: Sequence[int], sources: SourceMap
+         ) -> dict[int, int]:
+    """A hand's place solved (see the module's docstring)."""
     chain, arm, seeds = arm_for(profile, aim)
     values = np.asarray(pose, dtype=float)
     goal = np.asarray(aim.xyz)
@@ -135,8 +147,8 @@ def _refusal(sources: SourceMap, aim: Aim, chain: Chain, arm: ik.ArmChain,
 
 def note() -> str | None:
     """What a compile that solves a hand's place says once: how to get the toolbox,
-    when it is not installed."""
-    if ik.toolbox() is not None:
+    when it is not installed (asked without importing it)."""
+    if ik.installed():
         return None
     return ("this hand's place is solved without the Robotics Toolbox, slowly; "
             "to solve it in well under a millisecond: " + ik.INSTALL)
