@@ -227,7 +227,10 @@ def test_avrdude_after_a_play_once_a_close_has_dropped_dtr(build, tmp_path):
             termios.tcsetattr(port, termios.TCSANOW, attrs)
         finally:
             os.close(port)
-        time.sleep(0.1)
+        # the harness sees the port hung up when its thread next looks at the pty, which on
+        # a machine whose cores are taken may be later than a tenth of a second; avrdude's
+        # open must come after it to be the edge that resets the board
+        time.sleep(1.0)
         done = subprocess.run(["avrdude", *arduino.avrdude, "-P", path, "-n"],
                               capture_output=True, text=True, timeout=90)
     assert done.returncode == 0, done.stderr
