@@ -46,7 +46,9 @@
  *       CLOCK_MONOTONIC, Python's time.monotonic, from when the board was powered up).
  *       simavr runs the board after the clock as fast as it can: on a machine too busy
  *       for it to keep up, the board runs late (its answers come late), but what it
- *       receives, and when in its own time, is what the wire brings it.
+ *       receives, and when in its own time, is what the wire brings it. Run as root,
+ *       the served board has a higher priority than the programs beside it (BOARD_NICE),
+ *       as a real board has a chip of its own.
  *       --control: orders on stdin, a line each:
  *         signal SIGNUM PID [S]  send SIGNUM to PID, at once or once the clock reads S
  *                                (the log's seconds); prints "signalled S N": when (every
@@ -82,6 +84,7 @@
 #include <string.h>
 #include <termios.h>
 #include <time.h>
+#include <sys/resource.h>
 #include <sys/types.h>
 #include <unistd.h>
 
@@ -1049,8 +1052,16 @@ static void serve_line(void) {
   }
 }
 
+/* A real board runs on a chip of its own, whatever the computer's load: served in real
+ * time, the simulated one asks for the CPU before the programs beside it (nice -15, where
+ * allowed: as root, in CI; elsewhere it runs at the priority it was given). It takes only
+ * what real time needs: caught up with the clock, both threads sleep. */
+#define BOARD_NICE (-15)
+
 static int serve(void) {
   int master, slave;
+  if (setpriority(PRIO_PROCESS, 0, BOARD_NICE) < 0 && errno != EACCES && errno != EPERM)
+    perror("simboard: setpriority"); /* (the threads made after this inherit it) */
   if (openpty(&master, &slave, NULL, NULL, NULL) < 0) {
     perror("simboard: openpty");
     return 1;
