@@ -122,6 +122,11 @@ def _whole(lo: int, hi: int, what: str, optional: bool = False) -> check.Check[i
 Message = tuple[float, int, int, int]  #: (s, channel 1..16, control number, level 0..127)
 
 
+def taking(controls: Sequence[Control], channel: int, cc: int) -> Control | None:
+    """The map's control that takes control change ``cc`` on ``channel`` (None: none)."""
+    return next((c for c in controls if c.cc == cc and c.channel in (None, channel)), None)
+
+
 def samples(messages: Iterable[Message], controls: Sequence[Control], profile: Profile
             ) -> list[tuple[float, int, int]]:
     """The (time, servo ID, value) samples of a take's control changes, in time order:
@@ -129,10 +134,8 @@ def samples(messages: Iterable[Message], controls: Sequence[Control], profile: P
     passed over)."""
     out = []
     for t, channel, cc, level in messages:
-        for c in controls:
-            if c.cc == cc and c.channel in (None, channel):
-                out.append((t, profile.servos[c.servo].id, c.value(level)))
-                break
+        if (c := taking(controls, channel, cc)) is not None:
+            out.append((t, profile.servos[c.servo].id, c.value(level)))
     return sorted(out, key=lambda s: s[0])
 
 

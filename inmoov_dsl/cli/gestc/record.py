@@ -31,10 +31,8 @@ PROG = "gestc record"
 def run(args: argparse.Namespace) -> int:
     """Record from ``--port`` (or a MIDI take, ``--midi`` with ``--map``) into
     ``--output``: listen or read, choose keyframes, write them."""
-    from ...live.record import DEFAULT_TOLERANCE, keyframes, to_gest, traces
     from ...profiles.profile import load_profile
 
-    tolerance = DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance
     profile = load_profile(args.profile)
     name = gesture_name(args.name or Path(args.output).stem)
     if (args.port is None) == (args.midi is None):
@@ -46,19 +44,30 @@ def run(args: argparse.Namespace) -> int:
         source, samples, deadband, about = _from_midi(args, profile)
     else:
         source, samples, deadband, about = _from_port(args, profile)
+    write_take(samples, profile, args.output, name, args.tolerance, source, deadband, about)
+    return EXIT_OK
+
+
+def write_take(samples: list[tuple[float, int, int]], profile: Profile, output: str,
+               name: str, tolerance: float | None, source: str, deadband: float = 0.0,
+               about: str = "", prog: str = PROG) -> None:
+    """Reduce a take's (time, servo ID, value) samples to the fewest keyframes within
+    ``tolerance`` (None: the default), write them to ``output`` as gesture ``name``, say
+    how well it follows (and warn where it cannot)."""
+    from ...live.record import DEFAULT_TOLERANCE, keyframes, to_gest, traces
+
+    tolerance = DEFAULT_TOLERANCE if tolerance is None else tolerance
     tr = traces(samples, profile, deadband)
     fit = keyframes(tr, profile, tolerance)
     lines = [f"{name}: recorded {source}, {tr.times[-1]:.2f} s, {tr.samples:,} "
              f"samples, {len(fit.keyframes)} keyframes (tolerance {tolerance:g} degrees)"]
-    Path(args.output).write_text(to_gest(name, fit.keyframes, profile, lines),
-                                 encoding="utf-8")
-    print(f"wrote {args.output}: {name}, {tr.times[-1]:.2f} s, {len(fit.keyframes)} keyframes "
+    Path(output).write_text(to_gest(name, fit.keyframes, profile, lines), encoding="utf-8")
+    print(f"wrote {output}: {name}, {tr.times[-1]:.2f} s, {len(fit.keyframes)} keyframes "
           f"from {tr.samples:,} samples ({tr.dropped} dropped as noise{about}); it follows "
           f"the recording within {fit.error:.1f} degrees beyond the dead-band of "
           f"{deadband:g}", file=sys.stderr)
     for warning in _warnings(fit, tolerance, profile):
-        warn(warning, PROG)
-    return EXIT_OK
+        warn(warning, prog)
 
 
 def _from_port(args: argparse.Namespace, profile: Profile

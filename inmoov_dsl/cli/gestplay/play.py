@@ -264,8 +264,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                         "InMoov hand (gestplay GESTURE is short for gestplay play GESTURE). "
                         "What was played and the pose the hand ends in go to standard "
                         "output; warnings and progress to standard error. Bench tools: "
-                        "gestplay ports|dump|send|relax|calibrate|repl|teach|serve|stored "
-                        "--help.")
+                        "gestplay " + "|".join(t for t in TOOLS if t != "play") +
+                        " --help.")
     ap.add_argument("target", metavar="GESTURE",
                     help="a library gesture, a .gest file or a compiled .gestc file")
     ap.add_argument("--port", action="append", default=[], metavar="PORT",
