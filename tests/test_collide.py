@@ -158,7 +158,7 @@ def test_another_library_reading_the_urdf_agrees(inmoov):
     from trimesh_reference import Reference
 
     reference, checked, seen = Reference(inmoov.profile), set(inmoov.pairs), 0
-    for pose in random_poses(inmoov.profile, 700, 13):
+    for pose in random_poses(inmoov.profile, 300, 13):
         values = inmoov.chain.values(pose)
         theirs = reference.overlapping(values, checked)
         gaps = {(c.a, c.b): c.distance_mm for c in inmoov.contacts_of(values)}
@@ -167,7 +167,7 @@ def test_another_library_reading_the_urdf_agrees(inmoov):
         assert ours <= theirs, pose
         assert theirs - ours <= unsure, pose
         seen += len(ours)
-    assert seen > 50  # the poses did put parts into each other (1,137 of them)
+    assert seen > 50  # the poses did put parts into each other (about 500 of them)
 
 
 def test_a_motion_swept_at_once_finds_what_each_of_its_poses_finds(inmoov):
