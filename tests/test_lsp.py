@@ -14,9 +14,13 @@ from lsp_client import SERVER
 from lsprotocol import types as lsp
 from pytest_lsp import ClientServerConfig, LanguageClient, client_capabilities
 
+#: one server a module and an editor (each test's documents are its own files): a
+#: server's start is 1.7 s of CPU, paid once, not for each of a hundred tests
+pytestmark = pytest.mark.asyncio(loop_scope="module")
+
 
 @pytest_lsp.fixture(config=ClientServerConfig(server_command=SERVER),
-                    params=["visual-studio-code", "neovim"])
+                    params=["visual-studio-code", "neovim"], scope="module")
 async def client(request, lsp_client: LanguageClient):
     result = await lsp_client.initialize_session(
         lsp.InitializeParams(capabilities=client_capabilities(request.param)))
@@ -55,7 +59,6 @@ async def changed(client: LanguageClient, uri: str, version: int, text: str
     return client.diagnostics[uri]
 
 
-@pytest.mark.asyncio
 async def test_every_error_as_it_is_typed_and_gone_once_fixed(client, tmp_path):
     uri = (tmp_path / "typos.gest").as_uri()
     found = await opened(client, uri, "a: indx 90, midle 90\nb: thum 90\nc: ring 90\n")
@@ -80,7 +83,6 @@ async def test_every_error_as_it_is_typed_and_gone_once_fixed(client, tmp_path):
     assert found[0].message.endswith("hint: did you mean 'over'?")
 
 
-@pytest.mark.asyncio
 async def test_formatting_is_gestc_fmt(client, tmp_path):
     uri = (tmp_path / "f.gest").as_uri()
     assert not await opened(client, uri, "g:\n  index   90  over 1s\n")
@@ -90,7 +92,6 @@ async def test_formatting_is_gestc_fmt(client, tmp_path):
     assert [e.new_text for e in edits] == ["g:\n    index 90 over 1s\n"]
 
 
-@pytest.mark.asyncio
 async def test_hover_and_completion_know_the_robot(client, tmp_path):
     uri = (tmp_path / "h.gest").as_uri()
     text = "pose half: fingers 90\ng: half, wrist 30 over 1s\n"
@@ -119,7 +120,6 @@ async def test_hover_and_completion_know_the_robot(client, tmp_path):
     assert apply(text, peace.additional_text_edits) == 'use "peace.gest"\n' + text
 
 
-@pytest.mark.asyncio
 async def test_definition_references_and_outline(client, tmp_path):
     (tmp_path / "moves.gest").write_text("pose half: fingers 90\n")
     uri = (tmp_path / "main.gest").as_uri()
@@ -165,7 +165,6 @@ def apply(text: str, edits: list[lsp.TextEdit]) -> str:
     return "\n".join(lines)
 
 
-@pytest.mark.asyncio
 async def test_inlay_hints_time_each_step_and_hover_tells_a_stretched_move(client, tmp_path):
     uri = (tmp_path / "t.gest").as_uri()
     text = "g:\n    index 180 over 0.6s\n    index 0 over 0.05s  # too fast\n    wait 1s\n"
@@ -188,7 +187,6 @@ async def test_inlay_hints_time_each_step_and_hover_tells_a_stretched_move(clien
     assert "stretched: asked 0.05 s" in said
 
 
-@pytest.mark.asyncio
 async def test_code_actions_from_the_hints_fix_the_file(client, tmp_path):
     uri = (tmp_path / "fix.gest").as_uri()
     text = "robot rhand\n\na: indx 90\nb: peace\nc: index 180 over 0.05s\n"
@@ -212,7 +210,6 @@ async def test_code_actions_from_the_hints_fix_the_file(client, tmp_path):
     assert not found  # every problem gone
 
 
-@pytest.mark.asyncio
 async def test_semantic_tokens_say_what_each_name_resolves_to(client, tmp_path):
     uri = (tmp_path / "s.gest").as_uri()
     text = 'pose half: fingers 90\ng: half, wrist 30 over 1s # done\nh: g & say "hi"\n'
@@ -236,7 +233,6 @@ async def test_semantic_tokens_say_what_each_name_resolves_to(client, tmp_path):
                     ('"hi"', "string", 0)]
 
 
-@pytest.mark.asyncio
 async def test_completion_in_use_and_say_lists_the_files(client, tmp_path):
     (tmp_path / "mine.gest").write_text("pose p: index 9\n")
     (tmp_path / "hello.wav").write_bytes(b"")
@@ -258,7 +254,7 @@ async def test_completion_in_use_and_say_lists_the_files(client, tmp_path):
 ROBOT = ClientServerConfig(server_command=SERVER)
 
 
-@pytest_lsp.fixture(config=ROBOT)
+@pytest_lsp.fixture(config=ROBOT, scope="module")
 async def inmoov_client(lsp_client: LanguageClient):
     await lsp_client.initialize_session(lsp.InitializeParams(
         capabilities=client_capabilities("visual-studio-code"),
@@ -267,7 +263,6 @@ async def inmoov_client(lsp_client: LanguageClient):
     await lsp_client.shutdown_session()
 
 
-@pytest.mark.asyncio
 async def test_the_robot_is_the_file_s_line_else_the_setting(inmoov_client, tmp_path):
     client = inmoov_client
     uri = (tmp_path / "head.gest").as_uri()
@@ -282,7 +277,6 @@ async def test_the_robot_is_the_file_s_line_else_the_setting(inmoov_client, tmp_
     assert "robot inmoov" in found[0].message  # the hint names the robot that has it
 
 
-@pytest.mark.asyncio
 async def test_hover_on_a_use_path_and_a_say(client, tmp_path):
     import wave
 
@@ -324,7 +318,6 @@ STEP = sorted([*HAND, "half", "w"]) + ["hold", "repeat", "wait"]  #: rhand: no l
 TIMING = ["over", "stagger", "through"]
 
 
-@pytest.mark.asyncio
 @pytest.mark.parametrize("cases", [
     pytest.param([(MINE + "g: |", STEP, True),  # the gesture defined left out
                   (MINE + "g:\n    index 90\n    |", STEP, True),
@@ -356,7 +349,6 @@ async def test_completion_offers_what_the_grammar_allows_there(client, tmp_path,
         assert "&" not in [i.label for i in items]
 
 
-@pytest.mark.asyncio
 async def test_completion_on_the_whole_robot(client, tmp_path):
     uri = (tmp_path / "r.gest").as_uri()
     profiles = own(await offered(client, uri, "robot |"))
@@ -371,7 +363,6 @@ async def test_completion_on_the_whole_robot(client, tmp_path):
     assert not {"left", "right", "say"} & set(own(await offered(client, uri, "g: |")))
 
 
-@pytest.mark.asyncio
 async def test_a_completion_replaces_the_word_typed(client, tmp_path):
     uri = (tmp_path / "w.gest").as_uri()
     text = "g: index 90 over 2"
@@ -382,7 +373,6 @@ async def test_a_completion_replaces_the_word_typed(client, tmp_path):
     assert apply(text, [index.text_edit]) == "g: index"
 
 
-@pytest.mark.asyncio
 async def test_a_call_is_timed_as_the_steps_it_plays(client, tmp_path):
     uri = (tmp_path / "calls.gest").as_uri()
     text = ("a:\n    index 90 over 1s\n    index 0 over 0.5s\nb: a\n"
