@@ -4,7 +4,9 @@ controller would. mido's own backend interface (``get_devices``, ``Input``): the
 calls the rtmidi backend answers on a machine with a controller plugged in.
 
 ``MIDI_PORTS``: the ports' names, ``|`` between them; ``MIDI_SCRIPT``: a file of
-"<seconds> <channel 1..16> <control> <value>" lines, played from the port's opening."""
+"<seconds> <channel 1..16> <control> <value>" lines, played from the port's opening;
+``MIDI_SENT``: a file that gets, for each message, the monotonic clock as it is handed
+over (a line each; benchmarks/puppet.py)."""
 
 import os
 import threading
@@ -31,13 +33,18 @@ class Input:
             threading.Thread(target=self._play, args=(callback,), daemon=True).start()
 
     def _play(self, callback):
-        start = time.monotonic()
+        start, sent = time.monotonic(), os.environ.get("MIDI_SENT")
         for t, channel, control, value in self.script:
             time.sleep(max(0.0, start + t - time.monotonic()))
             if self.closed:
                 return
-            callback(mido.Message("control_change", channel=int(channel) - 1,
-                                  control=int(control), value=int(value)))
+            message = mido.Message("control_change", channel=int(channel) - 1,
+                                   control=int(control), value=int(value))
+            now = time.monotonic()
+            callback(message)
+            if sent:
+                with open(sent, "a") as log:
+                    log.write(f"{now:.6f}\n")
 
     def close(self):
         self.closed = True
