@@ -14,9 +14,10 @@ from inmoov_dsl import compile_source
 TEXT = ("robot inmoov\n"
         "place cup (350, -200, 300) mm\n"
         "offer: right hand to cup, r_thumb 120 over 2s\n")
+#: test_lsp's client is one server a module: its tests run in the module's event loop
+pytestmark = pytest.mark.asyncio(loop_scope="module")
 
 
-@pytest.mark.asyncio
 async def test_a_place_is_completed_hovered_hinted_and_written_as_values(client, tmp_path):  # noqa: F811,E501
     uri = (tmp_path / "p.gest").as_uri()
     names = own(await offered(client, uri, TEXT + "g: right hand to |"))

@@ -204,7 +204,7 @@ def test_gestures_calling_each_other_twice_cost_their_output_not_two_to_the_dept
     assert error_of("\n".join(lines), rhand, "g59")[0] == (
         "main.gest:176:1: error: gesture 'g59' expands to more than 100,000 steps")
     steps = steps_of("\n".join(lines), rhand, "g16")  # 65,536 steps: within the budget
-    assert time.process_time() - started < 1.0
+    assert time.process_time() - started < 5.0  # 0.85 s quiet; 2^59 steps would never end
     assert len(steps) == 2 ** 16 and {s.targets for s in steps} == {((2, 1),)}
     assert steps[0].where == steps[-1].where == "g16 > g15 > g14 > g13 > g12 > g11 > g10 > " \
         "g9 > g8 > g7 > g6 > g5 > g4 > g3 > g2 > g1 > g0"
