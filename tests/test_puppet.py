@@ -192,3 +192,16 @@ def test_a_controller_live_drives_sim_until_ctrl_c_and_the_take_is_kept(tmp_path
     assert "interrupted: CANCEL sent, the hand holds its pose" in err, err
     assert "wrote " in err and (tmp_path / "take.gest").exists()
     assert "index 180" in (tmp_path / "take.gest").read_text()
+
+
+def test_gestc_record_listens_to_a_controller_s_port_for_its_seconds(tmp_path):
+    env = backend_env(tmp_path, fader_take()[:101])
+    (tmp_path / "map.toml").write_text(MAP)
+    done = subprocess.run(
+        [sys.executable, "-m", "inmoov_dsl.cli.gestc", "record", "--midi", "nano", "--map",
+         str(tmp_path / "map.toml"), "--seconds", "3", "-o", str(tmp_path / "up.gest")],
+        capture_output=True, text=True, timeout=120, env=env)
+    assert done.returncode == 0, done.stderr
+    assert "gestc record: listening to nanoKONTROL2:nanoKONTROL2 MIDI 1 20:0" in done.stderr
+    written = (tmp_path / "up.gest").read_text()
+    assert "recorded from nano," in written and "index 180" in written

@@ -137,6 +137,20 @@ class PortInput:
         self.port.close()
 
 
+def take_from(port: PortInput, seconds: float | None) -> list[Message]:
+    """What comes from ``port`` for ``seconds`` (None: until Ctrl-C), then closed."""
+    found: list[Message] = []
+    try:
+        while seconds is None or port.now() - port.start < seconds:
+            got = port.wait(0.05)
+            found.extend(got or ())
+    except KeyboardInterrupt:
+        pass
+    finally:
+        port.close()
+    return found
+
+
 def _mido() -> Any:
     try:
         import mido

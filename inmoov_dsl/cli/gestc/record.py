@@ -97,18 +97,24 @@ def _from_port(args: argparse.Namespace, profile: Profile
 
 def _from_midi(args: argparse.Namespace, profile: Profile
                ) -> tuple[str, list[tuple[float, int, int]], float, str]:
-    """A MIDI take's control changes through the map (``--map``): (where from, samples,
-    no dead-band, what was passed over)."""
+    """A MIDI take's control changes (a .mid file, or a controller's port listened to)
+    through the map (``--map``): (where from, samples, no dead-band, what was passed
+    over)."""
     from ...language.load import read_text
     from ...live.controls import no_samples, read_map, samples
-    from ...live.midi import read_take
+    from ...live.midi import TakeFile, open_input, take_from
 
     if args.map is None:
         raise GestError(Diagnostic("error", "--midi needs --map: which control turns which "
                                    "servo", hint="a map.toml of [[control]] tables: cc = 1, "
                                    "servo = \"index\" (docs/puppet.md)"))
     controls = read_map(read_text(args.map), args.map, profile)
-    messages = read_take(args.midi)
+    source = open_input(args.midi)
+    if isinstance(source, TakeFile):
+        messages = source.messages
+    else:  # a controller's port: what comes until Ctrl-C or --seconds
+        print(f"{PROG}: listening to {source.name}; Ctrl-C stops", file=sys.stderr)
+        messages = take_from(source, args.seconds)
     found = samples(messages, controls, profile)
     if not found:
         raise no_samples(args.midi)
@@ -169,8 +175,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("record", help="record a glove's motion, or a MIDI take, as a gesture")
     p.add_argument("--port", help="the glove's port (or any stream in the protocol): COM3, "
                    "/dev/ttyUSB0, a pyserial URL")
-    p.add_argument("--midi", metavar="FILE.mid", help="a MIDI take (a DAW's recording of a "
-                   "controller's faders and knobs) instead of a port; needs --map")
+    p.add_argument("--midi", metavar="PORT|FILE.mid", help="a controller's MIDI input port "
+                   "(its name, or a part of it) or a take (a DAW's recording of its faders "
+                   "and knobs), instead of a glove's port; needs --map")
     p.add_argument("--map", metavar="MAP.toml", help="which MIDI control turns which servo "
                    "([[control]] tables: docs/puppet.md)")
     p.add_argument("-o", "--output", required=True, help="the .gest file to write")
