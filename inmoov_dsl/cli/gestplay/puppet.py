@@ -49,8 +49,8 @@ def run(args: argparse.Namespace) -> int:
     controls = read_map(read_text(args.map), args.map, profile)
     name = gesture_name(args.name or Path(args.record).stem) if args.record else ""
     guard = guard_for(profile, args.allow_contact, PROG)
-    source = open_input(args.midi)
-    puppet = Puppet(source, controls, profile, _Shown())
+    source, shown = open_input(args.midi), _Shown()
+    puppet = Puppet(source, controls, profile, shown)
     try:
         with hand.opened(PROG, profile, args.port, args.blind) as on:
             print(f"{PROG}: {args.midi} drives {profile.name} through {args.map}"
@@ -60,6 +60,7 @@ def run(args: argparse.Namespace) -> int:
             drive.run(puppet)
     finally:
         source.close()
+        shown.end()
         if args.record:
             _record(puppet, profile, args, name)
     print(f"{PROG}: {len(puppet.samples):,} control changes, {puppet.moves:,} moves",
@@ -87,6 +88,7 @@ class _Shown:
 
     def __init__(self) -> None:
         self.live = sys.stdout.isatty()
+        self.shown = False  #: a line is on the terminal, not ended
 
     def __call__(self, text: str) -> None:
         if self.live:
@@ -94,6 +96,13 @@ class _Shown:
         else:
             sys.stdout.write(text + "\n")
         sys.stdout.flush()
+        self.shown = True
+
+    def end(self) -> None:
+        """End the rewritten line, so that what follows starts on its own."""
+        if self.live and self.shown:
+            sys.stdout.write("\n")
+            sys.stdout.flush()
 
 
 def _told(note: Note) -> None:
