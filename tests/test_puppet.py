@@ -205,3 +205,30 @@ def test_gestc_record_listens_to_a_controller_s_port_for_its_seconds(tmp_path):
     assert "gestc record: listening to nanoKONTROL2:nanoKONTROL2 MIDI 1 20:0" in done.stderr
     written = (tmp_path / "up.gest").read_text()
     assert "recorded from nano," in written and "index 180" in written
+
+
+def test_a_fader_into_the_body_is_refused_once_told_and_the_arm_stays_clear(tmp_path):
+    """On the whole robot the guard refuses every move that would bring the forearm into
+    the chest (test_collide_play's elbow): told once, not at each of the fader's
+    messages, and the arm stops short of it."""
+    pytest.importorskip("fcl", reason="the [collide] extra brings python-fcl")
+    take = [(0.1, 1, 1, 127)] + [(0.5 + k * 0.04, 1, 2, round(127 * k / 50))
+                                 for k in range(51)]
+    mid = write_mid(tmp_path / "elbow.mid", take)
+    (tmp_path / "map.toml").write_text('[[control]]\ncc = 1\nservo = "r_rotate"\nlow = 60\n'
+                                       'high = 125\n\n[[control]]\ncc = 2\n'
+                                       'servo = "r_bicep"\nlow = 0\nhigh = 143\n')
+    done = subprocess.run(
+        [sys.executable, "-m", "inmoov_dsl.cli.gestplay", "puppet", "--midi", str(mid),
+         "--map", str(tmp_path / "map.toml"), "--profile", "inmoov", "--port", "sim://"],
+        capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stderr.count("error: at ") == 1, done.stderr
+    assert "the right forearm comes near the chest" in done.stderr
+    assert "the moves refused after this one are not told" in done.stderr
+    dump = subprocess.run([sys.executable, "-m", "inmoov_dsl.cli.gestplay", "dump", "--port",
+                           "sim://", "--profile", "inmoov"], capture_output=True, text=True,
+                          timeout=120)
+    held = {line.split()[0]: int(line.split()[-1]) for line in dump.stdout.splitlines()
+            if line.strip().startswith(("r_bicep", "r_rotate"))}
+    assert held["r_rotate"] == 125 and 0 < held["r_bicep"] < 143, held

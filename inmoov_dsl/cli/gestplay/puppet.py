@@ -55,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
         with hand.opened(PROG, profile, args.port, args.blind) as on:
             print(f"{PROG}: {args.midi} drives {profile.name} through {args.map}"
                   f"{'; Ctrl-C stops' if sys.stdin.isatty() else ''}", file=sys.stderr)
-            drive = Drive(on.links, profile, on.pose, library_program([]), _told,
+            drive = Drive(on.links, profile, on.pose, library_program([]), _Told(),
                           guard=guard.plan)
             drive.run(puppet)
     finally:
@@ -105,11 +105,23 @@ class _Shown:
             sys.stdout.flush()
 
 
-def _told(note: Note) -> None:
-    """The drive loop's errors (a move refused: out of range, into the body) and
-    warnings, as they come."""
-    if note.kind in ("error", "warning"):
-        report(note.diagnostics, "gestplay")
+class _Told:
+    """The drive loop's errors (a move refused: into the body) and warnings, as they
+    come; a fader held into the body is refused at every message, told once until a
+    move goes again."""
+
+    def __init__(self) -> None:
+        self.refusing = False
+
+    def __call__(self, note: Note) -> None:
+        if note.kind == "start":
+            self.refusing = False
+        elif note.kind == "warning" or (note.kind == "error" and not self.refusing):
+            report(note.diagnostics, "gestplay")
+            if note.kind == "error":
+                print(f"{PROG}: the hand stays where it is; the moves refused after this "
+                      f"one are not told, until one is played", file=sys.stderr)
+                self.refusing = True
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
