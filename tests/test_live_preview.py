@@ -271,6 +271,28 @@ def test_the_page_draws_the_robot_its_steps_and_the_plans_pose(browser, page, ca
     assert js(browser, "document.getElementById('gl-step').textContent") == "3"
 
 
+def test_a_file_read_between_a_writers_truncate_and_write_keeps_the_last_plan(tmp_path):
+    """An editor (or Path.write_text) empties the file, then writes it: a look that
+    falls between sees an empty file. Believed at once, the page forgot the gesture, and
+    the next text with an error had no last plan to keep (a flaky test under load)."""
+    from inmoov_dsl.cli.gestc.preview_live import Follower
+
+    path = tmp_path / "w.gest"
+    path.write_text(WAVE, encoding="utf-8")
+    follower = Follower(str(path), None, None, [])
+    assert follower.changed() and follower.make_view().plan is not None
+    path.write_text("", encoding="utf-8")  # the look between truncate and write
+    assert not follower.changed()
+    path.write_text(WAVE.replace("wrist 180 over 0.4s", "wrist 180 ovr 0.8s"),
+                    encoding="utf-8")
+    assert follower.changed()
+    view = follower.make_view()
+    assert view.stale and view.plan is not None and view.gesture == "wave"
+    path.write_text("", encoding="utf-8")  # emptied for good: believed at the second look
+    assert not follower.changed() and follower.changed()
+    assert follower.make_view().plan is None
+
+
 @POSIX
 def test_the_page_follows_the_file_as_it_is_edited(browser, tmp_path):
     path = tmp_path / "w.gest"

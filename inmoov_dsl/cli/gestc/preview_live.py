@@ -36,6 +36,7 @@ class Follower:
         self.memo = Memo()
         self.seen: tuple[int, int] | None = None
         self.text: str | None = None
+        self.emptied = False  #: the last read found the file empty (once, not believed)
         self.found = None
         self.line: int | None = None  #: the step picked on the page (0-based line)
         self.view = None
@@ -63,7 +64,11 @@ class Follower:
             return True
         if text == self.text:
             return False
-        self.text = text
+        if not text and self.text and not self.emptied:
+            # read between a writer's truncate and its write: believed at the next look
+            self.seen, self.emptied = None, True
+            return False
+        self.text, self.emptied = text, False
         self.found = analyse(text, self.path, self.robot, self.lib, self.memo)
         return True
 
