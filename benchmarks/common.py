@@ -1,4 +1,4 @@
-"""Shared helpers for the benchmarks: timing and generated gestures."""
+"""Shared helpers for the benchmarks: timing, generated gestures, a board's byte log."""
 
 from __future__ import annotations
 
@@ -10,6 +10,12 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
+
+
+def arrivals(log: Path) -> list[tuple[float, int]]:
+    """(time, byte) of every byte a gestsim board has received (its ``--log``: when each
+    started on the wire, by the monotonic clock)."""
+    return [(float(t), int(b)) for t, b in map(str.split, log.read_text().splitlines())]
 
 
 def best_and_median(fn: Callable[[], object], runs: int) -> tuple[float, float]:

@@ -25,15 +25,10 @@ import time
 from pathlib import Path
 
 import mido
+from common import ROOT, arrivals
 
-ROOT = Path(__file__).resolve().parent.parent
 JUMPS, EVERY = 40, 0.8
 MAP = '[[control]]\ncc = 1\nservo = "index"\n\n[[control]]\ncc = 2\nservo = "middle"\n'
-
-
-def arrivals(log: Path) -> list[float]:
-    """When every byte the board has received started on the wire."""
-    return [float(line.split()[0]) for line in log.read_text().splitlines()]
 
 
 def latency(tmp: Path) -> list[float]:
@@ -63,7 +58,7 @@ def latency(tmp: Path) -> list[float]:
         puppet.wait(30)
         board.terminate()
         board.wait(10)
-    times, out = arrivals(log), []
+    times, out = [t for t, _ in arrivals(log)], []
     for t in map(float, sent.read_text().split()):
         after = [a for a in times if a >= t - 1e-4]
         out.append(after[0] + 1 / 960 - t)  # the log says when a byte starts on the wire

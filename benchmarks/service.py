@@ -28,6 +28,7 @@ from collections import Counter
 from pathlib import Path
 
 import aiohttp
+from common import arrivals
 
 CLIENTS, EACH, LATENCY_RUNS = 20, 500, 100
 GESTURES = ["peace", "fist", "count", "wiggle", "ok", "rockon", "wave", "point"]
@@ -51,11 +52,6 @@ def rss(pid: int) -> int:
     """Resident memory of ``pid``, kB."""
     text = Path(f"/proc/{pid}/status").read_text()
     return int(re.search(r"VmRSS:\s+(\d+)", text)[1])
-
-
-def arrivals(log: Path) -> list[tuple[float, int]]:
-    """(time, byte) of every byte the board has received."""
-    return [(float(t), int(b)) for t, b in map(str.split, log.read_text().splitlines())]
 
 
 def post(sock: socket.socket, host: str, port: str, steps: str) -> float:

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_repl import ClockedPort
+from test_repl import ClockedPort, Timeline
 
 from inmoov_dsl.boards.rig.core import BoardCore
 from inmoov_dsl.live.controls import read_map
@@ -61,19 +61,6 @@ def write_mid(path: Path, messages) -> Path:
     return path
 
 
-class Clock:
-    """Time that passes only when the loop sleeps or waits."""
-
-    def __init__(self):
-        self.t = 0.0
-
-    def now(self) -> float:
-        return self.t
-
-    def sleep(self, seconds: float) -> None:
-        self.t += max(seconds, 1e-4)
-
-
 def fader_value(take, cc: int, t: float, low: int, high: int) -> float:
     levels = [(m[0], m[3]) for m in take if m[2] == cc and m[0] <= t]
     return low + (high - low) * levels[-1][1] / 127 if levels else None
@@ -81,7 +68,7 @@ def fader_value(take, cc: int, t: float, low: int, high: int) -> float:
 
 def test_the_hand_follows_the_faders_within_a_few_frames_and_never_jumps(tmp_path):
     take = fader_take()
-    clock = Clock()
+    clock = Timeline([])  # time passes only when the loop sleeps or waits
     board = VirtualBoard(BoardCore.from_profile(RHAND, RHAND.boards[0]), 9600)
     link = Link(181, ClockedPort(board, clock), "clock")
     source = TakeFile(read_take(str(write_mid(tmp_path / "take.mid", take))), clock.now,

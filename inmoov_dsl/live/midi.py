@@ -170,10 +170,6 @@ def _port_named(name: str, names: list[str]) -> str:
         return holding[0]
     ports = ", ".join(f"'{n}'" for n in names) or "none (is the controller plugged in?)"
     what = "names more than one" if holding else "is neither a .mid file nor"
-    return _fail(f"'{name}' {what} MIDI input port; the ports: {ports}",
-                 did_you_mean(name, names) or "gestplay puppet --midi 'PORT NAME' (or a "
-                 "take: --midi take.mid)")
-
-
-def _fail(message: str, hint: str) -> str:
-    raise GestError(Diagnostic("error", message, hint=hint))
+    raise GestError(Diagnostic("error", f"'{name}' {what} MIDI input port; the ports: "
+                               f"{ports}", hint=did_you_mean(name, names) or "gestplay "
+                               "puppet --midi 'PORT NAME' (or a take: --midi take.mid)"))
