@@ -1,17 +1,15 @@
 """From a recorded stream to a short gesture (``gestc record``): pure, no clock, no I/O.
 
-1. The samples: every (time, servo, value) of a glove's stream (``decode.StreamReader``
-   and ``glove.on_the_clock``), or of any stream in the protocol.
+1. The samples: every (time, servo, value) of a glove's stream, a MIDI take or another
+   tool's animation (``interchange.importing``).
 2. ``traces`` cleans each servo's samples (a lone wrong one, made by a byte lost in a
-   pair, is dropped) and draws a line through them, on every 20 ms servo frame: a
-   glove reports a finger once it has moved more than its dead-band, so the finger is
-   within that band of the line.
+   pair, is dropped) and draws a line through them on every 20 ms servo frame (a glove's
+   finger is within its dead-band of the line).
 3. ``keyframes`` picks the poses: a move is planned from rest to rest, so keyframes
    belong where the motion pauses or turns (``Recording.candidates``); of those frames,
    ``shortest_path`` picks the fewest whose moves (``Recording.segment``), planned
    exactly as the compiler plans them, stay within the tolerance of the recording.
-4. ``to_gest`` writes keyframes as a gesture in the canonical layout, durations taken
-   from the recording.
+4. ``to_gest`` writes them as a gesture in the canonical layout, timed as recorded.
 """
 
 from __future__ import annotations
@@ -104,8 +102,8 @@ def traces(samples: Sequence[tuple[float, int, int]], profile: Profile,
 
 @dataclass(frozen=True)
 class Keyframe:
-    """Where the recorded motion goes: a pose (servo index -> value), reached ``at``;
-    the move into it starts its servos ``stagger`` s apart, in ``order``."""
+    """A pose (servo index -> value) reached ``at``, its servos started ``stagger`` s
+    apart in ``order``."""
 
     at: float  #: s
     pose: dict[int, int]
@@ -138,8 +136,8 @@ class Segment:
 
 def shortest_path(count: int, cost: Callable[[int, int], float], window: int = WINDOW
                   ) -> list[int]:
-    """The nodes from 0 to ``count - 1`` with the least total ``cost(i, j)`` of its hops,
-    then the fewest hops (then the earliest nodes), each hop at most ``window`` ahead."""
+    """Nodes 0 to ``count - 1``: the least total ``cost(i, j)``, then the fewest hops
+    (then the earliest nodes), each hop at most ``window`` ahead."""
     best: list[tuple[float, int, int]] = [(0.0, 0, -1)]  # (cost, hops, previous)
     for j in range(1, count):
         best.append(min((best[i][0] + cost(i, j), best[i][1] + 1, i)
@@ -151,9 +149,8 @@ def shortest_path(count: int, cost: Callable[[int, int], float], window: int = W
 
 
 def keyframes(tr: Traces, profile: Profile, tolerance: float = DEFAULT_TOLERANCE) -> Fit:
-    """The fewest keyframes whose planned moves stay within ``tolerance`` of the
-    recording: first the least error beyond the tolerance (summed over the moves; a
-    move the limits would slow down counts SLOW degrees), then the fewest moves."""
+    """The fewest keyframes whose moves stay within ``tolerance`` of the recording: the
+    least error beyond it summed (a move the limits slow counts SLOW), then fewest moves."""
     return Recording(tr, profile, tolerance).fit()
 
 
@@ -190,7 +187,7 @@ class Recording:
         """The frames a keyframe may fall on: the first, the last, and where the motion
         is slowest: near the local minima of its speed (each servo's share of its
         velocity limit, the largest of them, smoothed over 5 frames); of a still
-        stretch, near its first and last frame."""
+        stretch, near its first and last frame, and where the poses stop or start."""
         rec = self.values
         out = {0, len(rec) - 1}
         if len(rec) < 3:
@@ -206,6 +203,9 @@ class Recording:
             if not (0 < n < len(frames) - 1 and frames[n - 1] == k - 1
                     and frames[n + 1] == k + 1):
                 out.update(range(max(0, k - 2), min(len(rec), k + 3)))
+        still = np.all(np.diff(self.poses, axis=0) == 0, axis=1)  # an animation's move
+        for k in (np.flatnonzero(still[1:] != still[:-1]) + 1).tolist():  # ends on a frame
+            out.update(range(max(0, k - 1), min(len(rec), k + 2)))
         return sorted(out)
 
     def keyframe(self, k: int, into: Segment = Segment(0.0, False)) -> Keyframe:

@@ -19,7 +19,7 @@ PROG = "gestc"  #: (the commands' modules, imported when named, are the heavy pa
 
 #: each command -> its module, in the order ``gestc --help`` lists them
 COMMANDS = {"compile": "compile", "check": "check", "show": "show", "plot": "plot",
-            "preview": "preview", "export": "export", "urdf": "urdf",
+            "preview": "preview", "export": "export", "import": "imports", "urdf": "urdf",
             "collide": "collide", "fmt": "fmt",
             "firmware": "firmware", "upload": "upload", "record": "record", "list": "listing",
             "lsp": "lsp"}
