@@ -21,6 +21,7 @@ millisecond its neighbours take it, which is the only place a curve leaves the p
 
 from __future__ import annotations
 
+import bisect
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -162,17 +163,24 @@ def read(text: str, where: str) -> tuple[dict[int, Setup], dict[int, list[Curve]
 
 
 def evaluate(setup_: Setup, found: Sequence[Curve], times_ms: Sequence[int]) -> list[int]:
-    """The width the driver gives at each of ``times_ms``: the curve in progress, else
-    the end of the last curve ended, else the start width."""
-    ordered = sorted(found, key=lambda c: (c.start + c.duration, c.start))
+    """The width the driver gives at each of ``times_ms``: the curve in progress (of
+    several, the latest begun), else the end of the curve that ended last, else the
+    start width."""
+    by_start = sorted(found, key=lambda c: c.start)
+    starts = [c.start for c in by_start]
+    by_end = sorted(found, key=lambda c: c.start + c.duration)
+    ends = [c.start + c.duration for c in by_end]
     out = []
     for ms in times_ms:
-        now = [c for c in ordered if c.start <= ms <= c.start + c.duration]
-        ended = [c for c in ordered if c.start + c.duration < ms]
-        if now:
-            out.append(setup_.us(now[0].at(ms)))
-        elif ended:
-            out.append(setup_.us(ended[-1].y1 / SCALE))
-        else:
-            out.append(setup_.start)
+        k = bisect.bisect_right(starts, ms) - 1
+        if k >= 0 and ms <= ends_of(by_start[k]):
+            out.append(setup_.us(by_start[k].at(ms)))
+            continue
+        e = bisect.bisect_left(ends, ms) - 1
+        out.append(setup_.us(by_end[e].y1 / SCALE) if e >= 0 else setup_.start)
     return out
+
+
+def ends_of(curve: Curve) -> int:
+    """When ``curve`` ends (ms)."""
+    return curve.start + curve.duration

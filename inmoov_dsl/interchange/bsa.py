@@ -166,13 +166,14 @@ def read_header(text: str, where: str) -> tuple[float, Positions]:
         raise _not(where, "it has no 'const byte FPS = N;' and ANIMATION_DATA = {...}")
     if not 0 < int(fps.group(1)) <= 255:
         raise _not(where, f"its FPS is {fps.group(1)}: 1 to 255")
-    try:
-        data = bytes(int(b, 0) for b in body.group(1).replace("\n", " ").split(",")
-                     if b.strip())
-    except ValueError as e:
-        raise _not(where, f"ANIMATION_DATA holds something that is not a byte ({e})") \
-            from None
-    return float(fps.group(1)), play(data)
+    data = bytearray()
+    for token in (t.strip() for t in body.group(1).split(",")):
+        if token and not re.fullmatch(r"0[xX][0-9a-fA-F]{1,2}|\d{1,3}", token) or \
+                token and int(token, 0) > 255:
+            raise _not(where, f"ANIMATION_DATA holds {token[:20]!r}, not a byte")
+        if token:
+            data.append(int(token, 0))
+    return float(fps.group(1)), play(bytes(data))
 
 
 def _id(key: str, where: str, frame: int) -> int:

@@ -114,7 +114,7 @@ def samples(animation: Animation, profile: Profile, board: Board | None,
     for key, series in animation.series.items():
         servo = _servo(key, profile, board, ids, where)
         if animation.values:
-            values = np.round(series).astype(int)
+            values = np.round(np.clip(series, -1000, 1000)).astype(int)  # (a wild one told)
         else:
             w = widths(servo)
             values = np.array([w.value(us) for us in series.tolist()])
