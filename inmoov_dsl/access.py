@@ -3,12 +3,21 @@ visits can send requests to 127.0.0.1 and open a WebSocket there, and through DN
 rebinding read the answers. So a request is answered only when the ``Host`` it names is
 this computer's own address for that port, and, when it carries an ``Origin`` (a
 browser always does on a WebSocket), when that origin is the page's own.
-The service (``service/guard.py``) and every page viser serves (``views/scene.py``)
-ask this one rule.
+The service, Blender's live listener (``Guard``: a token too, for any address but a
+loopback one) and every page viser serves (``views/scene.py``) ask this one rule.
+
+- Listening on anything but a loopback address needs a token, asked of every request
+  (``Authorization: Bearer TOKEN``, or ``?token=TOKEN`` where a client cannot set a
+  header: a browser's page and its WebSocket, Blender's add-on).
+- Without a token, the ``Host`` a request names must be this loopback server itself:
+  a page on another site that rebinds its DNS name to 127.0.0.1 is refused.
+- A request that carries an ``Origin`` must come from the server's own page; no CORS
+  preflight is answered.
 """
 
 from __future__ import annotations
 
+import hmac
 import ipaddress
 from collections.abc import Mapping
 
@@ -51,3 +60,32 @@ def foreign_host(headers: Mapping[str, str], hosts: set[str]) -> str | None:
 
 def _cut(text: str, most: int = 80) -> str:
     return text if len(text) <= most else text[:most] + "..."
+
+
+class Guard:
+    """The checks of one server: its address, its port and its token (None: none)."""
+
+    def __init__(self, host: str, port: int, token: str | None):
+        self.host, self.token = host, token
+        self.bind(port)
+
+    def bind(self, port: int) -> None:
+        """It listens on ``port`` (known once it listens, when 0 was asked)."""
+        self.hosts = own_hosts(self.host, port)
+
+    def refuse(self, method: str, headers: Mapping[str, str], query: Mapping[str, str]
+               ) -> tuple[int, str] | None:
+        """(HTTP status, why) when the request may not be answered, else None."""
+        if method == "OPTIONS":
+            return 403, "no cross-origin requests: this answers its own page only"
+        why = foreign_origin(headers)
+        if why:
+            return 403, why
+        if self.token is None:
+            why = foreign_host(headers, self.hosts)
+            return (403, why) if why else None
+        given = headers.get("Authorization", "")
+        given = given[7:] if given.startswith("Bearer ") else query.get("token", "")
+        if not hmac.compare_digest(given.encode(), self.token.encode()):
+            return 401, "a token is needed: Authorization: Bearer TOKEN"
+        return None

@@ -16,7 +16,7 @@ from inmoov_dsl.boards.rig.core import BoardCore
 from inmoov_dsl.live.controls import read_map
 from inmoov_dsl.live.drive import Drive, library_program
 from inmoov_dsl.live.midi import TakeFile, open_input, read_take
-from inmoov_dsl.live.puppet import Puppet
+from inmoov_dsl.live.puppet import Puppet, midi_reading
 from inmoov_dsl.profiles.profile import load_profile
 from inmoov_dsl.wire.player import Link
 from inmoov_dsl.wire.sim import VirtualBoard
@@ -73,7 +73,7 @@ def test_the_hand_follows_the_faders_within_a_few_frames_and_never_jumps(tmp_pat
     link = Link(181, ClockedPort(board, clock), "clock")
     source = TakeFile(read_take(str(write_mid(tmp_path / "take.mid", take))), clock.now,
                       clock.sleep)
-    puppet = Puppet(source, read_map(MAP, "map.toml", RHAND), RHAND)
+    puppet = Puppet(source, midi_reading(read_map(MAP, "map.toml", RHAND), RHAND), RHAND)
     Drive([link], RHAND, {}, library_program([]), lambda note: None, now=clock.now,
           sleep=clock.sleep).run(puppet)
     board.advance(clock.t + 1)

@@ -19,7 +19,8 @@ from stopping import received, wait_for
 from test_web import Lines
 from toolchain import require
 
-from inmoov_dsl.service import core, guard
+from inmoov_dsl import access as guard
+from inmoov_dsl.service import core
 
 PEACE = {"wrist": 0, "thumb": 180, "index": 0, "middle": 0, "ring": 180, "pinky": 180}
 

@@ -110,29 +110,41 @@ def _fps(fps: float) -> int:
     return int(round(fps))
 
 
+class Commands:
+    """BSA's library reading bytes (``ServoManager::parseData`` into its ``Command``): a
+    ``<`` starts a command again, a command is valid with ``<`` first and ``>`` fifth and
+    is acted on after each byte, a servo moved only to a position it is not at. A line
+    feed ends a frame (in a file; live mode sends none)."""
+
+    def __init__(self) -> None:
+        self.values, self.index = [0] * 5, 0
+        self.at: dict[int, int] = {}  #: servo ID -> where the library last moved it
+
+    def feed(self, byte: int) -> tuple[int, int] | None:
+        """Read one byte (not a line feed): the (ID, position) a servo moves to, if any."""
+        if byte == START:
+            self.values, self.index = [0] * 5, 0
+        if self.index < 5:
+            self.values[self.index] = byte
+            self.index += 1
+        v = self.values
+        if v[0] == START and v[4] == END and self.at.get(v[1]) != (v[3] | v[2] << 8):
+            self.at[v[1]] = v[3] | v[2] << 8
+            return v[1], self.at[v[1]]
+        return None
+
+
 def play(data: bytes) -> Positions:
-    """What the library moves on each frame of ``data``: its ``ServoManager`` reading a
-    frame's bytes into its ``Command`` (a ``<`` starts one again, a line feed ends the
-    frame, a command is valid with ``<`` first and ``>`` fifth, acted on after each
-    byte), each servo moved only to a position it is not at."""
+    """What the library moves on each frame of ``data`` (``Commands``)."""
     out: Positions = []
-    values, index = [0] * 5, 0
-    at: dict[int, int] = {}
+    reader = Commands()
     frame: dict[int, int] = {}
     for byte in data:
         if byte == LINE:
             out.append(frame)
             frame = {}
-            continue
-        if byte == START:
-            values, index = [0] * 5, 0
-        if index < 5:
-            values[index] = byte
-            index += 1
-        if values[0] == START and values[4] == END:
-            servo, position = values[1], values[3] | values[2] << 8
-            if at.get(servo) != position:
-                frame[servo] = at[servo] = position
+        elif (moved := reader.feed(byte)) is not None:
+            frame[moved[0]] = moved[1]
     if frame:
         out.append(frame)
     return out

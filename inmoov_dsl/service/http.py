@@ -19,10 +19,10 @@ from typing import Any
 
 from aiohttp import WSCloseCode, WSMsgType, web
 
+from ..access import Guard
 from ..errors import Diagnostic, GestError
 from ..live.orders import Control
 from . import core, openapi, work
-from .guard import Guard
 from .hub import QUEUE, Lost, Service
 from .work import TooLong
 

@@ -11,7 +11,7 @@ import threading
 
 from aiohttp import web
 
-from .guard import Guard
+from ..access import Guard
 from .http import app
 from .hub import Service
 from .log import one_line

@@ -35,7 +35,7 @@ def run(args: argparse.Namespace) -> int:
         text = _whole(args, plan, compiled)
         write_out(output, text, f": {text.count(chr(10)) - 1} rows")
         return EXIT_OK
-    boards = _boards(plan.profile, args.board)
+    boards = boards_named(plan.profile, args.board)
     for board in boards:
         path = output if len(boards) == 1 or output == "-" else \
             str(Path(output).with_name(f"{Path(output).stem}-{_slug(board)}"
@@ -78,7 +78,7 @@ def _one_board(args: argparse.Namespace, plan: Plan, compiled: Compiled, board: 
     return bsa.to_header(frames, bsa.commands(found), file, compiled.gesture), about
 
 
-def _boards(profile: Profile, chosen: str | None) -> list[Board]:
+def boards_named(profile: Profile, chosen: str | None) -> list[Board]:
     """The board ``--board`` names (its ID or name), or every board of the profile."""
     if chosen is None:
         return list(profile.boards)

@@ -19,14 +19,14 @@ def run(args: argparse.Namespace) -> int:
     from ...interchange.frames import tick_us
     from ...language.load import read_text
     from ...profiles.profile import load_profile
-    from .export import _boards
+    from .export import boards_named
     from .record import write_take
 
     profile = load_profile(args.profile)
     text = read_text(args.file)
     fmt = args.format or importing.detect(args.file, text)
-    ids = _read_ids(args.map, profile) if args.map else None
-    boards = _boards(profile, args.board)
+    ids = read_ids(args.map, profile) if args.map else None
+    boards = boards_named(profile, args.board)
     if ids is None and len(boards) > 1 and fmt != "csv":
         names = ", ".join(f"{b.id} ({b.name})" for b in boards)
         raise GestError(Diagnostic("error", f"profile '{profile.name}' has boards {names}: "
@@ -42,7 +42,7 @@ def run(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _read_ids(path: str, profile) -> dict[int, str]:
+def read_ids(path: str, profile) -> dict[int, str]:
     """A map's ``[ids]``: the animation's servo ID -> a servo of the profile."""
     from ...language.load import read_text
     from ...profiles import fields as check

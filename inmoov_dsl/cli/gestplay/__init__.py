@@ -19,7 +19,7 @@ PROG = "gestplay"
 #: each tool (``play`` for a gesture) -> its module, in the order ``--help`` lists them
 TOOLS = {"play": "play", "ports": "ports", "dump": "dump", "send": "send", "relax": "relax",
          "calibrate": "calibrate", "repl": "repl", "teach": "teach", "serve": "serve",
-         "stored": "stored", "puppet": "puppet"}
+         "stored": "stored", "puppet": "puppet", "blender": "blender"}
 
 
 def parser(tool: str | None = None) -> argparse.ArgumentParser:

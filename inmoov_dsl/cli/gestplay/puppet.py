@@ -43,19 +43,19 @@ def run(args: argparse.Namespace) -> int:
     from ...language.load import read_text
     from ...live.controls import read_map
     from ...live.midi import open_input
-    from ...live.puppet import Puppet
+    from ...live.puppet import Puppet, midi_reading
 
     profile = load_profile(args.profile)
     controls = read_map(read_text(args.map), args.map, profile)
     name = gesture_name(args.name or Path(args.record).stem) if args.record else ""
     guard = guard_for(profile, args.allow_contact, PROG)
-    source, shown = open_input(args.midi), _Shown()
-    puppet = Puppet(source, controls, profile, shown)
+    source, shown = open_input(args.midi), Shown()
+    puppet = Puppet(source, midi_reading(controls, profile), profile, shown)
     try:
         with hand.opened(PROG, profile, args.port, args.blind) as on:
             print(f"{PROG}: {args.midi} drives {profile.name} through {args.map}"
                   f"{'; Ctrl-C stops' if sys.stdin.isatty() else ''}", file=sys.stderr)
-            drive = Drive(on.links, profile, on.pose, library_program([]), _Told(),
+            drive = Drive(on.links, profile, on.pose, library_program([]), Told(PROG),
                           guard=guard.plan)
             drive.run(puppet)
     finally:
@@ -83,7 +83,7 @@ def _record(puppet: Puppet, profile: Profile, args: argparse.Namespace, name: st
         warn(f"the take could not be written to {args.record}: {exc}", PROG)
 
 
-class _Shown:
+class Shown:
     """What is sent, as .gest text: one line rewritten at a terminal, else a line each."""
 
     def __init__(self) -> None:
@@ -105,13 +105,13 @@ class _Shown:
             sys.stdout.flush()
 
 
-class _Told:
+class Told:
     """The drive loop's errors (a move refused: into the body) and warnings, as they
     come; a fader held into the body is refused at every message, told once until a
     move goes again."""
 
-    def __init__(self) -> None:
-        self.refusing = False
+    def __init__(self, prog: str) -> None:
+        self.prog, self.refusing = prog, False
 
     def __call__(self, note: Note) -> None:
         if note.kind == "start":
@@ -119,7 +119,7 @@ class _Told:
         elif note.kind == "warning" or (note.kind == "error" and not self.refusing):
             report(note.diagnostics, "gestplay")
             if note.kind == "error":
-                print(f"{PROG}: the hand stays where it is; the moves refused after this "
+                print(f"{self.prog}: the hand stays where it is; the moves refused after this "
                       f"one are not told, until one is played", file=sys.stderr)
                 self.refusing = True
 

@@ -28,14 +28,15 @@ SWITCH = 0.0005  #: s; how often the threads take turns (Python's default is 5 m
 def run(args: argparse.Namespace) -> int:
     """Open the boards, listen, and drive the hand until Ctrl-C or SIGTERM."""
     try:
-        from ...service import guard, hub, links
+        from ...access import Guard
+        from ...service import hub, links
         from ...service.server import Server
     except ImportError:
         raise GestError(Diagnostic("error", "the service needs aiohttp, which is not "
                                    "installed", hint="pip install 'inmoov-dsl[serve]'")
                         ) from None
     host, port = args.http
-    token = _token(args, host, guard)
+    token = token_for(args, host)
     profile = load_profile(args.profile or "rhand")
     dirs = library_dirs(args.lib)
     program = library_program(dirs)
@@ -52,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
         service.drive = Drive(on.links, profile, on.pose, program, service.told,
                               speaker=speaker, guard=service.collisions.plan)
         service.make_view = lambda: _view(profile, service.drive.mirror.held())
-        server = Server(service, guard.Guard(host, port, token), host, port)
+        server = Server(service, Guard(host, port, token), host, port)
         try:
             port = server.start()
         except OSError as exc:
@@ -93,9 +94,11 @@ def _view(profile, pose: list[int]):
     return view
 
 
-def _token(args: argparse.Namespace, host: str, guard) -> str | None:
+def token_for(args: argparse.Namespace, host: str, what: str = "the service") -> str | None:
     """The token every request must show: --token, or the first line of --token-file.
     Listening beyond this computer without one is refused."""
+    from ...access import is_loopback
+
     token = args.token
     if args.token_file:
         try:
@@ -112,9 +115,9 @@ def _token(args: argparse.Namespace, host: str, guard) -> str | None:
         raise GestError(Diagnostic("error", "a token has at least 16 characters",
                                    hint="python -c 'import secrets; print(secrets."
                                    "token_urlsafe())'"))
-    if token is None and not guard.is_loopback(host):
+    if token is None and not is_loopback(host):
         raise GestError(Diagnostic(
-            "error", f"{host} is reachable from other computers: the service moves a "
+            "error", f"{host} is reachable from other computers: {what} moves a "
             "machine, so it needs a token there", hint="--token-file FILE (a secret of 16 "
             "characters or more), or --http 127.0.0.1:8180 for this computer only"))
     return token
@@ -136,6 +139,14 @@ def _listing(program, profile, dirs) -> list[dict]:
     return listing(program, profile, files, duration)
 
 
+def add_token(p: argparse.ArgumentParser) -> None:
+    """``--token`` and ``--token-file``: what a listener beyond this computer asks."""
+    p.add_argument("--token", help="a secret every request must show (Authorization: "
+                   "Bearer TOKEN, or ?token=TOKEN); prefer --token-file, which other "
+                   "users cannot see")
+    p.add_argument("--token-file", metavar="FILE", help="read the token from FILE")
+
+
 def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestplay serve --port PORT``."""
     p = sub.add_parser("serve", help="the hand as a local service (HTTP, WebSocket, a page)",
@@ -147,9 +158,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help=f"where to listen (default {DEFAULT_HTTP}: this computer only; a "
                    "bare PORT is on 127.0.0.1 too, 0 any free one; another address needs a "
                    "token)")
-    p.add_argument("--token", help="a secret every request must show (Authorization: "
-                   "Bearer TOKEN); prefer --token-file, which other users cannot see")
-    p.add_argument("--token-file", metavar="FILE", help="read the token from FILE")
+    add_token(p)
     sounds.add_argument(p)
     add_blind(p)
     add_allow_contact(p)
