@@ -86,13 +86,18 @@ def test_fingers_that_start_one_after_another_become_a_stagger():
     assert any(m.order for m in moves) and max(m.error for m in moves) == fit.error
 
 
-def test_the_shortest_path_costs_least_then_takes_fewest_hops():
+def test_the_shortest_path_costs_least_then_takes_fewest_hops_then_strays_least():
+    costs = {(0, 3): (5.0, 0.0), (0, 2): (1.0, 0.0)}
+
     def cost(i, j):
-        return {(0, 3): 5.0, (0, 2): 1.0}.get((i, j), 0.0)
+        return costs.get((i, j), (0.0, 1.0))
 
     assert shortest_path(4, cost) == [0, 1, 3]  # as cheap as 0 1 2 3, in fewer hops
     assert shortest_path(4, cost, window=1) == [0, 1, 2, 3]
     assert shortest_path(1, cost) == [0]
+    costs[0, 2] = (0.0, 1.0)
+    costs[1, 3] = (0.0, 2.0)  # 0 1 3 as cheap and as short as 0 2 3, but strays further
+    assert shortest_path(4, cost) == [0, 2, 3]
 
 
 def test_noise_lost_bytes_a_gap_and_a_mid_command_start_do_not_break_it():

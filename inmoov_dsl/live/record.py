@@ -129,22 +129,23 @@ class Segment:
     stagger: float = 0.0  #: s between its servos' starts
     order: tuple[int, ...] = ()  #: servo indices, when staggered
 
-    def cost(self, tolerance: float) -> float:
-        """What the keyframe choice minimises: degrees beyond ``tolerance``, SLOW if slow."""
-        return max(0.0, self.error - tolerance) + (SLOW if self.slow else 0.0)
+    def cost(self, tolerance: float) -> tuple[float, float]:
+        """What the keyframe choice minimises: degrees beyond tolerance (SLOW if slow)."""
+        return max(0.0, self.error - tolerance) + (SLOW if self.slow else 0.0), self.error
 
 
-def shortest_path(count: int, cost: Callable[[int, int], float], window: int = WINDOW
-                  ) -> list[int]:
-    """Nodes 0 to ``count - 1``: the least total ``cost(i, j)``, then the fewest hops
-    (then the earliest nodes), each hop at most ``window`` ahead."""
-    best: list[tuple[float, int, int]] = [(0.0, 0, -1)]  # (cost, hops, previous)
+def shortest_path(count: int, cost: Callable[[int, int], tuple[float, float]],
+                  window: int = WINDOW) -> list[int]:
+    """Nodes 0 to ``count - 1``: the least total of ``cost(i, j)[0]``, then the fewest
+    hops, then the least worst ``cost(i, j)[1]`` (then the earliest nodes), each hop at
+    most ``window`` ahead."""
+    best = [(0.0, 0, 0.0, -1)]  # (cost, hops, worst, previous)
     for j in range(1, count):
-        best.append(min((best[i][0] + cost(i, j), best[i][1] + 1, i)
-                        for i in range(max(0, j - window), j)))
+        best.append(min((best[i][0] + c, best[i][1] + 1, max(best[i][2], e), i)
+                        for i in range(max(0, j - window), j) for c, e in [cost(i, j)]))
     path = [count - 1]
-    while best[path[-1]][2] >= 0:
-        path.append(best[path[-1]][2])
+    while best[path[-1]][3] >= 0:
+        path.append(best[path[-1]][3])
     return path[::-1]
 
 
@@ -270,8 +271,7 @@ def to_gest(name: str, keys: Sequence[Keyframe], profile: Profile,
     first = keys[0]
     lines = [*(f"# {line}" for line in about), f"{name}:"]
     lines.append("    " + ", ".join(f"{names[i]} {v}" for i, v in first.pose.items()))
-    hold = 0.0
-    previous = first
+    hold, previous = 0.0, first
     for key in keys[1:]:
         ms = round((key.at - previous.at) * 1000)
         changed = {i: v for i, v in key.pose.items() if previous.pose[i] != v}
