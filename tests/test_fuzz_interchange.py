@@ -10,7 +10,7 @@ from test_fuzz_cli import run_watched
 
 from inmoov_dsl.cli import gestc
 
-SEED, MUTANTS = 52, 40
+SEED, MUTANTS = 52, 30
 EXTS = {"bsa-json": ".json", "bsa-h": ".h", "bottango": ".txt", "csv": ".csv"}
 #: what a mangled file may hold: markers, signs, huge and odd numbers, other formats' words
 PIECES = ["0", "9", "-1", "1e9", "99999999999999999999", ",", "{", "}", "[", "]", '"', ":",
@@ -20,12 +20,12 @@ PIECES = ["0", "9", "-1", "1e9", "99999999999999999999", ",", "{", "}", "[", "]"
 
 @pytest.fixture(scope="module")
 def exported(tmp_path_factory) -> dict[str, str]:
-    """The library's ``wave`` in each format."""
+    """The library's ``peace`` in each format."""
     home = tmp_path_factory.mktemp("exported")
     out = {}
     for fmt, ext in EXTS.items():
-        path = home / f"wave{ext}"
-        assert gestc.main(["export", "wave", "--format", fmt, "-o", str(path)]) == 0
+        path = home / f"peace{ext}"
+        assert gestc.main(["export", "peace", "--format", fmt, "-o", str(path)]) == 0
         out[fmt] = path.read_text()
     return out
 
