@@ -154,8 +154,16 @@ def test_the_old_joint_states_flag_still_works_and_says_the_new_one(tmp_path, ca
     assert out.read_text().startswith("time,")
 
 
-def test_a_robot_of_two_boards_gets_a_file_a_board(tmp_path):
-    out = tmp_path / "hello.json"
-    assert gestc(["export", "hello", "--format", "bsa-json", "-o", str(out)]) == 0
+def test_a_robot_of_two_boards_gets_a_file_a_board_and_both_come_back_as_one(tmp_path):
+    """Exported a file a board (named by the board), imported together: one gesture
+    moving both arms (its default name made from the file's)."""
+    out = tmp_path / "shrug.json"
+    assert gestc(["export", "shrug", "--format", "bsa-json", "-o", str(out)]) == 0
     written = sorted(p.name for p in Path(tmp_path).iterdir())
-    assert written == ["hello-left.json", "hello-right.json"], written
+    assert written == ["shrug-left.json", "shrug-right.json"], written
+    back = tmp_path / "shrug-back.gest"
+    assert gestc(["import", str(tmp_path / "shrug-right.json"), str(tmp_path / "shrug-left.json"),
+                  "-p", "inmoov", "-o", str(back)]) == 0
+    plan = compile_program(load(str(back)), "shrug_back", "inmoov", None, False)[1]
+    moved = {plan.profile.servos[i].name for step in plan.steps for i in step.servos}
+    assert {"r_omoplate", "l_omoplate", "r_bicep", "l_bicep", "neck"} <= moved, moved

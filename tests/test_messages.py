@@ -15,7 +15,7 @@ POSIX = pytest.mark.skipif(not hasattr(os, "openpty"), reason="pseudo-terminals 
 
 
 @pytest.mark.parametrize(("main", "argv", "message"), [
-    (gestc.main, ["record", "--port", "sim://", "-o", "2fast.gest"],
+    (gestc.main, ["record", "--port", "sim://", "-o", "fast.gest", "--name", "2fast"],
      "gestc: error: '2fast' cannot name a gesture\n"
      "  hint: --name takes a word: letters, digits and _\n"),
     (gestplay.main, ["teach", "--port", "sim://", "--name", "my-wave"],

@@ -8,6 +8,7 @@ import contextlib
 import gc
 import math
 import os
+import re
 import signal
 import sys
 from collections.abc import Callable, Iterable
@@ -220,8 +221,12 @@ def send_value(port, servo_id: int, value: int, controller=None) -> None:
     drain(port)
 
 
-def gesture_name(name: str) -> str:
-    """``name`` if it can name a gesture; a GestError saying why not otherwise."""
+def gesture_name(name: str | None, file: str | None = None) -> str:
+    """``name`` (``--name``) if it can name a gesture, a GestError saying why not
+    otherwise; with no name, the file's name made one (``wave-back.gest``: ``wave_back``)."""
+    if name is None and file is not None:
+        name = re.sub(r"\W", "_", Path(file).stem, flags=re.ASCII)
+        name = name if name[:1].isalpha() or name[:1] == "_" else f"g_{name}"
     from ..language.syntax import KEYWORDS
 
     if not name.isidentifier() or not name.isascii():

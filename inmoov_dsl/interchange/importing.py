@@ -57,6 +57,7 @@ def read(text: str, where: str, fmt: str, unit: str, tick: float) -> Animation:
     """The animation in ``text`` (format ``fmt``; positions in ``unit``)."""
     if fmt == "csv":
         times, columns = table.read(text, where)
+        _grid(float(times[-1]), 1.0, where)  # (no longer than a gesture)
         return Animation(times, dict(columns), values=True)
     if fmt == "bottango":
         setups, found = bottango.read(text, where)

@@ -38,7 +38,7 @@ def run(args: argparse.Namespace) -> int:
     boards = boards_named(plan.profile, args.board)
     for board in boards:
         path = output if len(boards) == 1 or output == "-" else \
-            str(Path(output).with_name(f"{Path(output).stem}-{_slug(board)}"
+            str(Path(output).with_name(f"{Path(output).stem}-{board_slug(board)}"
                                        f"{Path(output).suffix}"))
         text, about = _one_board(args, plan, compiled, board)
         write_out(path, text, about)
@@ -90,7 +90,8 @@ def boards_named(profile: Profile, chosen: str | None) -> list[Board]:
                                f"boards {names}", hint=f"--board {profile.boards[0].id}"))
 
 
-def _slug(board: Board) -> str:
+def board_slug(board: Board) -> str:
+    """A board's name as a file's name ends with it (``right``)."""
     return "".join(c if c.isalnum() else "-" for c in board.name.lower()).strip("-") or \
         str(board.id)
 

@@ -14,32 +14,57 @@ PROG = "gestc import"
 
 
 def run(args: argparse.Namespace) -> int:
-    """Read ``args.file``, map its servos, reduce it, write ``--output``."""
-    from ...interchange import importing
-    from ...interchange.frames import tick_us
-    from ...language.load import read_text
+    """Read each of ``args.files`` (a board's each), map its servos, reduce them together
+    into one gesture, write ``--output``."""
     from ...profiles.profile import load_profile
-    from .export import boards_named
     from .record import write_take
 
     profile = load_profile(args.profile)
-    text = read_text(args.file)
-    fmt = args.format or importing.detect(args.file, text)
     ids = read_ids(args.map, profile) if args.map else None
+    if len(args.files) > 1 and (args.board or ids is not None):
+        raise GestError(Diagnostic("error", "--board and --map are for one file; files of "
+                                   "several boards are named FILE-BOARD, as gestc export "
+                                   "writes them", hint="gestc import hello-right.json "
+                                   "hello-left.json -p inmoov -o hello.gest"))
+    samples, formats = [], []
+    for file in args.files:
+        got, fmt = _one_file(args, profile, file, ids)
+        samples += got
+        formats.append(fmt)
+    samples.sort(key=lambda s: s[0])
+    name = gesture_name(args.name, args.output)
+    files = ", ".join(Path(f).name for f in args.files)
+    write_take(samples, profile, args.output, name, args.tolerance,
+               f"from {files} ({', '.join(dict.fromkeys(formats))})", prog=PROG)
+    return EXIT_OK
+
+
+def _one_file(args: argparse.Namespace, profile, file: str, ids: dict[int, str] | None
+              ) -> tuple[list[tuple[float, int, int]], str]:
+    """One file's samples, and its format; its board: ``--board``, the one its name
+    ends with (``-right``), or the profile's only one."""
+    from ...interchange import importing
+    from ...interchange.frames import tick_us
+    from ...language.load import read_text
+    from .export import board_slug, boards_named
+
+    text = read_text(file)
+    fmt = args.format or importing.detect(file, text)
     boards = boards_named(profile, args.board)
+    if len(boards) > 1:
+        stem = Path(file).stem.lower()
+        boards = [b for b in boards if stem.endswith("-" + board_slug(b))] or boards
     if ids is None and len(boards) > 1 and fmt != "csv":
         names = ", ".join(f"{b.id} ({b.name})" for b in boards)
-        raise GestError(Diagnostic("error", f"profile '{profile.name}' has boards {names}: "
-                                   "whose pins are the animation's IDs?",
-                                   hint=f"--board {boards[0].id}, or --map ids.toml"))
-    animation = importing.read(text, args.file, fmt, args.units, tick_us(profile, boards[0]))
-    samples, told = importing.samples(animation, profile, boards[0], ids, args.file)
+        raise GestError(Diagnostic("error", f"{file}: profile '{profile.name}' has boards "
+                                   f"{names}: whose pins are the animation's IDs?",
+                                   hint=f"--board {boards[0].id}, or name the file "
+                                   f"NAME-{board_slug(boards[0])}, or --map ids.toml"))
+    animation = importing.read(text, file, fmt, args.units, tick_us(profile, boards[0]))
+    samples, told = importing.samples(animation, profile, boards[0], ids, file)
     for line in told:
         warn(line, PROG)
-    name = gesture_name(args.name or Path(args.output).stem)
-    write_take(samples, profile, args.output, name, args.tolerance,
-               f"from {Path(args.file).name} ({fmt})", prog=PROG)
-    return EXIT_OK
+    return samples, fmt
 
 
 def read_ids(path: str, profile) -> dict[int, str]:
@@ -79,8 +104,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     """``gestc import FILE -p PROFILE -o OUT.gest``."""
     p = sub.add_parser("import", help="another tool's animation (Blender Servo Animation, "
                        "Bottango, a CSV) as a gesture")
-    p.add_argument("file", metavar="FILE", help="the animation: .json or .h (Blender Servo "
-                   "Animation), Bottango's commands, or a .csv of gestc export's")
+    p.add_argument("files", nargs="+", metavar="FILE", help="the animation: .json or .h "
+                   "(Blender Servo Animation), Bottango's commands, or a .csv of gestc "
+                   "export's; for a robot of several boards, a file each named FILE-BOARD")
     p.add_argument("-p", "--profile", default="rhand", help="robot profile (default rhand)")
     p.add_argument("-o", "--output", required=True, help="the .gest file to write")
     p.add_argument("--name", help="the gesture's name (default: the file's name)")

@@ -34,7 +34,7 @@ def run(args: argparse.Namespace) -> int:
     from ...profiles.profile import load_profile
 
     profile = load_profile(args.profile)
-    name = gesture_name(args.name or Path(args.output).stem)
+    name = gesture_name(args.name, args.output)
     if (args.port is None) == (args.midi is None):
         raise GestError(Diagnostic("error", "record from --port (a glove) or from --midi "
                                    "(a MIDI take), one of them",

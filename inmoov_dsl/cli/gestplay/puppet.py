@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ...errors import GestError
@@ -47,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
 
     profile = load_profile(args.profile)
     controls = read_map(read_text(args.map), args.map, profile)
-    name = gesture_name(args.name or Path(args.record).stem) if args.record else ""
+    name = gesture_name(args.name, args.record) if args.record else ""
     guard = guard_for(profile, args.allow_contact, PROG)
     source, shown = open_input(args.midi), Shown()
     puppet = Puppet(source, midi_reading(controls, profile), profile, shown)

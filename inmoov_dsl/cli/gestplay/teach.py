@@ -36,7 +36,7 @@ PROG = "gestplay teach"
 
 def run(args: argparse.Namespace) -> int:
     """Teach a gesture on the hand, from the pose it holds."""
-    name = gesture_name(args.name or (Path(args.output).stem if args.output else "taught"))
+    name = gesture_name(args.name, args.output or "taught")
     output = Path(args.output or f"{name}.gest")
     profile = load_profile(args.profile or "rhand")
     guard = guard_for(profile, args.allow_contact, PROG)
