@@ -4,9 +4,9 @@ servo of one board is given on every frame (pure).
 A frame is a moment, ``k / fps`` s from the start; its width is the one the board gives
 for the servo's planned value then (a rig's whole value, another kind's finer width):
 the plan, not the link's delay in reaching the board, so another tool plays the motion
-our boards are told to follow. Widths
-are written in the unit the other tool's servos take: microseconds, the Servo
-library's degrees (``Servo.write``), or a PCA9685's 4096ths of its frame.
+our boards are told to follow. Widths are written in the unit the other tool's servos
+take (``UNITS``): microseconds, the Servo library's degrees (``Servo.write``), or a
+PCA9685's 4096ths of its frame.
 """
 
 from __future__ import annotations
@@ -23,7 +23,6 @@ from ..boards.rig.encode import round_values
 from ..compiling.plan import Plan
 from ..hardware import Board, Profile, Servo
 
-UNITS = ("us", "degrees", "ticks")  #: what a position may be written in
 FRAME_HZ = 50  #: the servo frame a PCA9685 is set up for
 
 

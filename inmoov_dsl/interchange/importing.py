@@ -14,10 +14,9 @@ from ..boards.pulses import widths
 from ..errors import Diagnostic, GestError, did_you_mean
 from ..hardware import Board, Profile, Servo
 from ..protocol import SERVO_FRAME
-from . import bottango, bsa, table
-from .frames import UNITS, from_units, place
+from . import FORMATS_IN, UNITS, bottango, bsa, table
+from .frames import from_units, place
 
-FORMATS = ("bsa-json", "bsa-h", "bottango", "csv")
 MAX_SECONDS = 3600.0  #: an animation longer than a gesture may be is refused
 US_RANGE = (400, 2700)  #: us: a width outside it is not a servo's pulse
 
@@ -50,14 +49,14 @@ def detect(name: str, text: str) -> str:
     raise GestError(Diagnostic("error", f"{name}: which animation is it? not Blender Servo "
                                "Animation's JSON or header, Bottango's commands, or a CSV "
                                "of ours", hint="name its format: --format " +
-                               "|".join(FORMATS)))
+                               "|".join(FORMATS_IN)))
 
 
 def read(text: str, where: str, fmt: str, unit: str, tick: float) -> Animation:
     """The animation in ``text`` (format ``fmt``; positions in ``unit``)."""
     if fmt == "csv":
         times, columns = table.read(text, where)
-        _grid(float(times[-1]), 1.0, where)  # (no longer than a gesture)
+        _no_longer_than_a_gesture(float(times[-1]), where)
         return Animation(times, dict(columns), values=True)
     if fmt == "bottango":
         setups, found = bottango.read(text, where)
@@ -81,10 +80,14 @@ def read(text: str, where: str, fmt: str, unit: str, tick: float) -> Animation:
 
 
 def _grid(end: float, rate: float, where: str) -> np.ndarray:
+    _no_longer_than_a_gesture(end, where)
+    return np.arange(int(round(end * rate)) + 1) / rate
+
+
+def _no_longer_than_a_gesture(end: float, where: str) -> None:
     if end > MAX_SECONDS:
         raise GestError(Diagnostic("error", f"{where}: the animation lasts {end:.0f} s: a "
                                    f"gesture lasts at most {MAX_SECONDS:.0f} s"))
-    return np.arange(int(round(end * rate)) + 1) / rate
 
 
 def _setup(setups: Mapping[int, bottango.Setup], pin: int, found, where: str

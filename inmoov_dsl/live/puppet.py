@@ -1,9 +1,10 @@
-"""Puppeteering (pure but for the input it waits on): a hand-driven input's messages as
-the drive loop's requests. The control changes that came together become one move of
-their servos, as fast as the limits allow, that takes over the running one (the drive
-loop plans it from where the hand is going, so a fader pushed hard moves the hand at its
-limits, never in a jump; its guard refuses a move into the body). What was taken is kept
-as the take's samples, for the recorder (``record.py``).
+"""Puppeteering (pure but for the input it waits on): a hand-driven input's messages (a
+MIDI controller's control changes, Blender's positions) as the drive loop's requests.
+The values asked for together become one move of their servos, as fast as the limits
+allow, that takes over the running one (the drive loop plans it from where the hand is
+going, so a fader pushed hard moves the hand at its limits, never in a jump; its guard
+refuses a move into the body). What was taken is kept as the take's samples, for the
+recorder (``record.py``).
 """
 
 from __future__ import annotations

@@ -12,11 +12,10 @@ from ...compiling.compiled import Compiled
 from ...compiling.plan import Plan
 from ...errors import Diagnostic, GestError
 from ...hardware import Board, Profile
+from ...interchange import SUFFIXES, UNITS
 from ..common import EXIT_OK, number, write_out
 from .target import add_arguments, compile_target
 
-FORMATS = {"bsa-json": ".json", "bsa-h": ".h", "bottango": ".txt", "csv": ".csv",
-           "joint-states": ".csv"}
 PER_BOARD = ("bsa-json", "bsa-h", "bottango")  #: formats that address one board's servos
 
 
@@ -27,10 +26,10 @@ def run(args: argparse.Namespace) -> int:
               "works)", file=sys.stderr)
         args.format, args.output = "joint-states", args.joint_states
     if args.format is None:
-        raise GestError(Diagnostic("error", "which format? --format " + "|".join(FORMATS),
+        raise GestError(Diagnostic("error", "which format? --format " + "|".join(SUFFIXES),
                                    hint="gestc export wave --format bsa-json -o wave.json"))
     compiled, plan = compile_target(args)
-    output = args.output or f"{compiled.gesture}{FORMATS[args.format]}"
+    output = args.output or f"{compiled.gesture}{SUFFIXES[args.format]}"
     if args.format not in PER_BOARD:
         text = _whole(args, plan, compiled)
         write_out(output, text, f": {text.count(chr(10)) - 1} rows")
@@ -101,7 +100,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("export", help="a gesture for another tool: Blender Servo "
                        "Animation, Bottango, a CSV, ROS joint states")
     add_arguments(p)
-    p.add_argument("--format", choices=list(FORMATS),
+    p.add_argument("--format", choices=list(SUFFIXES),
                    help="bsa-json, bsa-h: Blender Servo Animation's JSON or Arduino header; "
                    "bottango: its curve commands; csv: time and each servo's value; "
                    "joint-states: each joint in radians")
@@ -113,7 +112,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="frames (rows) per second (default 50: one per servo frame)")
     p.add_argument("--rate", dest="fps", type=number(0, 1000, above=True),
                    help=argparse.SUPPRESS)  # joint states' name for it
-    p.add_argument("--units", choices=["us", "degrees", "ticks"], default="us",
+    p.add_argument("--units", choices=UNITS, default="us",
                    help="Blender Servo Animation's positions: pulse widths in us (default), "
                    "the Servo library's degrees, or PCA9685 ticks")
     p.add_argument("--joint-states", metavar="CSV", help=argparse.SUPPRESS)

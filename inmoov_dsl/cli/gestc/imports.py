@@ -8,6 +8,7 @@ import argparse
 from pathlib import Path
 
 from ...errors import Diagnostic, GestError
+from ...interchange import FORMATS_IN, UNITS
 from ..common import EXIT_OK, gesture_name, number, warn
 
 PROG = "gestc import"
@@ -110,13 +111,13 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("-p", "--profile", default="rhand", help="robot profile (default rhand)")
     p.add_argument("-o", "--output", required=True, help="the .gest file to write")
     p.add_argument("--name", help="the gesture's name (default: the file's name)")
-    p.add_argument("--format", choices=["bsa-json", "bsa-h", "bottango", "csv"],
+    p.add_argument("--format", choices=FORMATS_IN,
                    help="the file's format (default: by its suffix and its text)")
     p.add_argument("--board", help="the board whose pins the animation's IDs are (its ID "
                    "or name; needed for a robot of several boards)")
     p.add_argument("--map", metavar="IDS.toml", help="the animation's IDs to servos, when "
                    "they are not the servos' pins: [ids] with 0 = \"index\"")
-    p.add_argument("--units", choices=["us", "degrees", "ticks"], default="us",
+    p.add_argument("--units", choices=UNITS, default="us",
                    help="what Blender Servo Animation's positions are (default us)")
     p.add_argument("--tolerance", type=number(0, 90, above=True),
                    help="degrees the gesture may stray from the animation (default 3)")

@@ -8,9 +8,11 @@ channels; ``--board`` for a robot of several), or a map's (``--map``)."""
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import sys
 
 from ...errors import Diagnostic, GestError
+from ...interchange import UNITS
 from ...live.drive import Drive, library_program
 from ...profiles.profile import load_profile
 from .. import hand
@@ -31,6 +33,9 @@ def run(args: argparse.Namespace) -> int:
     from ..gestc.export import boards_named
     from ..gestc.imports import read_ids
 
+    if importlib.util.find_spec("aiohttp") is None:
+        raise GestError(Diagnostic("error", "Blender's live mode needs aiohttp, which is not "
+                                   "installed", hint="pip install 'inmoov-dsl[serve]'"))
     profile = load_profile(args.profile)
     boards = boards_named(profile, args.board)
     if args.map:
@@ -83,7 +88,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    "name)")
     p.add_argument("--map", metavar="IDS.toml", help="Blender's servo IDs to servos, when "
                    "they are not the servos' pins: [ids] with 0 = \"index\"")
-    p.add_argument("--units", choices=["us", "degrees", "ticks"], default="us",
+    p.add_argument("--units", choices=UNITS, default="us",
                    help="what the add-on's positions are (its bones' position range; "
                    "default us)")
     add_blind(p)
